@@ -1,0 +1,5 @@
+"""`python -m schemalog` runs the command line."""
+
+from .cli import run
+
+run()

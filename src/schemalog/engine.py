@@ -1,0 +1,855 @@
+"""SLD resolution: depth-first, backtracking, iterative, with a step limit.
+
+    Goals       = (goal: Term | Marker, cut_barrier: int, rest: Goals) | None   (a linked list)
+    ChoicePoint = (kind, trail_mark, ...)                                        (a stack)
+
+The machine pops a goal, rewrites control constructs into goals and choicepoints,
+resolves user predicates against the knowledge base's first-argument index, and
+calls builtins. Prolog recursion therefore never becomes Python recursion. A cut
+removes the choicepoints above its barrier (the height when its clause was
+called); `catch/3` leaves a choicepoint that an exception unwinds to.
+
+ISO errors are raised as `PrologError(term)`; running past the step limit raises
+`StepLimitExceeded`, which catch/3 does not intercept.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Callable, Iterator
+
+from .errors import SchemalogError
+from .terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
+                    is_ground, list_items, make_list, term_to_text)
+from .unify import Bindings, rename
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .kb import KnowledgeBase
+
+DEFAULT_MAX_STEPS = 10_000_000
+
+
+class PrologError(Exception):
+    """A Prolog exception carrying its ball, e.g. error(type_error(integer, a), _)."""
+
+    def __init__(self, ball: Term) -> None:
+        super().__init__(term_to_text(ball))
+        self.ball = ball
+
+
+class StepLimitExceeded(SchemalogError):
+    """The query ran longer than its step budget (runaway recursion?)."""
+
+
+def iso_error(formal: Term, context: Term | None = None) -> PrologError:
+    """Build `error(Formal, Context)`."""
+    return PrologError(Struct("error", (formal, context if context is not None else Var("_"))))
+
+
+def instantiation_error() -> PrologError:
+    return iso_error(Atom("instantiation_error"))
+
+
+def type_error(kind: str, culprit: Term) -> PrologError:
+    return iso_error(Struct("type_error", (Atom(kind), culprit)))
+
+
+def existence_error(name: str, arity: int) -> PrologError:
+    return iso_error(Struct("existence_error", (Atom("procedure"),
+                                                Struct("/", (Atom(name), Int(arity))))))
+
+
+# Markers: goals that only the machine itself pushes.
+class _CutTo:
+    """Remove choicepoints down to `height` (the then-branch of if-then-else)."""
+
+    __slots__ = ("height",)
+
+    def __init__(self, height: int) -> None:
+        self.height = height
+
+
+class _FailAfterCut(_CutTo):
+    """`\\+ G` succeeded in proving G: cut G's alternatives, then fail."""
+
+
+class _ExitCatch:
+    """The goal of catch/3 exited: its catcher no longer applies."""
+
+    __slots__ = ("height",)
+
+    def __init__(self, height: int) -> None:
+        self.height = height
+
+
+# Choicepoint kinds
+_CLAUSES, _ALT, _NONDET, _CATCH = range(4)
+
+Builtin = Callable[["Engine", tuple, Bindings], bool]
+NondetBuiltin = Callable[["Engine", tuple, Bindings], Iterator[None]]
+
+
+class Engine:
+    """Answers goals against one knowledge base."""
+
+    def __init__(self, kb: "KnowledgeBase", max_steps: int = DEFAULT_MAX_STEPS,
+                 output: Callable[[str], None] | None = None) -> None:
+        self.kb = kb
+        self.max_steps = max_steps
+        self.steps = 0
+        self.write = output or (lambda text: print(text, end=""))
+        self.interrupted = False  # set from another thread (Ctrl-C in the REPL)
+
+    # -- public API -----------------------------------------------------------
+    def solve(self, goal: Term, bindings: Bindings | None = None) -> Iterator[Bindings]:
+        """Yield once per proof of `goal`; the bindings hold that answer while yielded."""
+        b = bindings if bindings is not None else Bindings()
+        return self._run(goal, b)
+
+    def first(self, goal: Term, bindings: Bindings | None = None) -> Bindings | None:
+        """Return the bindings of the first proof of `goal`, or None."""
+        for b in self.solve(goal, bindings):
+            return b
+        return None
+
+    def succeeds(self, goal: Term) -> bool:
+        """Whether `goal` has a proof."""
+        return self.first(goal) is not None
+
+    def answers(self, goal: Term, limit: int | None = None) -> list[Term]:
+        """The instances of `goal`, one per proof, resolved (at most `limit`)."""
+        out = []
+        for b in self.solve(goal):
+            out.append(b.resolve(goal))
+            if limit is not None and len(out) >= limit:
+                break
+        return out
+
+    # -- the machine ----------------------------------------------------------
+    def _run(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
+        cps: list[tuple] = []
+        goals = (goal, 0, None)
+        kb = self.kb
+        builtins = BUILTINS
+        nondet = NONDET_BUILTINS
+        max_steps = self.max_steps
+        while True:
+            try:
+                if goals is None:
+                    yield b
+                    goals = self._backtrack(cps, b)
+                    if goals is False:
+                        return
+                    continue
+                term, cutb, rest = goals
+                self.steps += 1
+                if self.steps > max_steps:
+                    raise StepLimitExceeded(
+                        f"step limit of {max_steps:,} resolution steps exceeded (runaway recursion?)")
+                if self.interrupted:
+                    self.interrupted = False
+                    raise SchemalogError("interrupted")
+                if not isinstance(term, (Atom, Struct, Var)):
+                    if isinstance(term, _CutTo):
+                        del cps[term.height:]
+                        if isinstance(term, _FailAfterCut):
+                            goals = self._backtrack(cps, b)
+                            if goals is False:
+                                return
+                            continue
+                        goals = rest
+                        continue
+                    if isinstance(term, _ExitCatch):
+                        cp = cps[term.height] if term.height < len(cps) else None
+                        if cp is not None and cp[0] == _CATCH:
+                            cps[term.height] = (_CATCH, cp[1], None, cp[3], cp[4], cp[5])
+                        goals = rest
+                        continue
+                    raise type_error("callable", term)
+                term = b.walk(term)
+                if isinstance(term, Var):
+                    raise instantiation_error()
+                if isinstance(term, Atom):
+                    name, args = term.name, ()
+                elif isinstance(term, Struct):
+                    name, args = term.name, term.args
+                else:
+                    raise type_error("callable", term)
+                arity = len(args)
+
+                # Control constructs ------------------------------------------
+                if arity == 2 and name == ",":
+                    goals = (args[0], cutb, (args[1], cutb, rest))
+                    continue
+                if arity == 0:
+                    if name == "true":
+                        goals = rest
+                        continue
+                    if name in ("fail", "false"):
+                        goals = self._backtrack(cps, b)
+                        if goals is False:
+                            return
+                        continue
+                    if name == "!":
+                        del cps[cutb:]
+                        goals = rest
+                        continue
+                if arity == 2 and name == ";":
+                    left = b.walk(args[0])
+                    if isinstance(left, Struct) and left.name == "->" and len(left.args) == 2:
+                        height = len(cps)
+                        cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
+                        goals = (left.args[0], height + 1, (_CutTo(height), cutb, (left.args[1], cutb, rest)))
+                        continue
+                    cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
+                    goals = (left, cutb, rest)
+                    continue
+                if arity == 2 and name == "->":  # (C -> T) without else: fails when C fails
+                    height = len(cps)
+                    goals = (args[0], height, (_CutTo(height), cutb, (args[1], cutb, rest)))
+                    continue
+                if arity == 1 and name in ("\\+", "not"):
+                    height = len(cps)
+                    cps.append((_ALT, b.mark(), rest))
+                    goals = (args[0], height + 1, (_FailAfterCut(height), cutb, None))
+                    continue
+                if name == "call" and arity >= 1:
+                    target = b.walk(args[0])
+                    if arity > 1:
+                        target = _add_args(target, args[1:])
+                    goals = (target, len(cps), rest)
+                    continue
+                if arity == 3 and name == "catch":
+                    height = len(cps)
+                    cps.append((_CATCH, b.mark(), args[1], args[2], rest, cutb))
+                    goals = (args[0], height + 1, (_ExitCatch(height), cutb, rest))
+                    continue
+                # Builtins ----------------------------------------------------
+                key = (name, arity)
+                fn = builtins.get(key)
+                if fn is not None:
+                    mark = b.mark()
+                    if fn(self, args, b):
+                        goals = rest
+                    else:
+                        b.undo(mark)
+                        goals = self._backtrack(cps, b)
+                        if goals is False:
+                            return
+                    continue
+                gen_fn = nondet.get(key)
+                if gen_fn is not None:
+                    mark = b.mark()
+                    gen = gen_fn(self, args, b)
+                    cps.append((_NONDET, mark, gen, rest))
+                    goals = self._backtrack(cps, b)  # takes the generator's first answer
+                    if goals is False:
+                        return
+                    continue
+
+                # User predicates ---------------------------------------------
+                candidates = kb.candidates(name, arity, b.walk(args[0]) if arity else None)
+                if candidates is None:
+                    if kb.unknown_fails(name, arity):
+                        goals = self._backtrack(cps, b)
+                        if goals is False:
+                            return
+                        continue
+                    raise existence_error(name, arity)
+                height = len(cps)
+                cps.append((_CLAUSES, b.mark(), term, candidates, 0, rest, height))
+                goals = self._backtrack(cps, b)
+                if goals is False:
+                    return
+            except PrologError as err:
+                goals = self._handle_throw(err, cps, b)
+
+    def _backtrack(self, cps: list, b: Bindings):
+        """Resume the newest choicepoint; return the goals to continue with, or False."""
+        while cps:
+            cp = cps[-1]
+            kind, mark = cp[0], cp[1]
+            b.undo(mark)
+            if kind == _CLAUSES:
+                _, _, term, candidates, index, rest, height = cp
+                while index < len(candidates):
+                    clause = candidates[index]
+                    index += 1
+                    head, body = clause.renamed()
+                    if b.unify(head, term):
+                        if index < len(candidates):
+                            cps[-1] = (_CLAUSES, mark, term, candidates, index, rest, height)
+                        else:
+                            cps.pop()
+                        return rest if body is TRUE else (body, height, rest)
+                    b.undo(mark)
+                cps.pop()
+                continue
+            if kind == _ALT:
+                cps.pop()
+                return cp[2]
+            if kind == _NONDET:
+                gen, rest = cp[2], cp[3]
+                try:
+                    next(gen)
+                    return rest
+                except StopIteration:
+                    cps.pop()
+                    b.undo(mark)
+                    continue
+            cps.pop()  # a catch frame is transparent to backtracking
+        return False
+
+    def _handle_throw(self, err: PrologError, cps: list, b: Bindings):
+        ball = b.resolve(err.ball)
+        while cps:
+            cp = cps.pop()
+            if cp[0] != _CATCH or cp[2] is None:
+                continue
+            _, mark, catcher, recovery, rest, cutb = cp
+            b.undo(mark)
+            before = b.mark()
+            if b.unify(catcher, rename(ball)):
+                return (recovery, cutb, rest)
+            b.undo(before)
+        raise err.__class__(ball) if isinstance(err, PrologError) else err
+
+    def _sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
+        """Solve `goal` in a sub-machine sharing the bindings (findall, forall)."""
+        mark = b.mark()
+        try:
+            for _ in self._run(goal, b):
+                yield b
+        finally:
+            b.undo(mark)
+
+
+def _add_args(goal: Term, extra: tuple) -> Term:
+    if isinstance(goal, Atom):
+        return Struct(goal.name, tuple(extra))
+    if isinstance(goal, Struct):
+        return Struct(goal.name, goal.args + tuple(extra))
+    if isinstance(goal, Var):
+        raise instantiation_error()
+    raise type_error("callable", goal)
+
+
+# ---------------------------------------------------------------------------
+# Arithmetic
+
+def _num(value) -> Term:
+    if isinstance(value, bool):
+        return Int(int(value))
+    if isinstance(value, int):
+        return Int(value)
+    return Float(value)
+
+
+def _int_arg(x, name: str, arity: int):
+    if not isinstance(x, int):
+        raise type_error("integer", _num(x))
+    return x
+
+
+_EVAL2: dict[str, Callable] = {
+    "+": lambda x, y: x + y, "-": lambda x, y: x - y, "*": lambda x, y: x * y,
+    "/": lambda x, y: (x // y if isinstance(x, int) and isinstance(y, int) and x % y == 0
+                       else x / y),
+    "//": lambda x, y: int(x / y) if isinstance(x, int) and isinstance(y, int) else _bad_int(x, y),
+    "mod": lambda x, y: x % y if isinstance(x, int) and isinstance(y, int) else _bad_int(x, y),
+    "rem": lambda x, y: math.fmod(x, y) if not (isinstance(x, int) and isinstance(y, int))
+    else x - y * int(x / y),
+    "div": lambda x, y: x // y if isinstance(x, int) and isinstance(y, int) else _bad_int(x, y),
+    "min": lambda x, y: x if x <= y else y, "max": lambda x, y: x if x >= y else y,
+    "**": lambda x, y: x ** y if isinstance(x, int) and isinstance(y, int) and y >= 0 else float(x) ** y,
+    "^": lambda x, y: x ** y if isinstance(x, int) and isinstance(y, int) else float(x) ** y,
+    ">>": lambda x, y: x >> y, "<<": lambda x, y: x << y,
+    "/\\": lambda x, y: x & y, "\\/": lambda x, y: x | y, "xor": lambda x, y: x ^ y,
+    "atan2": math.atan2, "atan": math.atan2, "copysign": math.copysign,
+    "gcd": math.gcd, "log": lambda x, y: math.log(y) / math.log(x),
+}
+_EVAL1: dict[str, Callable] = {
+    "-": lambda x: -x, "+": lambda x: x, "abs": abs,
+    "sign": lambda x: (x > 0) - (x < 0) if isinstance(x, int) else math.copysign(1.0, x) if x else 0.0,
+    "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan,
+    "asin": math.asin, "acos": math.acos, "atan": math.atan, "exp": math.exp,
+    "log": math.log, "log2": math.log2, "float": float, "integer": lambda x: int(round(x)),
+    "float_integer_part": lambda x: float(int(x)), "float_fractional_part": lambda x: x - int(x),
+    "truncate": lambda x: int(x), "round": lambda x: int(math.floor(x + 0.5)) if x >= 0 else -int(math.floor(-x + 0.5)),
+    "ceiling": lambda x: int(math.ceil(x)), "floor": lambda x: int(math.floor(x)),
+    "\\": lambda x: ~x, "msb": lambda x: x.bit_length() - 1, "succ": lambda x: x + 1,
+}
+_EVAL0 = {"pi": math.pi, "e": math.e, "inf": math.inf, "nan": math.nan,
+          "max_tagged_integer": (1 << 60) - 1, "epsilon": 2.220446049250313e-16}
+
+
+def _bad_int(x, y):
+    raise type_error("integer", _num(x if not isinstance(x, int) else y))
+
+
+def evaluate(term: Term, b: Bindings):
+    """Evaluate an arithmetic expression to a Python int or float."""
+    term = b.walk(term)
+    if isinstance(term, Int):
+        return term.value
+    if isinstance(term, Float):
+        return term.value
+    if isinstance(term, Var):
+        raise instantiation_error()
+    if isinstance(term, Atom):
+        value = _EVAL0.get(term.name)
+        if value is None:
+            if term.name == "[]" or len(term.name) != 1:
+                raise type_error("evaluable", Struct("/", (term, Int(0))))
+            return ord(term.name)  # "a" as a one-char atom evaluates to its code (SWI: [X])
+        return value
+    if isinstance(term, Str) and len(term.value) == 1:
+        return ord(term.value)
+    if isinstance(term, Struct):
+        if len(term.args) == 1:
+            fn = _EVAL1.get(term.name)
+            if fn is not None:
+                x = evaluate(term.args[0], b)
+                try:
+                    return fn(x)
+                except (ValueError, OverflowError):
+                    raise iso_error(Struct("evaluation_error", (Atom("undefined"),))) from None
+        elif len(term.args) == 2:
+            if term.name == CONS and b.walk(term.args[1]) == NIL:  # [X] evaluates X
+                return evaluate(term.args[0], b)
+            fn = _EVAL2.get(term.name)
+            if fn is not None:
+                x, y = evaluate(term.args[0], b), evaluate(term.args[1], b)
+                try:
+                    return fn(x, y)
+                except ZeroDivisionError:
+                    raise iso_error(Struct("evaluation_error", (Atom("zero_divisor"),))) from None
+                except (ValueError, OverflowError):
+                    raise iso_error(Struct("evaluation_error", (Atom("undefined"),))) from None
+        raise type_error("evaluable", Struct("/", (Atom(term.name), Int(len(term.args)))))
+    raise type_error("evaluable", term)
+
+
+# ---------------------------------------------------------------------------
+# Builtins: each a pure function of (engine, args, bindings) -> success.
+
+def _compare_numbers(op: Callable[[object, object], bool]) -> Builtin:
+    return lambda e, a, b: op(evaluate(a[0], b), evaluate(a[1], b))
+
+
+_TYPE_ORDER = {Var: 0, Float: 1, Int: 1, Atom: 3, Str: 4, Struct: 5}
+
+
+def standard_order_key(term: Term, b: Bindings | None = None):
+    """A sort key for the standard order of terms: Var < Number < Atom < String < Compound."""
+    if b is not None:
+        term = b.walk(term)
+    if isinstance(term, Var):
+        return (0, term.id)
+    if isinstance(term, (Int, Float)):
+        # Compared by value; if equal, Float < Int.
+        return (1, term.value, 0 if isinstance(term, Float) else 1)
+    if isinstance(term, Atom):
+        return (3, term.name)
+    if isinstance(term, Str):
+        return (4, term.value)
+    return (5, len(term.args), term.name, tuple(standard_order_key(a, b) for a in term.args))
+
+
+def _compare(x: Term, y: Term, b: Bindings) -> int:
+    kx, ky = standard_order_key(b.resolve(x)), standard_order_key(b.resolve(y))
+    return (kx > ky) - (kx < ky)
+
+
+def _type_check(pred: Callable[[Term], bool]) -> Builtin:
+    return lambda e, a, b: pred(b.walk(a[0]))
+
+
+def _is_callable(t: Term) -> bool:
+    return isinstance(t, (Atom, Struct))
+
+
+def _functor(e: Engine, a: tuple, b: Bindings) -> bool:
+    term = b.walk(a[0])
+    if isinstance(term, Var):
+        name, arity = b.walk(a[1]), b.walk(a[2])
+        if isinstance(name, Var) or isinstance(arity, Var):
+            raise instantiation_error()
+        if not isinstance(arity, Int):
+            raise type_error("integer", arity)
+        if arity.value == 0:
+            return b.unify(term, name)
+        if not isinstance(name, Atom):
+            raise type_error("atomic" if isinstance(name, Struct) else "atom", name)
+        return b.unify(term, Struct(name.name, tuple(Var("_") for _ in range(arity.value))))
+    if isinstance(term, Struct):
+        return b.unify(a[1], Atom(term.name)) and b.unify(a[2], Int(len(term.args)))
+    return b.unify(a[1], term) and b.unify(a[2], Int(0))
+
+
+def _arg(e: Engine, a: tuple, b: Bindings) -> bool:
+    n, term = b.walk(a[0]), b.walk(a[1])
+    if not isinstance(term, Struct):
+        raise type_error("compound", term)
+    if not isinstance(n, Int):
+        raise instantiation_error() if isinstance(n, Var) else type_error("integer", n)
+    return 1 <= n.value <= len(term.args) and b.unify(a[2], term.args[n.value - 1])
+
+
+def _univ(e: Engine, a: tuple, b: Bindings) -> bool:
+    term = b.walk(a[0])
+    if isinstance(term, Struct):
+        return b.unify(a[1], make_list([Atom(term.name), *term.args]))
+    if not isinstance(term, Var):
+        return b.unify(a[1], make_list([term]))
+    items, tail = list_items(b.resolve(a[1]))
+    if tail != NIL or not items:
+        raise instantiation_error()
+    head = items[0]
+    if len(items) == 1:
+        return b.unify(term, head)
+    if not isinstance(head, Atom):
+        raise type_error("atom", head)
+    return b.unify(term, Struct(head.name, tuple(items[1:])))
+
+
+def _copy_term(e: Engine, a: tuple, b: Bindings) -> bool:
+    return b.unify(a[1], rename(b.resolve(a[0])))
+
+
+def _length(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+    items, tail = list_items(b.resolve(a[0]))
+    n = b.walk(a[1])
+    if tail == NIL:
+        if b.unify(n, Int(len(items))):
+            yield
+        return
+    if not isinstance(tail, Var):
+        return
+    if isinstance(n, Int):
+        if n.value >= len(items) and b.unify(tail, make_list([Var("_") for _ in range(n.value - len(items))])):
+            yield
+        return
+    if not isinstance(n, Var):
+        raise type_error("integer", n)
+    extra = 0
+    while True:  # enumerate longer and longer open lists, as SWI-Prolog does
+        mark = b.mark()
+        if b.unify(tail, make_list([Var("_") for _ in range(extra)])) and b.unify(n, Int(len(items) + extra)):
+            yield
+        b.undo(mark)
+        extra += 1
+
+
+def _between(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+    low, high, x = evaluate(a[0], b), b.walk(a[1]), b.walk(a[2])
+    top = math.inf if isinstance(high, Atom) and high.name in ("inf", "infinite") else evaluate(high, b)
+    if isinstance(x, Int):
+        if low <= x.value <= top:
+            yield
+        return
+    i = low
+    while i <= top:
+        mark = b.mark()
+        if b.unify(x, Int(i)):
+            yield
+        b.undo(mark)
+        i += 1
+
+
+def _text_of(t: Term) -> str:
+    if isinstance(t, Atom):
+        return t.name
+    if isinstance(t, Str):
+        return t.value
+    if isinstance(t, (Int, Float)):
+        return term_to_text(t)
+    if isinstance(t, Var):
+        raise instantiation_error()
+    items, tail = list_items(t)
+    if tail == NIL and all(isinstance(i, (Int, Atom)) for i in items):
+        return "".join(chr(i.value) if isinstance(i, Int) else i.name for i in items)
+    raise type_error("atomic", t)
+
+
+def _atom_length(e, a, b):
+    return b.unify(a[1], Int(len(_text_of(b.walk(a[0])))))
+
+
+def _atom_codes(e, a, b):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], make_list([Int(ord(c)) for c in _text_of(t)]))
+    return b.unify(t, Atom(_text_of(b.resolve(a[1]))))
+
+
+def _atom_chars(e, a, b):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], make_list([Atom(c) for c in _text_of(t)]))
+    return b.unify(t, Atom(_text_of(b.resolve(a[1]))))
+
+
+def _atom_string(e, a, b):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], Str(_text_of(t)))
+    return b.unify(t, Atom(_text_of(b.walk(a[1]))))
+
+
+def _split_string(e, a, b):
+    text, seps, pad = (_text_of(b.walk(x)) for x in a[:3])
+    if seps:
+        parts, current = [], []
+        for ch in text:
+            if ch in seps:
+                parts.append("".join(current))
+                current = []
+            else:
+                current.append(ch)
+        parts.append("".join(current))
+    else:
+        parts = [text]
+    return b.unify(a[3], make_list([Str(p.strip(pad) if pad else p) for p in parts]))
+
+
+def _term_text(e, a, b, make):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], make(term_to_text(b.resolve(t))))
+    from .parse import parse_term  # parse.py imports nothing from here: no cycle at load time
+    from .errors import SchemalogError as _Err
+    try:
+        return b.unify(t, parse_term(_text_of(b.walk(a[1]))))
+    except _Err as err:
+        raise iso_error(Struct("syntax_error", (Atom(err.message),))) from None
+
+
+def _atomic_list_concat(e, a, b):
+    items, _ = list_items(b.resolve(a[0]))
+    sep = _text_of(b.walk(a[1])) if len(a) == 3 else ""
+    return b.unify(a[-1], Atom(sep.join(_text_of(i) for i in items)))
+
+
+def _atom_number(e, a, b):
+    text = _text_of(b.walk(a[0]))
+    try:
+        value = int(text)
+        return b.unify(a[1], Int(value))
+    except ValueError:
+        try:
+            return b.unify(a[1], Float(float(text)))
+        except ValueError:
+            return False
+
+
+def _assert(front: bool) -> Builtin:
+    def run(e: Engine, a: tuple, b: Bindings) -> bool:
+        e.kb.add_term(rename(b.resolve(a[0])), front=front)
+        return True
+    return run
+
+
+def _retract(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+    target = b.resolve(a[0])
+    head, body = (target.args if isinstance(target, Struct) and target.name == ":-"
+                  and len(target.args) == 2 else (target, TRUE))
+    head = b.walk(head)
+    ind = (head.name, len(head.args)) if isinstance(head, Struct) else (
+        (head.name, 0) if isinstance(head, Atom) else None)
+    if ind is None:
+        raise instantiation_error() if isinstance(head, Var) else type_error("callable", head)
+    for clause in list(e.kb.clauses(*ind)):
+        mark = b.mark()
+        h, bd = clause.renamed()
+        if b.unify(head, h) and b.unify(body, bd):
+            e.kb.remove(clause)
+            yield
+            return
+        b.undo(mark)
+
+
+def _write(quoted: bool) -> Builtin:
+    def run(e: Engine, a: tuple, b: Bindings) -> bool:
+        t = b.resolve(a[0])
+        e.write(term_to_text(t) if quoted or not isinstance(t, (Atom, Str)) else _text_of(t))
+        return True
+    return run
+
+
+def _format(e: Engine, a: tuple, b: Bindings) -> bool:
+    fmt = _text_of(b.walk(a[0]))
+    args_term = b.resolve(a[1]) if len(a) > 1 else NIL
+    items, tail = list_items(args_term)
+    args = items if tail == NIL and (items or args_term == NIL) else [args_term]
+    out, i, n = [], 0, 0
+    while i < len(fmt):
+        c = fmt[i]
+        if c != "~":
+            out.append(c)
+            i += 1
+            continue
+        i += 1
+        digits = ""
+        while i < len(fmt) and fmt[i].isdigit():
+            digits += fmt[i]
+            i += 1
+        d = fmt[i] if i < len(fmt) else "~"
+        i += 1
+        if d == "n":
+            out.append("\n" * (int(digits) if digits else 1))
+            continue
+        if d == "~":
+            out.append("~")
+            continue
+        if n >= len(args):
+            raise iso_error(Struct("format", (Str("not enough arguments"),)))
+        arg = args[n]
+        n += 1
+        if d in "wap":
+            out.append(_text_of(arg) if d == "a" or isinstance(arg, (Atom, Str)) and d == "w"
+                       else term_to_text(arg))
+        elif d == "q":
+            out.append(term_to_text(arg))
+        elif d == "d":
+            if not isinstance(arg, Int):
+                raise type_error("integer", arg)
+            out.append(str(arg.value))
+        elif d in "fge":
+            value = evaluate(arg, b)
+            out.append(f"{value:.{int(digits) if digits else 6}{d}}")
+        elif d == "s":
+            out.append(_text_of(arg))
+        else:
+            raise iso_error(Struct("format", (Str(f"unknown directive ~{d}"),)))
+    e.write("".join(out))
+    return True
+
+
+def _forall(e: Engine, a: tuple, b: Bindings) -> bool:
+    for _ in e._sub_solve(Struct(",", (a[0], Struct("\\+", (a[1],)))), b):
+        return False
+    return True
+
+
+def _findall(e: Engine, a: tuple, b: Bindings) -> bool:
+    results = [b.resolve(a[0]) for _ in e._sub_solve(a[1], b)]
+    return b.unify(a[2], make_list(results))
+
+
+def _throw(e: Engine, a: tuple, b: Bindings) -> bool:
+    ball = b.resolve(a[0])
+    if isinstance(ball, Var):
+        raise instantiation_error()
+    raise PrologError(ball)
+
+
+def _msort(e, a, b):
+    items, tail = list_items(b.resolve(a[0]))
+    if tail != NIL:
+        raise instantiation_error()
+    return b.unify(a[1], make_list(sorted(items, key=standard_order_key)))
+
+
+def _sort(e, a, b):
+    items, tail = list_items(b.resolve(a[0]))
+    if tail != NIL:
+        raise instantiation_error()
+    unique = {}
+    for item in sorted(items, key=standard_order_key):
+        unique.setdefault(standard_order_key(item), item)
+    return b.unify(a[1], make_list(list(unique.values())))
+
+
+BUILTINS: dict[tuple[str, int], Builtin] = {
+    ("=", 2): lambda e, a, b: b.unify(a[0], a[1]),
+    ("\\=", 2): lambda e, a, b: not _unifiable(a[0], a[1], b),
+    ("unify_with_occurs_check", 2): lambda e, a, b: b.unify(a[0], a[1], occurs_check=True),
+    ("==", 2): lambda e, a, b: _compare(a[0], a[1], b) == 0,
+    ("\\==", 2): lambda e, a, b: _compare(a[0], a[1], b) != 0,
+    ("@<", 2): lambda e, a, b: _compare(a[0], a[1], b) < 0,
+    ("@>", 2): lambda e, a, b: _compare(a[0], a[1], b) > 0,
+    ("@=<", 2): lambda e, a, b: _compare(a[0], a[1], b) <= 0,
+    ("@>=", 2): lambda e, a, b: _compare(a[0], a[1], b) >= 0,
+    ("compare", 3): lambda e, a, b: b.unify(a[0], Atom("<=>"[_compare(a[1], a[2], b) + 1])),
+    ("is", 2): lambda e, a, b: b.unify(a[0], _num(evaluate(a[1], b))),
+    ("=:=", 2): _compare_numbers(lambda x, y: x == y),
+    ("=\\=", 2): _compare_numbers(lambda x, y: x != y),
+    ("<", 2): _compare_numbers(lambda x, y: x < y),
+    (">", 2): _compare_numbers(lambda x, y: x > y),
+    ("=<", 2): _compare_numbers(lambda x, y: x <= y),
+    (">=", 2): _compare_numbers(lambda x, y: x >= y),
+    ("var", 1): _type_check(lambda t: isinstance(t, Var)),
+    ("nonvar", 1): _type_check(lambda t: not isinstance(t, Var)),
+    ("atom", 1): _type_check(lambda t: isinstance(t, Atom)),
+    ("number", 1): _type_check(lambda t: isinstance(t, (Int, Float))),
+    ("integer", 1): _type_check(lambda t: isinstance(t, Int)),
+    ("float", 1): _type_check(lambda t: isinstance(t, Float)),
+    ("atomic", 1): _type_check(lambda t: isinstance(t, (Atom, Int, Float, Str))),
+    ("compound", 1): _type_check(lambda t: isinstance(t, Struct)),
+    ("callable", 1): _type_check(_is_callable),
+    ("is_list", 1): lambda e, a, b: list_items(b.resolve(a[0]))[1] == NIL,
+    ("string", 1): _type_check(lambda t: isinstance(t, Str)),
+    ("ground", 1): lambda e, a, b: is_ground(b.resolve(a[0])),
+    ("functor", 3): _functor,
+    ("arg", 3): _arg,
+    ("=..", 2): _univ,
+    ("copy_term", 2): _copy_term,
+    ("atom_length", 2): _atom_length,
+    ("atom_codes", 2): _atom_codes,
+    ("atom_chars", 2): _atom_chars,
+    ("atom_string", 2): _atom_string,
+    ("atom_number", 2): _atom_number,
+    ("atom_to_term", 2): lambda e, a, b: _term_text(e, (a[1], a[0]), b, Atom),
+    ("term_to_atom", 2): lambda e, a, b: _term_text(e, a, b, Atom),
+    ("term_string", 2): lambda e, a, b: _term_text(e, a, b, Str),
+    ("split_string", 4): _split_string,
+    ("atomic_list_concat", 2): _atomic_list_concat,
+    ("atomic_list_concat", 3): _atomic_list_concat,
+    ("string_concat", 3): lambda e, a, b: b.unify(a[2], Str(_text_of(b.walk(a[0])) + _text_of(b.walk(a[1])))),
+    ("atom_concat", 3): lambda e, a, b: b.unify(a[2], Atom(_text_of(b.walk(a[0])) + _text_of(b.walk(a[1])))),
+    ("string_chars", 2): lambda e, a, b: b.unify(a[1], make_list([Atom(c) for c in _text_of(b.walk(a[0]))])),
+    ("string_codes", 2): lambda e, a, b: b.unify(a[1], make_list([Int(ord(c)) for c in _text_of(b.walk(a[0]))])),
+    ("number_codes", 2): lambda e, a, b: _atom_number(e, (Atom(_text_of(b.resolve(a[1]))), a[0]), b),
+    ("assert", 1): _assert(front=False),
+    ("assertz", 1): _assert(front=False),
+    ("asserta", 1): _assert(front=True),
+    ("write", 1): _write(quoted=False),
+    ("print", 1): _write(quoted=True),
+    ("writeq", 1): _write(quoted=True),
+    ("write_canonical", 1): _write(quoted=True),
+    ("writeln", 1): lambda e, a, b: _write(False)(e, a, b) and (e.write("\n") or True),
+    ("nl", 0): lambda e, a, b: e.write("\n") or True,
+    ("format", 1): _format,
+    ("format", 2): _format,
+    ("forall", 2): _forall,
+    ("findall", 3): _findall,
+    ("throw", 1): _throw,
+    ("msort", 2): _msort,
+    ("sort", 2): _sort,
+}
+
+NONDET_BUILTINS: dict[tuple[str, int], NondetBuiltin] = {
+    ("between", 3): _between,
+    ("length", 2): _length,
+    ("retract", 1): _retract,
+}
+
+# Control constructs the machine handles itself (so `is_builtin` knows them).
+CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("\\+", 1), ("not", 1), ("!", 0),
+                     ("true", 0), ("fail", 0), ("false", 0), ("catch", 3)}
+                    | {("call", n) for n in range(1, 9)})
+
+
+def is_builtin(name: str, arity: int) -> bool:
+    """Whether `name/arity` is built in (so it cannot be redefined)."""
+    key = (name, arity)
+    return key in BUILTINS or key in NONDET_BUILTINS or key in CONTROL
+
+
+def _unifiable(x: Term, y: Term, b: Bindings) -> bool:
+    mark = b.mark()
+    ok = b.unify(x, y)
+    b.undo(mark)
+    return ok
+

@@ -1,0 +1,49 @@
+"""The one error type users see: a message with file:line:column and a caret."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SourcePos:
+    """Where something was written: file, 1-based line and column."""
+
+    file: str
+    line: int
+    column: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}"
+
+
+class SchemalogError(Exception):
+    """A problem in the user's input or request, reported without a traceback."""
+
+    def __init__(self, message: str, pos: SourcePos | None = None,
+                 source_line: str | None = None, exit_code: int = 1) -> None:
+        super().__init__(message)
+        self.message = message
+        self.pos = pos
+        self.source_line = source_line
+        self.exit_code = exit_code
+
+    def __str__(self) -> str:
+        head = f"{self.pos}: error: {self.message}" if self.pos else f"error: {self.message}"
+        if self.source_line is None or self.pos is None:
+            return head
+        line = self.source_line.rstrip("\n").expandtabs(1)
+        if len(line) > 160:  # keep the caret in view on very long lines
+            start = max(0, self.pos.column - 80)
+            line = line[start:start + 160]
+            caret_at = self.pos.column - 1 - start
+        else:
+            caret_at = self.pos.column - 1
+        return f"{head}\n    {line}\n    {' ' * max(0, caret_at)}^"
+
+
+class UsageError(SchemalogError):
+    """A wrong command line: exit status 2."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message, exit_code=2)

@@ -1,0 +1,256 @@
+"""KnowledgeBase: clauses by predicate, a first-argument index, and consult.
+
+    KnowledgeBase.predicates : dict[(name, arity), Predicate]
+    Predicate.clauses        : list[StoredClause]            in source order
+    Predicate.index          : dict[key, list[StoredClause]]  key = first argument's
+                                                              principal functor
+
+A call whose first argument is bound only tries the clauses with the same key or
+a variable there; the lists are rebuilt (not mutated) on assert and retract, so a
+running call keeps its snapshot (the logical update view).
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+from .errors import SchemalogError, SourcePos
+from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
+from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, list_items, term_to_text
+from .unify import rename
+
+Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
+
+
+def first_arg_key(term: Term) -> Key | None:
+    """The index key of a (walked) first argument; None for a variable."""
+    if isinstance(term, Var):
+        return None
+    if isinstance(term, Struct):
+        return ("s", term.name, len(term.args))
+    if isinstance(term, Atom):
+        return ("a", term.name)
+    return (type(term).__name__, term.value)  # Int, Float, Str
+
+
+@dataclass(eq=False)
+class StoredClause:
+    """A clause in the knowledge base."""
+
+    head: Term
+    body: Term
+    pos: SourcePos | None = None
+    library: bool = False
+    key: Key | None = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
+
+    def renamed(self) -> tuple[Term, Term]:
+        """A copy of (head, body) with fresh variables."""
+        if self.body is TRUE:
+            return rename(self.head), TRUE
+        pair = rename(Struct(":-", (self.head, self.body)))
+        return pair.args[0], pair.args[1]
+
+    def text(self) -> str:
+        """The clause as Prolog text."""
+        if self.body is TRUE:
+            return term_to_text(self.head) + "."
+        return term_to_text(Struct(":-", (self.head, self.body))) + "."
+
+
+class Predicate:
+    """The clauses of one predicate and their first-argument index."""
+
+    __slots__ = ("clauses", "_index", "_unindexed", "dynamic")
+
+    def __init__(self) -> None:
+        self.clauses: list[StoredClause] = []
+        self._index: dict[Key, list[StoredClause]] | None = None
+        self._unindexed: list[StoredClause] = []
+        self.dynamic = False
+
+    def changed(self) -> None:
+        self._index = None
+
+    def candidates(self, first: Term | None) -> list[StoredClause]:
+        if first is None or isinstance(first, Var) or len(self.clauses) < 8:
+            return self.clauses
+        if self._index is None:
+            index: dict[Key, list[StoredClause]] = {}
+            unindexed: list[StoredClause] = []
+            for clause in self.clauses:
+                if clause.key is None:
+                    unindexed.append(clause)
+                    for bucket in index.values():
+                        bucket.append(clause)
+                else:
+                    bucket = index.get(clause.key)
+                    if bucket is None:
+                        bucket = index[clause.key] = list(unindexed)
+                    bucket.append(clause)
+            self._index, self._unindexed = index, unindexed
+        return self._index.get(first_arg_key(first), self._unindexed)
+
+
+@functools.lru_cache(maxsize=1)
+def _prelude() -> tuple[Clause, ...]:
+    text = resources.files("schemalog").joinpath("prelude.pl").read_text(encoding="utf-8")
+    return tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause))
+
+
+class KnowledgeBase:
+    """Clauses, consulted from files or added programmatically."""
+
+    def __init__(self, prelude: bool = True) -> None:
+        self.predicates: dict[tuple[str, int], Predicate] = {}
+        self.warnings: list[str] = []
+        self.files: list[str] = []
+        if prelude:
+            for clause in _prelude():
+                self._store(StoredClause(clause.head, clause.body, clause.pos, library=True))
+
+    # -- reading --------------------------------------------------------------
+    def candidates(self, name: str, arity: int, first: Term | None) -> list[StoredClause] | None:
+        """The clauses that may match a call, or None if the predicate is unknown."""
+        pred = self.predicates.get((name, arity))
+        if pred is None:
+            return None
+        return pred.candidates(first)
+
+    def clauses(self, name: str, arity: int) -> list[StoredClause]:
+        """All clauses of `name/arity`, in order."""
+        pred = self.predicates.get((name, arity))
+        return list(pred.clauses) if pred else []
+
+    def unknown_fails(self, name: str, arity: int) -> bool:
+        """Whether calling an undefined `name/arity` fails quietly (it was declared dynamic)."""
+        pred = self.predicates.get((name, arity))
+        return pred is not None and pred.dynamic
+
+    def user_clauses(self) -> list[StoredClause]:
+        """Every clause that did not come from the library, in predicate order."""
+        return [c for p in self.predicates.values() for c in p.clauses if not c.library]
+
+    # -- writing --------------------------------------------------------------
+    def _store(self, clause: StoredClause, front: bool = False) -> None:
+        ind = indicator(clause.head)
+        pred = self.predicates.get(ind)
+        if pred is None:
+            pred = self.predicates[ind] = Predicate()
+        elif not clause.library and pred.clauses and all(c.library for c in pred.clauses):
+            pred.clauses = []  # a user definition replaces the library's
+        if front:
+            pred.clauses = [clause, *pred.clauses]
+        else:
+            pred.clauses = [*pred.clauses, clause]
+        pred.changed()
+
+    def add_clause(self, head: Term, body: Term = TRUE, pos: SourcePos | None = None,
+                   front: bool = False) -> None:
+        """Add `head :- body`, checking that the head can be a clause head."""
+        from .engine import is_builtin  # engine imports kb only for typing
+
+        if isinstance(head, Var):
+            raise SchemalogError("a clause head cannot be a variable", pos)
+        if not isinstance(head, (Atom, Struct)):
+            raise SchemalogError(f"a clause head must be an atom or compound term, not "
+                                 f"{term_to_text(head)}", pos)
+        name, arity = indicator(head)
+        if is_builtin(name, arity) or (name, arity) in ((",", 2), (";", 2), ("->", 2)):
+            raise SchemalogError(f"no permission to modify the built-in predicate {name}/{arity}", pos)
+        self._store(StoredClause(head, body, pos), front=front)
+
+    def add_term(self, term: Term, front: bool = False) -> None:
+        """Add a clause given as one term (`H :- B` or a fact), as assertz/asserta do."""
+        if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 2:
+            self.add_clause(term.args[0], term.args[1], front=front)
+        else:
+            self.add_clause(term, front=front)
+
+    def remove(self, clause: StoredClause) -> None:
+        """Remove one stored clause (retract)."""
+        pred = self.predicates.get(indicator(clause.head))
+        if pred is not None:
+            pred.clauses = [c for c in pred.clauses if c is not clause]
+            pred.changed()
+
+    def declare_dynamic(self, name: str, arity: int) -> None:
+        """Make `name/arity` known, so calling it without clauses fails instead of raising."""
+        pred = self.predicates.setdefault((name, arity), Predicate())
+        pred.dynamic = True
+
+    # -- consulting -----------------------------------------------------------
+    def consult_text(self, text: str, file: str = "<string>", base: Path | None = None,
+                     run_directives: bool = True) -> None:
+        """Add every clause of `text`; directives declare, include or run goals."""
+        for item in parse_text(text, file):
+            if isinstance(item, Clause):
+                self.add_clause(item.head, item.body, item.pos)
+            elif run_directives:
+                self._directive(item, base)
+
+    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES) -> None:
+        """Load a knowledge file."""
+        p = Path(path)
+        self.files.append(str(path))
+        self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
+
+    def _directive(self, d: Directive, base: Path | None) -> None:
+        goal = d.goal
+        if isinstance(goal, Struct) and goal.name in ("dynamic", "discontiguous") and len(goal.args) == 1:
+            for spec in _conjuncts(goal.args[0]):
+                items, _ = list_items(spec)
+                for s in items or [spec]:
+                    if not (isinstance(s, Struct) and s.name == "/" and isinstance(s.args[0], Atom)
+                            and isinstance(s.args[1], Int)):
+                        raise SchemalogError(f"{goal.name} expects Name/Arity, not {term_to_text(s)}", d.pos)
+                    if goal.name == "dynamic":
+                        self.declare_dynamic(s.args[0].name, s.args[1].value)
+            return
+        if isinstance(goal, Struct) and goal.name == "op" and len(goal.args) == 3:
+            self.warnings.append(f"{d.pos}: warning: op/3 ignored: schemalog's operator table is "
+                                 f"fixed (see docs/syntax.md)")
+            return
+        if isinstance(goal, Struct) and goal.name in ("consult", "include", "ensure_loaded") \
+                or isinstance(goal, Struct) and goal.name == "[|]":
+            targets = list_items(goal)[0] if goal.name == "[|]" else [goal.args[0]]
+            for target in targets:
+                name = target.name if isinstance(target, Atom) else (
+                    target.value if isinstance(target, Str) else None)
+                if name is None:
+                    raise SchemalogError(f"cannot consult {term_to_text(target)}", d.pos)
+                path = (base or Path(".")) / name
+                if not path.exists() and path.suffix == "":
+                    path = path.with_suffix(".pl")
+                if not path.exists():
+                    raise SchemalogError(f"consult: no such file {name!r}", d.pos)
+                self.consult(path)
+            return
+        if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
+                or isinstance(goal, Atom) and goal.name == "use_module":
+            self.warnings.append(f"{d.pos}: warning: directive {term_to_text(goal)} ignored")
+            return
+        from .engine import Engine, PrologError
+
+        try:
+            if Engine(self, max_steps=1_000_000).first(goal) is None:
+                self.warnings.append(f"{d.pos}: warning: directive failed: {term_to_text(goal)}")
+        except PrologError as err:
+            self.warnings.append(f"{d.pos}: warning: directive raised {err}")
+
+
+def _conjuncts(term: Term) -> list[Term]:
+    out = []
+    while isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
+        out.append(term.args[0])
+        term = term.args[1]
+    out.append(term)
+    return out
+
+
+__all__ = ["KnowledgeBase", "StoredClause", "Predicate", "first_arg_key", "Float"]

@@ -1,0 +1,175 @@
+"""Unification over a trail of bindings.
+
+    Bindings = dict[Var, Term] with a trail (list[Var]) recording the order of binding,
+    so a failed branch is undone by `undo(mark)` instead of copying the dict.
+    Subst   = dict[Var, Term]   (the pure view: `unify_terms(x, y) -> Subst | None`)
+
+No occurs check, as in SWI-Prolog's default `unify/2`; `unify_with_occurs_check` is
+available through `Bindings.unify(x, y, occurs_check=True)`.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+from .terms import Atom, Float, Int, Str, Struct, Term, Var
+
+Subst = dict[Var, Term]
+
+
+class Bindings:
+    """Variable bindings with a trail; the engine's only mutable state."""
+
+    __slots__ = ("values", "trail")
+
+    def __init__(self, values: Mapping[Var, Term] | None = None) -> None:
+        self.values: dict[Var, Term] = dict(values or {})
+        self.trail: list[Var] = list(self.values)
+
+    def mark(self) -> int:
+        """Return a point to undo back to."""
+        return len(self.trail)
+
+    def undo(self, mark: int) -> None:
+        """Forget every binding made since `mark`."""
+        trail, values = self.trail, self.values
+        while len(trail) > mark:
+            del values[trail.pop()]
+
+    def bind(self, var: Var, term: Term) -> None:
+        """Bind an unbound variable."""
+        self.values[var] = term
+        self.trail.append(var)
+
+    def walk(self, term: Term) -> Term:
+        """Follow variable bindings until a non-variable or an unbound variable."""
+        values = self.values
+        while isinstance(term, Var):
+            bound = values.get(term)
+            if bound is None:
+                return term
+            term = bound
+        return term
+
+    def resolve(self, term: Term) -> Term:
+        """Apply the bindings all the way down (iteratively: deep terms are fine)."""
+        term = self.walk(term)
+        if not isinstance(term, Struct):
+            return term
+        # Post-order rebuild with an explicit stack; shares unchanged subterms.
+        stack: list[tuple[Struct, list[Term]]] = [(term, [])]
+        result: Term = term
+        while stack:
+            node, done = stack[-1]
+            if len(done) == len(node.args):
+                stack.pop()
+                rebuilt = node if all(a is b for a, b in zip(done, node.args)) \
+                    else Struct(node.name, tuple(done))
+                if stack:
+                    stack[-1][1].append(rebuilt)
+                else:
+                    result = rebuilt
+                continue
+            arg = self.walk(node.args[len(done)])
+            if isinstance(arg, Struct):
+                stack.append((arg, []))
+            else:
+                done.append(arg)
+        return result
+
+    def unify(self, x: Term, y: Term, occurs_check: bool = False) -> bool:
+        """Unify `x` and `y`, extending the bindings; on failure the caller undoes."""
+        pairs = [(x, y)]
+        walk = self.walk
+        while pairs:
+            a, b = pairs.pop()
+            a, b = walk(a), walk(b)
+            if a is b:
+                continue
+            if isinstance(a, Var):
+                if occurs_check and self.occurs(a, b):
+                    return False
+                self.bind(a, b)
+            elif isinstance(b, Var):
+                if occurs_check and self.occurs(b, a):
+                    return False
+                self.bind(b, a)
+            elif isinstance(a, Struct):
+                if not (isinstance(b, Struct) and a.name == b.name and len(a.args) == len(b.args)):
+                    return False
+                pairs.extend(zip(a.args, b.args))
+            elif type(a) is not type(b) or a != b:
+                return False
+        return True
+
+    def occurs(self, var: Var, term: Term) -> bool:
+        """Whether `var` occurs in `term` under the bindings."""
+        stack = [term]
+        while stack:
+            t = self.walk(stack.pop())
+            if t is var:
+                return True
+            if isinstance(t, Struct):
+                stack.extend(t.args)
+        return False
+
+
+def unify_terms(x: Term, y: Term, s: Subst | None = None) -> Subst | None:
+    """Return the substitution that unifies `x` and `y` (extending `s`), or None."""
+    b = Bindings(s)
+    return b.values if b.unify(x, y) else None
+
+
+def rename(term: Term, mapping: dict[Var, Var] | None = None) -> Term:
+    """Copy `term` with fresh variables (consistent through `mapping`)."""
+    mapping = {} if mapping is None else mapping
+    if isinstance(term, Var):
+        fresh = mapping.get(term)
+        if fresh is None:
+            fresh = mapping[term] = Var(term.name)
+        return fresh
+    if not isinstance(term, Struct):
+        return term
+    stack: list[tuple[Struct, list[Term]]] = [(term, [])]
+    while True:
+        node, done = stack[-1]
+        if len(done) == len(node.args):
+            stack.pop()
+            rebuilt = Struct(node.name, tuple(done))
+            if not stack:
+                return rebuilt
+            stack[-1][1].append(rebuilt)
+            continue
+        arg = node.args[len(done)]
+        if isinstance(arg, Struct):
+            stack.append((arg, []))
+        elif isinstance(arg, Var):
+            fresh = mapping.get(arg)
+            if fresh is None:
+                fresh = mapping[arg] = Var(arg.name)
+            done.append(fresh)
+        else:
+            done.append(arg)
+
+
+def variant(x: Term, y: Term) -> bool:
+    """Whether `x` and `y` are equal up to a consistent renaming of variables."""
+    forward: dict[Var, Var] = {}
+    backward: dict[Var, Var] = {}
+    pairs = [(x, y)]
+    while pairs:
+        a, b = pairs.pop()
+        if isinstance(a, Var) and isinstance(b, Var):
+            if forward.setdefault(a, b) is not b or backward.setdefault(b, a) is not a:
+                return False
+        elif isinstance(a, Struct) and isinstance(b, Struct):
+            if a.name != b.name or len(a.args) != len(b.args):
+                return False
+            pairs.extend(zip(a.args, b.args))
+        elif type(a) is not type(b) or isinstance(a, Var) or a != b:
+            return False
+    return True
+
+
+__all__ = ["Bindings", "Subst", "unify_terms", "rename", "variant",
+           "Atom", "Int", "Float", "Str"]
