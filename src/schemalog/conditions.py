@@ -168,7 +168,7 @@ def to_term(c: Condition) -> Term:
 
 def to_text(c: Condition) -> str:
     """Print a condition: `hand.free or spoon.taken`, `not hand.free`."""
-    return term_to_text(to_term(c), 999)
+    return term_to_text(to_term(c), 999, spaced=True)
 
 
 def literals(c: Condition) -> list[Lit]:

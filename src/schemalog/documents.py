@@ -212,7 +212,7 @@ def to_yaml(doc: Document) -> str:
         names = variable_names([head, item.body])
 
         def text(t: Term, p: int = 999) -> str:
-            return term_to_text(t, p, names)
+            return term_to_text(t, p, names, spaced=True)
 
         if s is not None:
             record: dict = {"schema": text(s.task),

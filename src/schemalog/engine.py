@@ -15,6 +15,7 @@ ISO errors are raised as `PrologError(term)`; running past the step limit raises
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import TYPE_CHECKING, Callable, Iterator
 
@@ -96,7 +97,6 @@ class Engine:
                  output: Callable[[str], None] | None = None) -> None:
         self.kb = kb
         self.max_steps = max_steps
-        self.steps = 0
         self.write = output or (lambda text: print(text, end=""))
         self.interrupted = False  # set from another thread (Ctrl-C in the REPL)
 
@@ -133,6 +133,7 @@ class Engine:
         builtins = BUILTINS
         nondet = NONDET_BUILTINS
         max_steps = self.max_steps
+        steps = 0  # per query: each solve (and each findall inside it) has the whole budget
         while True:
             try:
                 if goals is None:
@@ -142,8 +143,8 @@ class Engine:
                         return
                     continue
                 term, cutb, rest = goals
-                self.steps += 1
-                if self.steps > max_steps:
+                steps += 1
+                if steps > max_steps:
                     raise StepLimitExceeded(
                         f"step limit of {max_steps:,} resolution steps exceeded (runaway recursion?)")
                 if self.interrupted:
@@ -166,9 +167,11 @@ class Engine:
                         goals = rest
                         continue
                     raise type_error("callable", term)
-                term = b.walk(term)
-                if isinstance(term, Var):
-                    raise instantiation_error()
+                if isinstance(term, Var):  # `G` as a goal means call(G): its cut is local
+                    term = b.walk(term)
+                    if isinstance(term, Var):
+                        raise instantiation_error()
+                    cutb = len(cps)
                 if isinstance(term, Atom):
                     name, args = term.name, ()
                 elif isinstance(term, Struct):
@@ -195,7 +198,7 @@ class Engine:
                         goals = rest
                         continue
                 if arity == 2 and name == ";":
-                    left = b.walk(args[0])
+                    left = args[0]  # not walked: `(C ; B)` with C bound to (X -> Y) is call(C) ; B
                     if isinstance(left, Struct) and left.name == "->" and len(left.args) == 2:
                         height = len(cps)
                         cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
@@ -310,7 +313,7 @@ class Engine:
             b.undo(mark)
             before = b.mark()
             if b.unify(catcher, rename(ball)):
-                return (recovery, cutb, rest)
+                return (recovery, len(cps), rest)  # the recovery goal is called: its cut is local
             b.undo(before)
         raise err.__class__(ball) if isinstance(err, PrologError) else err
 
@@ -345,89 +348,145 @@ def _num(value) -> Term:
     return Float(value)
 
 
-def _int_arg(x, name: str, arity: int):
-    if not isinstance(x, int):
-        raise type_error("integer", _num(x))
-    return x
+def _ints(fn: Callable[[int, int], int]) -> Callable:
+    """An integer-only operation: floats are a type error, as in ISO."""
+    def run(x, y):
+        for v in (x, y):
+            if not isinstance(v, int):
+                raise type_error("integer", _num(v))
+        return fn(x, y)
+    return run
+
+
+def _int1(fn: Callable[[int], int]) -> Callable:
+    def run(x):
+        if not isinstance(x, int):
+            raise type_error("integer", _num(x))
+        return fn(x)
+    return run
+
+
+def _truncating_div(x: int, y: int) -> int:
+    """x // y rounded toward zero, exactly (SWI-Prolog's default for //)."""
+    q = abs(x) // abs(y)
+    return q if (x >= 0) == (y >= 0) else -q
+
+
+def _divide(x, y):
+    if isinstance(x, int) and isinstance(y, int):
+        if y == 0:
+            raise ZeroDivisionError
+        return x // y if x % y == 0 else x / y
+    if y == 0:
+        raise iso_error(Struct("evaluation_error", (Atom("undefined" if x == 0 or x != x else "zero_divisor"),)))
+    return x / y
+
+
+def _power(x, y):
+    """`**` and `^`: exact for integers (1 and -1 to negative powers too), float otherwise."""
+    if isinstance(x, int) and isinstance(y, int):
+        if y >= 0:
+            return x ** y
+        if x in (1, -1):
+            return x ** (-y) if x == 1 or y % 2 == 0 else -1
+        return float(x) ** y
+    return float(x) ** y
+
+
+def _round_half_away(x) -> int:
+    return int(math.floor(x + 0.5)) if x >= 0 else -int(math.floor(-x + 0.5))
+
+
+def _as_int(fn: Callable[[float], float]) -> Callable:
+    return lambda x: x if isinstance(x, int) else int(fn(x))
 
 
 _EVAL2: dict[str, Callable] = {
     "+": lambda x, y: x + y, "-": lambda x, y: x - y, "*": lambda x, y: x * y,
-    "/": lambda x, y: (x // y if isinstance(x, int) and isinstance(y, int) and x % y == 0
-                       else x / y),
-    "//": lambda x, y: int(x / y) if isinstance(x, int) and isinstance(y, int) else _bad_int(x, y),
-    "mod": lambda x, y: x % y if isinstance(x, int) and isinstance(y, int) else _bad_int(x, y),
-    "rem": lambda x, y: math.fmod(x, y) if not (isinstance(x, int) and isinstance(y, int))
-    else x - y * int(x / y),
-    "div": lambda x, y: x // y if isinstance(x, int) and isinstance(y, int) else _bad_int(x, y),
-    "min": lambda x, y: x if x <= y else y, "max": lambda x, y: x if x >= y else y,
-    "**": lambda x, y: x ** y if isinstance(x, int) and isinstance(y, int) and y >= 0 else float(x) ** y,
-    "^": lambda x, y: x ** y if isinstance(x, int) and isinstance(y, int) else float(x) ** y,
-    ">>": lambda x, y: x >> y, "<<": lambda x, y: x << y,
-    "/\\": lambda x, y: x & y, "\\/": lambda x, y: x | y, "xor": lambda x, y: x ^ y,
+    "/": _divide,
+    "//": _ints(lambda x, y: _truncating_div(x, y)),
+    "mod": _ints(lambda x, y: x % y),
+    "rem": _ints(lambda x, y: x - y * _truncating_div(x, y)),
+    "div": _ints(lambda x, y: x // y),
+    "min": lambda x, y: y if y < x else x, "max": lambda x, y: y if y > x else x,
+    "**": _power, "^": _power,
+    ">>": _ints(lambda x, y: x >> y), "<<": _ints(lambda x, y: x << y),
+    "/\\": _ints(lambda x, y: x & y), "\\/": _ints(lambda x, y: x | y), "xor": _ints(lambda x, y: x ^ y),
+    "gcd": _ints(math.gcd),
     "atan2": math.atan2, "atan": math.atan2, "copysign": math.copysign,
-    "gcd": math.gcd, "log": lambda x, y: math.log(y) / math.log(x),
+    "log": lambda x, y: math.log(y) / math.log(x),
 }
 _EVAL1: dict[str, Callable] = {
     "-": lambda x: -x, "+": lambda x: x, "abs": abs,
-    "sign": lambda x: (x > 0) - (x < 0) if isinstance(x, int) else math.copysign(1.0, x) if x else 0.0,
+    "sign": lambda x: (x > 0) - (x < 0) if isinstance(x, int) else (math.copysign(1.0, x) if x else 0.0),
     "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan,
     "asin": math.asin, "acos": math.acos, "atan": math.atan, "exp": math.exp,
-    "log": math.log, "log2": math.log2, "float": float, "integer": lambda x: int(round(x)),
-    "float_integer_part": lambda x: float(int(x)), "float_fractional_part": lambda x: x - int(x),
-    "truncate": lambda x: int(x), "round": lambda x: int(math.floor(x + 0.5)) if x >= 0 else -int(math.floor(-x + 0.5)),
-    "ceiling": lambda x: int(math.ceil(x)), "floor": lambda x: int(math.floor(x)),
-    "\\": lambda x: ~x, "msb": lambda x: x.bit_length() - 1, "succ": lambda x: x + 1,
+    "log": math.log, "log2": math.log2, "float": float,
+    "integer": _as_int(_round_half_away),
+    "float_integer_part": lambda x: float(math.trunc(x)), "float_fractional_part": lambda x: x - math.trunc(x),
+    "truncate": _as_int(math.trunc), "round": _as_int(_round_half_away),
+    "ceiling": _as_int(math.ceil), "floor": _as_int(math.floor),
+    "\\": _int1(lambda x: ~x), "msb": _int1(lambda x: x.bit_length() - 1),
+    "succ": lambda x: x + 1,
 }
-_EVAL0 = {"pi": math.pi, "e": math.e, "inf": math.inf, "nan": math.nan,
+_EVAL0 = {"pi": math.pi, "e": math.e, "inf": math.inf, "infinite": math.inf, "nan": math.nan,
           "max_tagged_integer": (1 << 60) - 1, "epsilon": 2.220446049250313e-16}
 
 
-def _bad_int(x, y):
-    raise type_error("integer", _num(x if not isinstance(x, int) else y))
+def _apply(name: str, fn: Callable, values: list):
+    try:
+        result = fn(*values)
+    except ZeroDivisionError:
+        raise iso_error(Struct("evaluation_error", (Atom("zero_divisor"),))) from None
+    except OverflowError:
+        raise iso_error(Struct("evaluation_error", (Atom("float_overflow"),))) from None
+    except ValueError:
+        raise iso_error(Struct("evaluation_error", (Atom("undefined"),))) from None
+    if isinstance(result, float) and math.isinf(result) and not any(
+            isinstance(v, float) and math.isinf(v) for v in values):
+        raise iso_error(Struct("evaluation_error", (Atom("float_overflow"),)))
+    return result
 
 
 def evaluate(term: Term, b: Bindings):
-    """Evaluate an arithmetic expression to a Python int or float."""
-    term = b.walk(term)
-    if isinstance(term, Int):
-        return term.value
-    if isinstance(term, Float):
-        return term.value
-    if isinstance(term, Var):
-        raise instantiation_error()
-    if isinstance(term, Atom):
-        value = _EVAL0.get(term.name)
-        if value is None:
-            if term.name == "[]" or len(term.name) != 1:
-                raise type_error("evaluable", Struct("/", (term, Int(0))))
-            return ord(term.name)  # "a" as a one-char atom evaluates to its code (SWI: [X])
-        return value
-    if isinstance(term, Str) and len(term.value) == 1:
-        return ord(term.value)
-    if isinstance(term, Struct):
-        if len(term.args) == 1:
-            fn = _EVAL1.get(term.name)
-            if fn is not None:
-                x = evaluate(term.args[0], b)
-                try:
-                    return fn(x)
-                except (ValueError, OverflowError):
-                    raise iso_error(Struct("evaluation_error", (Atom("undefined"),))) from None
-        elif len(term.args) == 2:
-            if term.name == CONS and b.walk(term.args[1]) == NIL:  # [X] evaluates X
-                return evaluate(term.args[0], b)
-            fn = _EVAL2.get(term.name)
-            if fn is not None:
-                x, y = evaluate(term.args[0], b), evaluate(term.args[1], b)
-                try:
-                    return fn(x, y)
-                except ZeroDivisionError:
-                    raise iso_error(Struct("evaluation_error", (Atom("zero_divisor"),))) from None
-                except (ValueError, OverflowError):
-                    raise iso_error(Struct("evaluation_error", (Atom("undefined"),))) from None
-        raise type_error("evaluable", Struct("/", (Atom(term.name), Int(len(term.args)))))
-    raise type_error("evaluable", term)
+    """Evaluate an arithmetic expression to a Python int or float (iteratively)."""
+    # Post-order over the expression: (term, None) to expand, (name, fn, n) to apply.
+    values: list = []
+    work: list = [term]
+    while work:
+        item = work.pop()
+        if isinstance(item, tuple):
+            name, fn, n = item
+            args = values[len(values) - n:]
+            del values[len(values) - n:]
+            values.append(_apply(name, fn, args))
+            continue
+        t = b.walk(item)
+        if isinstance(t, Int):
+            values.append(t.value)
+        elif isinstance(t, Float):
+            values.append(t.value)
+        elif isinstance(t, Var):
+            raise instantiation_error()
+        elif isinstance(t, Atom):
+            if t.name not in _EVAL0:
+                raise type_error("evaluable", Struct("/", (t, Int(0))))
+            values.append(_EVAL0[t.name])
+        elif isinstance(t, Str) and len(t.value) == 1:
+            values.append(ord(t.value))  # "a" evaluates to its character code
+        elif isinstance(t, Struct):
+            if t.name == CONS and len(t.args) == 2 and b.walk(t.args[1]) == NIL:
+                work.append(t.args[0])  # [X] evaluates X
+                continue
+            table = _EVAL1 if len(t.args) == 1 else _EVAL2 if len(t.args) == 2 else {}
+            fn = table.get(t.name)
+            if fn is None:
+                raise type_error("evaluable", Struct("/", (Atom(t.name), Int(len(t.args)))))
+            work.append((t.name, fn, len(t.args)))
+            work.extend(reversed(t.args))
+        else:
+            raise type_error("evaluable", t)
+    return values[0]
 
 
 # ---------------------------------------------------------------------------
@@ -437,28 +496,62 @@ def _compare_numbers(op: Callable[[object, object], bool]) -> Builtin:
     return lambda e, a, b: op(evaluate(a[0], b), evaluate(a[1], b))
 
 
-_TYPE_ORDER = {Var: 0, Float: 1, Int: 1, Atom: 3, Str: 4, Struct: 5}
+def _order_class(t: Term) -> int:
+    # SWI-Prolog 9's observed standard order: Var < Number < String < Atom < Compound.
+    if isinstance(t, Var):
+        return 0
+    if isinstance(t, (Int, Float)):
+        return 1
+    if isinstance(t, Str):
+        return 2
+    if isinstance(t, Atom):
+        return 3
+    return 4
 
 
-def standard_order_key(term: Term, b: Bindings | None = None):
-    """A sort key for the standard order of terms: Var < Number < Atom < String < Compound."""
-    if b is not None:
-        term = b.walk(term)
-    if isinstance(term, Var):
-        return (0, term.id)
-    if isinstance(term, (Int, Float)):
-        # Compared by value; if equal, Float < Int.
-        return (1, term.value, 0 if isinstance(term, Float) else 1)
-    if isinstance(term, Atom):
-        return (3, term.name)
-    if isinstance(term, Str):
-        return (4, term.value)
-    return (5, len(term.args), term.name, tuple(standard_order_key(a, b) for a in term.args))
+def compare_terms(x: Term, y: Term, b: Bindings | None = None) -> int:
+    """-1, 0 or 1 by the standard order of terms (iteratively: deep terms are fine)."""
+    walk = b.walk if b is not None else (lambda t: t)
+    pairs = [(x, y)]
+    while pairs:
+        p, q = pairs.pop()
+        p, q = walk(p), walk(q)
+        if p is q:
+            continue
+        cp, cq = _order_class(p), _order_class(q)
+        if cp != cq:
+            return -1 if cp < cq else 1
+        if cp == 0:
+            return -1 if p.id < q.id else 1
+        if cp == 1:
+            if p.value != q.value:
+                return -1 if p.value < q.value else 1
+            fp, fq = isinstance(p, Float), isinstance(q, Float)
+            if fp != fq:  # equal values: Float before Int
+                return -1 if fp else 1
+            if p != q:  # -0.0 before 0.0
+                return -1 if str(p).startswith("-") else 1
+            continue
+        if cp in (2, 3):
+            a, c = (p.value, q.value) if cp == 2 else (p.name, q.name)
+            if a != c:
+                return -1 if a < c else 1
+            continue
+        if len(p.args) != len(q.args):
+            return -1 if len(p.args) < len(q.args) else 1
+        if p.name != q.name:
+            return -1 if p.name < q.name else 1
+        pairs.extend(reversed(list(zip(p.args, q.args))))
+    return 0
+
+
+def standard_order_key(term: Term):
+    """A sort key for the standard order of terms."""
+    return functools.cmp_to_key(compare_terms)(term)
 
 
 def _compare(x: Term, y: Term, b: Bindings) -> int:
-    kx, ky = standard_order_key(b.resolve(x)), standard_order_key(b.resolve(y))
-    return (kx > ky) - (kx < ky)
+    return compare_terms(x, y, b)
 
 
 def _type_check(pred: Callable[[Term], bool]) -> Builtin:
@@ -477,6 +570,8 @@ def _functor(e: Engine, a: tuple, b: Bindings) -> bool:
             raise instantiation_error()
         if not isinstance(arity, Int):
             raise type_error("integer", arity)
+        if arity.value < 0:
+            raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), arity)))
         if arity.value == 0:
             return b.unify(term, name)
         if not isinstance(name, Atom):
@@ -631,21 +726,54 @@ def _atomic_list_concat(e, a, b):
     return b.unify(a[-1], Atom(sep.join(_text_of(i) for i in items)))
 
 
-def _atom_number(e, a, b):
-    text = _text_of(b.walk(a[0]))
+def _read_number(text: str) -> Term | None:
+    from .parse import parse_term  # parse.py does not import the engine: no cycle
+    if not text or text != text.strip():
+        return None
     try:
-        value = int(text)
-        return b.unify(a[1], Int(value))
-    except ValueError:
-        try:
-            return b.unify(a[1], Float(float(text)))
-        except ValueError:
-            return False
+        value = parse_term(text)
+    except SchemalogError:
+        return None
+    return value if isinstance(value, (Int, Float)) else None
+
+
+def _atom_number(e, a, b):
+    atom = b.walk(a[0])
+    if isinstance(atom, Var):
+        number = b.walk(a[1])
+        if isinstance(number, Var):
+            raise instantiation_error()
+        return b.unify(atom, Atom(term_to_text(number)))
+    value = _read_number(_text_of(atom))
+    return value is not None and b.unify(a[1], value)
+
+
+def _number_codes(e, a, b):
+    number = b.walk(a[0])
+    if not isinstance(number, Var):
+        return b.unify(a[1], make_list([Int(ord(c)) for c in term_to_text(number)]))
+    value = _read_number(_text_of(b.resolve(a[1])))
+    if value is None:
+        raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
+    return b.unify(number, value)
 
 
 def _assert(front: bool) -> Builtin:
     def run(e: Engine, a: tuple, b: Bindings) -> bool:
-        e.kb.add_term(rename(b.resolve(a[0])), front=front)
+        clause = rename(b.resolve(a[0]))
+        head, body = (clause.args if isinstance(clause, Struct) and clause.name == ":-"
+                      and len(clause.args) == 2 else (clause, TRUE))
+        if isinstance(head, Var):
+            raise instantiation_error()
+        if not isinstance(head, (Atom, Struct)):
+            raise type_error("callable", head)
+        if isinstance(body, (Int, Float, Str)):
+            raise type_error("callable", body)
+        key = (head.name, len(head.args) if isinstance(head, Struct) else 0)
+        if is_builtin(*key) or key in e.kb.library_predicates():
+            raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
+                                                        Struct("/", (Atom(key[0]), Int(key[1]))))))
+        e.kb.add_clause(head, body, front=front)
         return True
     return run
 
@@ -665,14 +793,12 @@ def _retract(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
         if b.unify(head, h) and b.unify(body, bd):
             e.kb.remove(clause)
             yield
-            return
         b.undo(mark)
 
 
 def _write(quoted: bool) -> Builtin:
     def run(e: Engine, a: tuple, b: Bindings) -> bool:
-        t = b.resolve(a[0])
-        e.write(term_to_text(t) if quoted or not isinstance(t, (Atom, Str)) else _text_of(t))
+        e.write(term_to_text(b.resolve(a[0]), quoted=quoted))
         return True
     return run
 
@@ -706,15 +832,23 @@ def _format(e: Engine, a: tuple, b: Bindings) -> bool:
             raise iso_error(Struct("format", (Str("not enough arguments"),)))
         arg = args[n]
         n += 1
-        if d in "wap":
-            out.append(_text_of(arg) if d == "a" or isinstance(arg, (Atom, Str)) and d == "w"
-                       else term_to_text(arg))
+        if d == "a":
+            out.append(_text_of(arg))
+        elif d == "w":
+            out.append(term_to_text(arg, quoted=False))
+        elif d == "p":
+            out.append(term_to_text(arg))
         elif d == "q":
             out.append(term_to_text(arg))
         elif d == "d":
             if not isinstance(arg, Int):
                 raise type_error("integer", arg)
-            out.append(str(arg.value))
+            text = str(abs(arg.value))
+            if digits and int(digits) > 0:  # ~Nd: N digits after a decimal point
+                places = int(digits)
+                text = text.rjust(places + 1, "0")
+                text = f"{text[:-places]}.{text[-places:]}"
+            out.append(("-" if arg.value < 0 else "") + text)
         elif d in "fge":
             value = evaluate(arg, b)
             out.append(f"{value:.{int(digits) if digits else 6}{d}}")
@@ -733,7 +867,7 @@ def _forall(e: Engine, a: tuple, b: Bindings) -> bool:
 
 
 def _findall(e: Engine, a: tuple, b: Bindings) -> bool:
-    results = [b.resolve(a[0]) for _ in e._sub_solve(a[1], b)]
+    results = [rename(b.resolve(a[0])) for _ in e._sub_solve(a[1], b)]
     return b.unify(a[2], make_list(results))
 
 
@@ -755,10 +889,11 @@ def _sort(e, a, b):
     items, tail = list_items(b.resolve(a[0]))
     if tail != NIL:
         raise instantiation_error()
-    unique = {}
+    result: list[Term] = []
     for item in sorted(items, key=standard_order_key):
-        unique.setdefault(standard_order_key(item), item)
-    return b.unify(a[1], make_list(list(unique.values())))
+        if not result or compare_terms(result[-1], item) != 0:
+            result.append(item)
+    return b.unify(a[1], make_list(result))
 
 
 BUILTINS: dict[tuple[str, int], Builtin] = {
@@ -810,7 +945,7 @@ BUILTINS: dict[tuple[str, int], Builtin] = {
     ("atom_concat", 3): lambda e, a, b: b.unify(a[2], Atom(_text_of(b.walk(a[0])) + _text_of(b.walk(a[1])))),
     ("string_chars", 2): lambda e, a, b: b.unify(a[1], make_list([Atom(c) for c in _text_of(b.walk(a[0]))])),
     ("string_codes", 2): lambda e, a, b: b.unify(a[1], make_list([Int(ord(c)) for c in _text_of(b.walk(a[0]))])),
-    ("number_codes", 2): lambda e, a, b: _atom_number(e, (Atom(_text_of(b.resolve(a[1]))), a[0]), b),
+    ("number_codes", 2): _number_codes,
     ("assert", 1): _assert(front=False),
     ("assertz", 1): _assert(front=False),
     ("asserta", 1): _assert(front=True),

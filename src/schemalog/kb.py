@@ -132,6 +132,10 @@ class KnowledgeBase:
         pred = self.predicates.get((name, arity))
         return pred is not None and pred.dynamic
 
+    def library_predicates(self) -> set[tuple[str, int]]:
+        """The predicates defined only by the prelude (a user file may replace them, assert may not)."""
+        return {key for key, p in self.predicates.items() if p.clauses and all(c.library for c in p.clauses)}
+
     def user_clauses(self) -> list[StoredClause]:
         """Every clause that did not come from the library, in predicate order."""
         return [c for p in self.predicates.values() for c in p.clauses if not c.library]

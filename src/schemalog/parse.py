@@ -69,10 +69,13 @@ def _unescape(body: str, quote: str) -> str:
             i += 2
         elif c == "\\" and i + 1 < len(body):
             nxt = body[i + 1]
-            if nxt == "x":  # \xHH..\ : a character code in hex
-                end = body.find("\\", i + 2)
+            if nxt == "x" or nxt in "01234567" and body.find("\\", i + 1) > i + 1 and \
+                    body[i + 1:body.find("\\", i + 1)].isdigit():
+                # \xHH..\ (hex) and \NNN\ (octal): a character code
+                end = body.find("\\", i + 1 + (nxt == "x"))
                 end = len(body) if end < 0 else end
-                out.append(chr(int(body[i + 2:end] or "0", 16)))
+                digits, base = (body[i + 2:end], 16) if nxt == "x" else (body[i + 1:end], 8)
+                out.append(chr(int(digits or "0", base)))
                 i = end + 1
             elif nxt == "\n":  # a backslash before a newline continues the line
                 i += 2
@@ -151,7 +154,9 @@ class _ToTerms(Transformer):
 
     # -- operators: a flat run arranged by priority ----------------------------
     def expr(self, c): return self._arrange(c, 1200)
-    def arg(self, c): return c[0] if len(c) == 1 and not isinstance(c[0], _Operand) else self._arrange(c, 999)
+    # An argument may be any term but a bare comma: SWI-Prolog reads f(a;b) and f(a:-b),
+    # though ISO limits arguments to priority 999 (the writer still brackets them).
+    def arg(self, c): return c[0] if len(c) == 1 and not isinstance(c[0], _Operand) else self._arrange(c, 1200)
     def operand(self, c): return c[0] if len(c) == 1 else _Operand(c)
     def infix(self, c): return c[0]
     def arg_infix(self, c): return c[0]
@@ -169,10 +174,7 @@ class _ToTerms(Transformer):
             if right_p > right_max:
                 raise self._clash(token, name)
             if left_max < 0:  # prefix operator
-                if name == "-" and isinstance(right, (Int, Float)) and right_p == 0:
-                    out.append((Int(-right.value) if isinstance(right, Int) else Float(-right.value), 0))
-                else:
-                    out.append((Struct(name, (right,)), priority))
+                out.append((Struct(name, (right,)), priority))
                 return
             left, left_p = out.pop()
             if left_p > left_max:
@@ -231,13 +233,20 @@ class _ToTerms(Transformer):
 
     def int(self, c):
         text = str(c[0])
-        if text.startswith("0'"):
-            return Int(ord(_unescape(text[2:], "'")))
-        if text[:2] in ("0x", "0o", "0b"):
-            return Int(int(text, 0))
-        return Int(int(text))
+        sign, digits = (-1, text[1:]) if text.startswith("-") else (1, text)
+        if digits.startswith("0'"):
+            return Int(sign * ord(_unescape(digits[2:], "'")))
+        if digits[:2] in ("0x", "0o", "0b"):
+            return Int(sign * int(digits, 0))
+        return Int(sign * int(digits))
 
-    def float(self, c): return Float(float(str(c[0])))
+    def float(self, c):
+        text = str(c[0])
+        if text.endswith("Inf"):  # SWI-Prolog writes infinity as 1.0Inf
+            return Float(float("-inf") if text.startswith("-") else float("inf"))
+        if text.endswith("NaN"):
+            return Float(float("nan"))
+        return Float(float(text))
     def string(self, c): return Str(_unescape(str(c[0])[1:-1], '"'))
     def compound(self, c): return Struct(_atom_name(str(c[0])), tuple(c[1]))
     def args(self, c): return [a for a in c if not isinstance(a, Token)]

@@ -22,7 +22,7 @@ nth1(I, L, E) :- '$nth'(L, 1, I, E).
 '$nth'(L, Base, I, E) :- integer(I), !, Skip is I - Base, Skip >= 0, '$nth_fixed'(Skip, L, E).
 '$nth'([H|T], Base, I, E) :- var(I), '$nth_var'(T, H, Base, I, E).
 '$nth_fixed'(0, [E|_], E) :- !.
-'$nth_fixed'(N, [_|T], E) :- N1 is N - 1, '$nth_fixed'(N1, T, E).
+'$nth_fixed'(N, [_|T], E) :- N > 0, N1 is N - 1, '$nth_fixed'(N1, T, E).
 '$nth_var'(_, H, Base, Base, H).
 '$nth_var'([H|T], _, Base, I, E) :- B1 is Base + 1, '$nth_var'(T, H, B1, I, E).
 
@@ -61,8 +61,9 @@ min_list([H|T], M) :- '$min_list'(T, H, M).
 '$min_list'([], M, M).
 '$min_list'([H|T], M0, M) :- M1 is min(M0, H), '$min_list'(T, M1, M).
 
-numlist(L, H, []) :- L > H, !.
-numlist(L, H, [L|T]) :- L1 is L + 1, numlist(L1, H, T).
+numlist(L, H, R) :- L =< H, '$numlist'(L, H, R).
+'$numlist'(H, H, [H]) :- !.
+'$numlist'(L, H, [L|T]) :- L1 is L + 1, '$numlist'(L1, H, T).
 
 delete([], _, []).
 delete([H|T], X, R) :- ( H \= X -> R = [H|R1] ; R = R1 ), delete(T, X, R1).
@@ -73,4 +74,5 @@ subtract([H|T], L, R) :- ( memberchk(H, L) -> R = R1 ; R = [H|R1] ), subtract(T,
 
 list_to_set(L, S) :- '$lts'(L, [], S).
 '$lts'([], _, []).
-'$lts'([H|T], Seen, R) :- ( memberchk(H, Seen) -> R = R1 ; R = [H|R1] ), '$lts'(T, [H|Seen], R1).
+'$lts'([H|T], Seen, R) :- ( '$memberchk_eq'(H, Seen) -> R = R1 ; R = [H|R1] ), '$lts'(T, [H|Seen], R1).
+'$memberchk_eq'(X, [Y|Ys]) :- ( X == Y -> true ; '$memberchk_eq'(X, Ys) ).

@@ -165,19 +165,19 @@ def write_clause(head: Term, body: Term = TRUE) -> str:
         items, tail = list_items(subs)
         if tail == NIL and items:
             pad = " " * len("schema(")
-            lines = [f"schema({term_to_text(task, 999, names)},"]
+            lines = [f"schema({term_to_text(task, 999, names, spaced=True)},"]
             for i, item in enumerate(items):
                 opener = f"{pad}[ " if i == 0 else f"{pad}  "
                 closer = " ]," if i == len(items) - 1 else ","
                 lines.append(f"{opener}{_entry_text(item, names)}{closer}")
-            lines.append(f"{pad}{term_to_text(post, 999, names)})")
+            lines.append(f"{pad}{term_to_text(post, 999, names, spaced=True)})")
             text = "\n".join(lines)
         else:
             text = term_to_text(head, 1199, names)
     else:
         text = term_to_text(head, 1199, names)
     if body is not TRUE:
-        text += " :-\n    " + ",\n    ".join(term_to_text(g, 999, names) for g in _conjuncts(body))
+        text += " :-\n    " + ",\n    ".join(term_to_text(g, 999, names, spaced=True) for g in _conjuncts(body))
     return text + "."
 
 
@@ -191,8 +191,8 @@ def _entry_text(item: Term, names: dict) -> str:
             parts += [rest.args[0], rest.args[1]]
         else:
             parts.append(rest)
-        return "(" + ", ".join(term_to_text(p, 999, names) for p in parts) + ")"
-    return term_to_text(item, 999, names)
+        return "(" + ", ".join(term_to_text(p, 999, names, spaced=True) for p in parts) + ")"
+    return term_to_text(item, 999, names, spaced=True)
 
 
 def _conjuncts(term: Term) -> list[Term]:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import itertools
 import re
+from decimal import Decimal
 from dataclasses import dataclass, field
 from typing import Iterable, Iterator, Union
 
@@ -37,11 +38,17 @@ class Int:
         return term_to_text(self)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Float:
-    """A float."""
+    """A float; `0.0 \\== -0.0`, and NaN equals itself (compared bit for bit, as SWI-Prolog)."""
 
     value: float
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Float) and self.value.hex() == other.value.hex()
+
+    def __hash__(self) -> int:
+        return hash(self.value.hex())
 
     def __str__(self) -> str:
         return term_to_text(self)
@@ -178,7 +185,7 @@ RESERVED_WORDS = frozenset(name for name in PREFIX_OPS if name[0].isalpha())
 _SOLO = re.compile(r"[a-z][A-Za-z0-9_]*\Z")
 _SYMBOL = re.compile(r"[+\-*/\\^<>=~:?@#&$]+\Z")
 _ESCAPES = {"\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r", "\a": "\\a",
-            "\b": "\\b", "\f": "\\f", "\v": "\\v", "\0": "\\0\\"}
+            "\b": "\\b", "\f": "\\f", "\v": "\\v", "\0": "\\0\\", "\x1b": "\\e"}
 
 
 def quote_atom(name: str) -> str:
@@ -187,7 +194,7 @@ def quote_atom(name: str) -> str:
         return name
     if _SOLO.match(name) and name not in RESERVED_WORDS:
         return name
-    if _SYMBOL.match(name) and not name.startswith("/*") and name not in PREFIX_OPS:
+    if _SYMBOL.match(name) and not name.startswith("/*"):
         return name
     body = "".join(_ESCAPES.get(c, c) for c in name).replace("'", "\\'")
     return f"'{body}'"
@@ -199,23 +206,49 @@ def _quote_string(value: str) -> str:
 
 
 def _float_text(value: float) -> str:
+    """Shortest text that reads back as `value`, in SWI-Prolog's style: 1.0e+15, 1.0e-5, 1.0Inf."""
+    if value != value:
+        return "1.5NaN"
+    if value in (float("inf"), float("-inf")):
+        return "1.0Inf" if value > 0 else "-1.0Inf"
     text = repr(value)
-    if "inf" in text or "nan" in text:
-        return {"inf": "inf", "-inf": "-inf"}.get(text, "nan")
-    if "." not in text and "e" not in text:
-        text += ".0"
-    if "e" in text and "." not in text.split("e")[0]:
+    if "e" not in text and abs(value) >= 1e15:
+        digits = Decimal(text).normalize()
+        sign, ds, exponent = digits.as_tuple()
+        mantissa = "".join(map(str, ds))
+        text = f"{'-' if sign else ''}{mantissa[0]}.{mantissa[1:] or '0'}e{exponent + len(ds) - 1}"
+    if "e" in text:
         mantissa, exponent = text.split("e")
-        text = f"{mantissa}.0e{exponent}"
+        if "." not in mantissa:
+            mantissa += ".0"
+        sign = "-" if exponent.startswith("-") else "+"
+        text = f"{mantissa}e{sign}{exponent.lstrip('+-').lstrip('0') or '0'}"
+    elif "." not in text:
+        text += ".0"
     return text
 
 
 Names = dict  # dict[Var, str]: print names for variables (see `variable_names`)
 
 
-def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = None) -> str:
-    """Write `term` as SWI-Prolog's writeq would, with `max_priority` as context."""
-    return "".join(_write(term, max_priority, names or {}))
+def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = None,
+                 quoted: bool = True, spaced: bool = False) -> str:
+    """Write `term` as SWI-Prolog's writeq would (write/1 with quoted=False).
+
+    `spaced` puts spaces around word operators everywhere, `(a or b) and c`, where
+    writeq writes `(a or b)and c`; both read back the same."""
+    return "".join(_write(term, max_priority, _Style(names or {}, quoted, spaced)))
+
+
+class _Style:
+    """How to write: variable print names, and whether to quote atoms and strings."""
+
+    __slots__ = ("names", "quoted", "spaced")
+
+    def __init__(self, names: Names, quoted: bool, spaced: bool = False) -> None:
+        self.names = names
+        self.quoted = quoted
+        self.spaced = spaced
 
 
 def variable_names(terms: Iterable[Term]) -> Names:
@@ -243,84 +276,148 @@ def variable_names(terms: Iterable[Term]) -> Names:
     return names
 
 
-def _write(term: Term, max_priority: int, names: Names) -> Iterator[str]:
+def _write(term: Term, max_priority: int, style: _Style) -> Iterator[str]:
+    """Yield the text of `term`; an explicit stack, so deep terms print without recursion."""
+    out: list[str] = []
+    stack: list = [(term, max_priority)]
+    while stack:
+        task = stack.pop()
+        if isinstance(task, str):
+            out.append(task)
+        elif isinstance(task, _InfixOp):
+            out.append(task.text(out, style.spaced))
+        else:
+            _expand(task[0], task[1], style, out, stack)
+    yield "".join(out)
+
+
+class _InfixOp:
+    """An infix operator whose spacing depends on the text written just before it."""
+
+    __slots__ = ("name", "right_first")
+
+    def __init__(self, name: str, right_first: str) -> None:
+        self.name, self.right_first = name, right_first
+
+    def text(self, out: list[str], spaced: bool = False) -> str:
+        name = self.name
+        if name == ",":
+            return ","
+        last = next((chunk[-1] for chunk in reversed(out) if chunk), "")
+        if name[0].isalpha():  # a word operator: apart from names, not after a bracket
+            return f"{'' if last in ')]}' and not spaced else ' '}{name} "
+        op = name
+        # Keep symbol runs apart so they do not read as one token: `1- -1`, `a= \\+b`.
+        if last and _SYMBOL.match(last):
+            op = " " + op
+        if self.right_first and _SYMBOL.match(self.right_first):
+            op = op + " "
+        return op
+
+
+def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack: list) -> None:
+    """Write the head of `term` to `out`, and push what follows onto `stack` (reversed)."""
     if isinstance(term, Atom):
-        text = quote_atom(term.name)
-        # An operator standing alone as an argument is bracketed: f((-)), [(:-)].
-        if (term.name in INFIX_OPS or term.name in PREFIX_OPS) and max_priority < 1200 \
-                and not text.startswith("'") and term.name not in ("[]", "{}"):
-            if term.name in PREFIX_OPS or term.name in (",", "|"):
-                yield f"({text})"
-                return
-        yield text
+        text = quote_atom(term.name) if style.quoted else term.name
+        # An operator atom is bare as an argument, f(-) and [:-], and bracketed as the
+        # operand of an operator, X=(:-).
+        if max_priority < 999 and (term.name in PREFIX_OPS or term.name in INFIX_OPS) \
+                and _SYMBOL.match(term.name):
+            text = f"({text})"
+        out.append(text)
     elif isinstance(term, Var):
-        yield names.get(term) or str(term)
+        out.append(style.names.get(term) or str(term))
     elif isinstance(term, Int):
-        yield str(term.value)
+        out.append(str(term.value))
     elif isinstance(term, Float):
-        yield _float_text(term.value)
+        out.append(_float_text(term.value))
     elif isinstance(term, Str):
-        yield _quote_string(term.value)
+        out.append(_quote_string(term.value) if style.quoted else term.value)
     elif isinstance(term, Struct):
-        yield from _write_struct(term, max_priority, names)
+        _expand_struct(term, max_priority, style, out, stack)
     else:  # pragma: no cover - defensive: only terms reach here
         raise TypeError(f"not a term: {term!r}")
 
 
-def _write_struct(term: Struct, max_priority: int, names: Names) -> Iterator[str]:
+def _push_args(items: list[Term], priority: int, stack: list, sep: str = ",") -> None:
+    for i in range(len(items) - 1, -1, -1):
+        stack.append((items[i], priority))
+        if i:
+            stack.append(sep)
+
+
+def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str], stack: list) -> None:
     name, args = term.name, term.args
     if name == CONS and len(args) == 2:
         items, tail = list_items(term)
-        yield "["
-        for i, item in enumerate(items):
-            if i:
-                yield ","
-            yield from _write(item, 999, names)
+        out.append("[")
+        stack.append("]")
         if tail != NIL:
-            yield "|"
-            yield from _write(tail, 999, names)
-        yield "]"
+            stack.append((tail, 999))
+            stack.append("|")
+        _push_args(items, 999, stack)
         return
     if name == "{}" and len(args) == 1:
-        yield "{"
-        yield from _write(args[0], 1200, names)
-        yield "}"
+        out.append("{")
+        stack.append("}")
+        stack.append((args[0], 1200))
         return
     if len(args) == 2 and name in INFIX_OPS:
         priority, kind = INFIX_OPS[name]
         left_max = priority if kind == "yfx" else priority - 1
         right_max = priority if kind == "xfy" else priority - 1
-        left = term_to_text(args[0], left_max, names)
-        right = term_to_text(args[1], right_max, names)
-        if name == ",":
-            op = ","
-        elif name[0].isalpha() or name in ("->", ":-", "-->", "*->"):
-            op = f" {name} " if name[0].isalpha() else name
-        else:
-            op = name
-        # Keep symbol runs apart so they do not lex as one token: `1- -1`, `a= \\+b`.
-        if not name[0].isalpha() and name != ",":
-            if right and _SYMBOL.match(right[0]) and right[0] not in "([{":
-                op = op + " "
-            if left and _SYMBOL.match(left[-1]):
-                op = " " + op
-        text = f"{left}{op}{right}"
-        yield f"({text})" if priority > max_priority else text
+        bracket = priority > max_priority
+        if bracket:
+            out.append("(")
+            stack.append(")")
+        stack.append((args[1], right_max))
+        stack.append(_InfixOp(name, _first_char(args[1], right_max, style)))
+        stack.append((args[0], left_max))
         return
-    if len(args) == 1 and name in PREFIX_OPS and name != "-" or (
-            name == "-" and len(args) == 1 and not isinstance(args[0], (Int, Float))):
+    if len(args) == 1 and name in PREFIX_OPS:
         priority, kind = PREFIX_OPS[name]
         arg_max = priority if kind == "fy" else priority - 1
-        arg = term_to_text(args[0], arg_max, names)
-        sep = " " if name[0].isalpha() or (arg and (_SYMBOL.match(arg[0]) or arg[0] in "(0123456789")) else ""
-        text = f"{name}{sep}{arg}"
-        yield f"({text})" if priority > max_priority else text
+        first = _first_char(args[0], arg_max, style)
+        # `- 1` is -(1) and `-1` the number; `\\+ -a` keeps its symbol runs apart.
+        sep = " " if name[0].isalpha() or (first and (_SYMBOL.match(first) or first == "(" or
+                                                     name == "-" and first.isdigit())) else ""
+        bracket = priority > max_priority
+        if bracket:
+            out.append("(")
+            stack.append(")")
+        out.append(name + sep)
+        stack.append((args[0], arg_max))
         return
-    # Functional notation: `-(1)` and `not(a)` read back as compounds, unquoted.
-    yield name if _SYMBOL.match(name) or name in RESERVED_WORDS else quote_atom(name)
-    yield "("
-    for i, arg in enumerate(args):
-        if i:
-            yield ","
-        yield from _write(arg, 999, names)
-    yield ")"
+    # Functional notation: `-(a,b)` and `not(a,b)` read back as compounds, unquoted;
+    # `'[]'(a)` and `'{}'(a)` keep their quotes.
+    if not style.quoted or _SYMBOL.match(name) or name in RESERVED_WORDS:
+        out.append(name)
+    else:
+        out.append(quote_atom(name) if name not in ("[]", "{}") else f"'{name}'")
+    out.append("(")
+    stack.append(")")
+    _push_args(list(args), 999, stack)
+
+
+def _first_char(term: Term, max_priority: int, style: _Style) -> str:
+    """The first character `term` will be written with, found down its left spine."""
+    while True:
+        if isinstance(term, Struct):
+            name, args = term.name, term.args
+            if name == CONS and len(args) == 2:
+                return "["
+            if name == "{}" and len(args) == 1:
+                return "{"
+            if len(args) == 2 and name in INFIX_OPS:
+                priority, kind = INFIX_OPS[name]
+                if priority > max_priority:
+                    return "("
+                term, max_priority = args[0], priority if kind == "yfx" else priority - 1
+                continue
+            if len(args) == 1 and name in PREFIX_OPS:
+                return "(" if PREFIX_OPS[name][0] > max_priority else name[0]
+            return name[0] if not style.quoted or _SYMBOL.match(name) or name in RESERVED_WORDS \
+                else quote_atom(name)[0]
+        out: list[str] = []
+        _expand(term, max_priority, style, out, [])
+        return out[0][:1] if out else ""

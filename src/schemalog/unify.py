@@ -126,7 +126,7 @@ def rename(term: Term, mapping: dict[Var, Var] | None = None) -> Term:
     if isinstance(term, Var):
         fresh = mapping.get(term)
         if fresh is None:
-            fresh = mapping[term] = Var(term.name)
+            fresh = mapping[term] = Var("_")  # a copy is a new variable: it prints as _G123
         return fresh
     if not isinstance(term, Struct):
         return term
@@ -146,7 +146,7 @@ def rename(term: Term, mapping: dict[Var, Var] | None = None) -> Term:
         elif isinstance(arg, Var):
             fresh = mapping.get(arg)
             if fresh is None:
-                fresh = mapping[arg] = Var(arg.name)
+                fresh = mapping[arg] = Var("_")
             done.append(fresh)
         else:
             done.append(arg)

@@ -1,0 +1,33 @@
+"""Shared paths and helpers for the tests."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from schemalog.engine import Engine
+from schemalog.kb import KnowledgeBase
+from schemalog.parse import parse_term
+from schemalog.terms import term_to_text
+
+ROOT = Path(__file__).resolve().parents[1]
+MIX = ROOT / "kb" / "tasks" / "mix_with_spoon.pl"
+COFFEE = ROOT / "kb" / "tasks" / "prepare_coffee_and_tea.pl"
+SEED_COFFEE = ROOT / "examples" / "coffee_and_tea_seed.prolog"
+
+
+def ask(program: str, query: str, limit: int | None = 50) -> list[str]:
+    """The answers of `query` against `program`, as printed instances of the query."""
+    kb = KnowledgeBase()
+    kb.consult_text(program)
+    return [term_to_text(a) for a in Engine(kb).answers(parse_term(query), limit)]
+
+
+@pytest.fixture
+def kb_of():
+    def make(text: str) -> KnowledgeBase:
+        kb = KnowledgeBase()
+        kb.consult_text(text, "test.pl")
+        return kb
+    return make

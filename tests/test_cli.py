@@ -1,0 +1,132 @@
+"""End to end: the `schemalog` command as a user runs it."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from conftest import COFFEE, MIX, ROOT, SEED_COFFEE
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd or ROOT, timeout=120)
+
+
+def test_check_shipped_tasks():
+    r = run("check", MIX)
+    assert r.returncode == 0, r.stderr
+    assert "use(spoon) (12 behaviours, depth 3)" in r.stdout
+    r = run("check", COFFEE)
+    assert "prepareboth (63 behaviours, depth 5)" in r.stdout
+
+
+def test_show_json_reports_the_papers_figures():
+    data = json.loads(run("show", COFFEE, "--task", "prepareboth", "--json").stdout)
+    assert (data["nodes"], data["depth"], data["task"]) == (63, 5, "prepareboth")
+    data = json.loads(run("show", MIX, "--format", "json").stdout)
+    assert (data["nodes"], data["depth"]) == (12, 3)
+
+
+def test_show_text_and_dot():
+    r = run("show", MIX)
+    assert r.returncode == 0 and "use(spoon): 12 behaviours, depth 3" in r.stdout
+    assert "a3(cup)  pre: true  post: a3.done" in r.stdout
+    dot = run("show", MIX, "--format", "dot").stdout
+    assert dot.startswith("digraph") and dot.count(" -> ") == 11
+
+
+@pytest.mark.parametrize("fmt", ["pl", "yaml"])
+def test_show_as_knowledge_loads_back_to_the_same_tree(tmp_path, fmt):
+    out = tmp_path / f"tree.{fmt}"
+    assert run("show", COFFEE, "--format", fmt, "-o", out).returncode == 0
+    again = json.loads(run("show", out, "--json").stdout)
+    original = json.loads(run("show", COFFEE, "--json").stdout)
+    assert again == original
+
+
+def test_convert_seed_then_show(tmp_path):
+    out = tmp_path / "task.pl"
+    r = run("convert", SEED_COFFEE, "-o", out, "--task", "prepareboth")
+    assert r.returncode == 0, r.stderr
+    assert "skipped what is not task knowledge" in r.stderr
+    text = out.read_text()
+    assert text.startswith("% Converted by schemalog from the SEED long-term memory")
+    assert "schema(add(OBJ),\n       [ (subtask(take,OBJ), kukahand.free)," in text
+    data = json.loads(run("show", out, "--json").stdout)
+    assert (data["nodes"], data["depth"]) == (63, 5)
+
+
+def test_convert_pl_yaml_pl_round_trip(tmp_path):
+    y, p = tmp_path / "t.yaml", tmp_path / "t.pl"
+    assert run("convert", MIX, "-o", y).returncode == 0
+    assert run("convert", y, "-o", p).returncode == 0
+    assert run("convert", MIX).stdout.split("\n", 2)[2] == p.read_text().split("\n", 2)[2]
+
+
+def test_convert_refuses_to_overwrite_its_input(tmp_path):
+    src = tmp_path / "t.pl"
+    src.write_text(MIX.read_text())
+    r = run("convert", src, "-o", src)
+    assert r.returncode == 2 and "would overwrite an input file" in r.stderr
+    assert src.read_text() == MIX.read_text()
+
+
+BAD = {
+    "syntax.pl": ("schema(a, [(b, true)], a.done).\nschema(b, [], b.done)\n", "syntax.pl:2:22: error: unexpected end of file"),
+    "operator.pl": ("foo(a) :- bar ==> baz.\n", "operator.pl:1:15: error: syntax error"),
+    "brackets.pl": ("schema(a, [(b, true), a.done).\n", "brackets.pl:1:29: error: syntax error: unexpected ')'"),
+    "notlist.pl": ("task(a).\nschema(a, notalist, a.done).\n", "notlist.pl:2:1: error: schema a: the sub-task list must be a list"),
+    "releaser.pl": ("schema(a, [(b, 42)], a.done).\nschema(b, [], b.done).\n", "releaser.pl:1:1: error: schema a: the releaser of b is not a condition"),
+    "cycle.pl": ("task(a).\nschema(a, [(b, true)], a.done).\nschema(b, [(a, true)], b.done).\n", "cycle.pl:3:1: error: recursive schema: a -> b -> a"),
+    "undefined.pl": ("task(a).\nschema(a, [(b, true)], a.done).\n", "undefined.pl:2:1: error: no schema for b"),
+    "deep.pl": ("x(" + "f(" * 10000 + "a" + ")" * 10000 + ").\n", "deep.pl:1:4002: error: brackets nested deeper than 2000 levels"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_input_gives_one_located_message(tmp_path, name):
+    text, expected = BAD[name]
+    path = tmp_path / name
+    path.write_text(text)
+    r = run("check", name, cwd=tmp_path)
+    assert r.returncode == 1
+    assert r.stderr.startswith(expected), r.stderr
+    assert "Traceback" not in r.stderr and r.stdout == ""
+    assert path.read_text() == text
+
+
+def test_binary_garbage_and_missing_file_and_huge_file(tmp_path):
+    garbage = tmp_path / "garbage.pl"
+    garbage.write_bytes(bytes(range(256)) * 10)
+    r = run("check", garbage)
+    assert r.returncode == 1 and "binary data" in r.stderr and "garbage.pl:1:1" in r.stderr
+    r = run("show", tmp_path / "missing.pl")
+    assert r.returncode == 1 and "no such file" in r.stderr
+    huge = tmp_path / "huge.pl"
+    with open(huge, "wb") as f:
+        f.truncate(50 * 2**20)  # 50 MiB, refused by size before reading
+    r = run("check", huge)
+    assert r.returncode == 1 and "50.0 MiB, over the 16.0 MiB limit" in r.stderr
+
+
+def test_unknown_task_lists_the_known_ones():
+    r = run("show", MIX, "--task", "nothere")
+    assert r.returncode == 1
+    assert "unknown task nothere" in r.stderr and "tasks here: use(spoon)" in r.stderr
+
+
+@pytest.mark.parametrize("args", [["show"], ["show", MIX, "--task", "a(("], ["frobnicate"],
+                                  ["show", MIX, "--max-depth", "0"], []])
+def test_usage_errors_exit_2(args):
+    r = run(*args)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+
+
+def test_failed_output_leaves_no_partial_file(tmp_path):
+    out = tmp_path / "out.json"
+    bad = tmp_path / "bad.pl"
+    bad.write_text("task(a).\nschema(a, [(b, true)], a.done).\n")
+    r = run("show", bad, "--json", "-o", out)
+    assert r.returncode == 1 and not out.exists() and list(tmp_path.iterdir()) == [bad]

@@ -1,0 +1,79 @@
+"""Conditions: every written form reads to the same value, and printing reads back."""
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from schemalog import conditions as cond
+from schemalog.conditions import And, Lit, Not, NotACondition, Or
+from schemalog.parse import parse_term
+
+
+def read(text: str) -> cond.Condition:
+    return cond.from_term(parse_term(text))
+
+
+@pytest.mark.parametrize("a, b", [
+    ("true", '"TRUE"'), ("true", "[]"),
+    ("hand.free and spoon.taken", "(hand.free, spoon.taken)"),
+    ("hand.free and spoon.taken", "[hand.free, spoon.taken]"),
+    ("hand.free or spoon.taken", "(hand.free ; spoon.taken)"),
+    ("not hand.free", "\\+ hand.free"),
+    ("not hand.free", "-hand.free"),
+    ("kukahand.free", "[kukahand|free]"),  # how SWI-Prolog 7 reads SEED's dot
+    ("false", "fail"),
+])
+def test_equivalent_spellings(a, b):
+    assert read(a) == read(b)
+
+
+def test_structure_of_mixed_condition():
+    c = read("hand.free or spoon.taken and not cup.full")
+    assert isinstance(c, Or)
+    assert isinstance(c.items[1], And)
+    assert c.items[1].items[1] == Lit(parse_term("cup.full"), positive=False)
+
+
+def test_negating_a_compound_keeps_it_explicit():
+    c = read("not (a.x and b.y)")
+    assert isinstance(c, Not)
+    assert cond.to_text(c) == "not (a.x and b.y)"
+
+
+@pytest.mark.parametrize("text, why", [
+    ("42", "number"), ('"maybe"', "string"), ("X", "variable"), ("[a.b, c.d|T]", "partial list"),
+    ("(a :- b)", "goal"),
+])
+def test_non_conditions_are_rejected_with_a_reason(text, why):
+    with pytest.raises(NotACondition, match=why):
+        read(text)
+
+
+def test_constants_are_absorbed():
+    assert cond.conjoin([cond.TRUE, read("a.b")]) == read("a.b")
+    assert cond.conjoin([cond.FALSE, read("a.b")]) == cond.FALSE
+    assert cond.disjoin([cond.TRUE, read("a.b")]) == cond.TRUE
+    assert cond.disjoin([]) == cond.FALSE and cond.conjoin([]) == cond.TRUE
+
+
+def test_printing_uses_the_papers_words():
+    assert cond.to_text(read("(hand.free ; spoon.taken), \\+ cup.full")) == \
+        "(hand.free or spoon.taken) and not cup.full"
+
+
+literals = st.builds(lambda o, p, pos: Lit(parse_term(f"{o}.{p}"), pos),
+                     st.sampled_from(["hand", "spoon", "cup", "a1"]),
+                     st.sampled_from(["free", "taken", "done", "used"]), st.booleans())
+conditions = st.recursive(
+    literals | st.sampled_from([cond.TRUE, cond.FALSE]),
+    lambda inner: st.one_of(
+        st.lists(inner, min_size=2, max_size=3).map(cond.conjoin),
+        st.lists(inner, min_size=2, max_size=3).map(cond.disjoin),
+        inner.map(cond.negate)),
+    max_leaves=8)
+
+
+@settings(max_examples=300, deadline=None)
+@given(conditions)
+def test_printed_condition_reads_back_equal(c):
+    assert read(cond.to_text(c)) == c
