@@ -11,6 +11,12 @@ from schemalog.kb import KnowledgeBase
 from schemalog.parse import parse_term
 from schemalog.terms import term_to_text
 
+from schemalog.cli import tune_gc
+
+# The tests run with the garbage-collector setting the schemalog command uses, so that
+# the 100k-behaviour cases measure schemalog, not Python's default GC thresholds.
+tune_gc()
+
 ROOT = Path(__file__).resolve().parents[1]
 MIX = ROOT / "kb" / "tasks" / "mix_with_spoon.pl"
 COFFEE = ROOT / "kb" / "tasks" / "prepare_coffee_and_tea.pl"

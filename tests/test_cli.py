@@ -130,3 +130,71 @@ def test_failed_output_leaves_no_partial_file(tmp_path):
     bad.write_text("task(a).\nschema(a, [(b, true)], a.done).\n")
     r = run("show", bad, "--json", "-o", out)
     assert r.returncode == 1 and not out.exists() and list(tmp_path.iterdir()) == [bad]
+
+
+# --- compression -------------------------------------------------------------
+
+def test_compress_prints_both_trees_and_the_figures():
+    r = run("compress", MIX, "--propagate", "pre")
+    assert r.returncode == 0, r.stderr
+    assert "Bi = 12, Bm = 6, D = 3, RD = (Bi - Bm) / (Bi - D) = 0.67" in r.stdout
+    assert "a3_a4_a5_a6_a7(cup)" in r.stdout and "a3(cup)" in r.stdout
+
+
+def test_compress_json_reports_the_papers_figures():
+    data = json.loads(run("compress", COFFEE, "--task", "prepareboth", "--json").stdout)
+    assert (data["nodes_before"], data["nodes_after"]) == (63, 33)
+    assert (data["depth_before"], data["depth_after"]) == (5, 5)
+    assert abs(data["reduction_degree"] - 30 / 58) < 1e-3
+    take = data["tree"]["children"][0]["children"][0]["children"][0]
+    assert take["label"] == "subtask(take_pour,water)" and take["k"] == 2
+    assert take["merged_from"] == ["subtask(take,water)", "subtask(pour,water)"]
+    assert take["pre"] == "kukahand.free or water.taken"
+
+
+@pytest.mark.parametrize("mode, a1a2", [("full", "hand.free and not spoon.taken"), ("pre", "hand.free"),
+                                        ("none", "true")])
+def test_propagate_modes(mode, a1a2):
+    data = json.loads(run("compress", MIX, "--propagate", mode, "--json").stdout)
+    assert data["tree"]["children"][0]["children"][0]["pre"] == a1a2
+
+
+def test_compress_to_file_then_check_show_decompress(tmp_path):
+    out = tmp_path / "out.pl"
+    assert run("compress", COFFEE, "-o", out).returncode == 0
+    assert out.read_text().startswith("% Compressed by schemalog (Algorithm 1, propagate full)")
+    assert "prepareboth (33 behaviours, depth 5)" in run("check", out).stdout
+    restored = json.loads(run("decompress", out, "--json").stdout)
+    assert restored == json.loads(run("show", COFFEE, "--json").stdout)
+    again = json.loads(run("compress", out, "--json").stdout)  # idempotent through the file
+    assert (again["nodes_before"], again["nodes_after"]) == (63, 33)
+    y = tmp_path / "out.yaml"
+    assert run("compress", COFFEE, "-o", y).returncode == 0
+    assert json.loads(run("decompress", y, "--json").stdout) == restored
+
+
+def test_compress_dot_draws_figure_2_before_and_after():
+    dot = run("compress", MIX, "--format", "dot").stdout
+    assert "cluster_original" in dot and "cluster_merged" in dot
+    assert dot.count("[label=<") == 12 + 6
+    assert "a3_a4_a5_a6_a7(cup)" in dot
+
+
+def test_decompress_of_an_original_says_there_is_nothing_to_undo():
+    r = run("decompress", MIX, "--json")
+    assert r.returncode == 0 and "carries no provenance" in r.stderr
+    assert json.loads(r.stdout)["nodes"] == 12
+
+
+def test_compress_notes_a_releaser_cycle(tmp_path):
+    src = tmp_path / "cycle.pl"
+    src.write_text("task(t).\nschema(t, [(a(x), b.done), (b(x), a.done)], t.done).\n"
+                   "schema(a(x), [], a.done).\nschema(b(x), [], b.done).\n")
+    r = run("compress", src, "--json")
+    assert r.returncode == 0 and "note: releasers form a cycle" in r.stderr
+    assert json.loads(r.stdout)["nodes_after"] == 3
+
+
+def test_compress_bad_options_are_usage_errors():
+    assert run("compress", MIX, "--propagate", "sideways").returncode == 2
+    assert run("compress", MIX, "--sympy-budget", "0").returncode == 2

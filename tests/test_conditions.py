@@ -77,3 +77,57 @@ conditions = st.recursive(
 @given(conditions)
 def test_printed_condition_reads_back_equal(c):
     assert read(cond.to_text(c)) == c
+
+
+# --- the algebra --------------------------------------------------------------
+
+@pytest.mark.parametrize("text, simplest", [
+    ("x.a or (x.a and y.b)", "x.a"),                       # absorption
+    ("true or x.a", "true"),
+    ("x.a and not x.a", "false"),                          # complementary literals
+    ("x.a or not x.a", "true"),                            # sympy leaves this one: caught first
+    ("(x.a and y.b) or (not x.a and y.b)", "y.b"),         # needs sympy (consensus)
+    ("hand.free and (true or a1.done)", "hand.free"),
+    ("not (a.x or b.y)", "not a.x and not b.y"),
+])
+def test_simplify(text, simplest):
+    assert cond.to_text(cond.simplify(read(text))) == simplest
+
+
+def test_fast_path_needs_no_sympy_for_the_common_merges():
+    s = cond.Simplifier()
+    s.simplify(read("(hand.free and not spoon.taken) or (hand.free and not spoon.taken and a1.done)"))
+    s.simplify(read("hand.free or spoon.taken"))
+    assert (s.calls, s.sympy_calls, s.notes) == (2, 0, [])
+
+
+def test_over_budget_is_said_not_silent():
+    s = cond.Simplifier(sympy_budget=2)
+    out = s.simplify(read("(x.a and y.b) or (not x.a and y.b) or z.c"))
+    assert s.sympy_calls == 0 and "over the sympy budget of 2" in s.notes[0]
+    assert cond.equivalent(out, read("y.b or z.c"))
+
+
+def test_canonical_form_ignores_order_and_spelling():
+    assert cond.canonical(read("b.x and a.y")) == cond.canonical(read("[a.y, b.x]"))
+    assert cond.canonical(read("not (a.x and b.y)")) == cond.canonical(read("\\+ b.y ; \\+ a.x"))
+
+
+def test_equivalence_and_satisfiability_beyond_truth_tables():
+    big = " or ".join(f"(v{i}.x and not v{i + 1}.x)" for i in range(30))
+    assert cond.equivalent(read(big), read(big + " or (v0.x and not v1.x)"))
+    assert not cond.equivalent(read(big), read(big + " or w.x"))
+    assert cond.satisfiable(read(big)) and not cond.satisfiable(read("a.x and not a.x"))
+
+
+@settings(max_examples=200, deadline=None)
+@given(conditions)
+def test_simplify_keeps_meaning(c):
+    assert cond.equivalent(cond.simplify(c), c)
+
+
+@settings(max_examples=200, deadline=None)
+@given(conditions)
+def test_canonical_keeps_meaning_and_is_a_fixed_point(c):
+    k = cond.canonical(c)
+    assert cond.equivalent(k, c) and cond.canonical(k) == k

@@ -50,7 +50,7 @@ def test_terminal_tree_shows_conditions():
 
 
 def roundtrip(task, tree):
-    doc = tree_document(task, tree)
+    doc = tree_document(tree)
     again = instantiate(document_from_text(to_pl(doc), "tree.pl").to_kb(), task)
     return again
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import gc
+import io
 import json
 import os
 import sys
@@ -19,7 +20,9 @@ from .engine import PrologError
 from .errors import SchemalogError, UsageError
 from .kb import KnowledgeBase
 from .parse import MAX_BYTES, Clause, parse_term
-from .render import rich_tree, show_json, to_dot, tree_document
+from .compress import PROPAGATE_MODES, compress, decompress, protected_labels
+from .conditions import DEFAULT_SYMPY_BUDGET, Simplifier
+from .render import compare_dot, rich_tree, show_json, to_dot, tree_document, tree_json
 from .schema import check_schemas
 from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
@@ -113,33 +116,122 @@ def cmd_check(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_show(args: argparse.Namespace) -> int:
-    """Instantiate a task and print its tree."""
-    kb, _ = _load(args)
-    task = _choose_tasks(kb, args.task)[0]
-    tree = _instantiate(kb, task, args)
-    fmt = "json" if args.json else args.format
+_SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml"}
+
+
+def _format(args: argparse.Namespace) -> str:
+    """--json, else --format, else the output file's suffix, else text."""
+    if args.json:
+        return "json"
+    if args.format:
+        return args.format
+    if args.output and args.output != "-":
+        return _SUFFIX_FORMATS.get(Path(args.output).suffix.lower(), "text")
+    return "text"
+
+
+def _rendered(renderable, width: int = 120) -> str:
+    from rich.console import Console
+
+    buffer = io.StringIO()
+    Console(file=buffer, width=width, no_color=True).print(renderable)
+    return buffer.getvalue()
+
+
+def _print_rich(renderable, output: str | None, inputs: list[str]) -> None:
+    if output and output != "-":
+        _emit(_rendered(renderable), output, inputs)
+    else:
+        from rich.console import Console
+
+        Console(highlight=False).print(renderable)
+
+
+def _output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: str) -> None:
+    """Print or write one tree in the requested format (show, decompress)."""
+    fmt = _format(args)
     if fmt == "json":
         _emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, args.files)
     elif fmt == "dot":
         _emit(to_dot(tree, term_to_text(task)), args.output, args.files)
     elif fmt in ("pl", "yaml"):
-        doc = tree_document(task, tree)
-        text = to_pl(doc, header=f"The task tree of {term_to_text(task)}, written by schemalog show.") \
-            if fmt == "pl" else to_yaml(doc)
-        _emit(text, args.output, args.files)
+        doc = tree_document(tree)
+        _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, args.files)
     else:
-        from rich.console import Console
-
         title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
-        if args.output and args.output != "-":
-            from io import StringIO
+        _print_rich(rich_tree(tree, title), args.output, args.files)
 
-            buffer = StringIO()
-            Console(file=buffer, width=120, no_color=True).print(rich_tree(tree, title))
-            _emit(buffer.getvalue(), args.output, args.files)
+
+def cmd_show(args: argparse.Namespace) -> int:
+    """Instantiate a task and print its tree."""
+    kb, _ = _load(args)
+    task = _choose_tasks(kb, args.task)[0]
+    tree = _instantiate(kb, task, args)
+    _output_tree(args, task, tree, f"The task tree of {term_to_text(task)}, written by schemalog show.")
+    return 0
+
+
+def cmd_compress(args: argparse.Namespace) -> int:
+    """Merge sequential behaviours (Algorithm 1) and report the paper's figures."""
+    kb, _ = _load(args)
+    task = _choose_tasks(kb, args.task)[0]
+    tree = _instantiate(kb, task, args)
+    result = compress(tree, args.propagate, protected_labels(kb, tree),
+                      Simplifier(sympy_budget=args.sympy_budget))
+    for note in result.notes:
+        print(f"note: {note}", file=sys.stderr)
+    figures = (f"Bi = {result.nodes_before}, Bm = {result.nodes_after}, D = {result.depth_before}, "
+               f"RD = (Bi - Bm) / (Bi - D) = {result.reduction_degree:.2f}")
+    fmt = _format(args)
+    if fmt == "json":
+        data = {"task": term_to_text(task), "propagate": result.propagate,
+                "nodes_before": result.nodes_before, "nodes_after": result.nodes_after,
+                "depth_before": result.depth_before, "depth_after": result.depth_after,
+                "reduction_degree": round(result.reduction_degree, 4),
+                "conditions": {"simplified": result.simplifier.calls,
+                               "needed_sympy": result.simplifier.sympy_calls},
+                "notes": result.notes, "tree": tree_json(result.tree)}
+        _emit(json.dumps(data, indent=2) + "\n", args.output, args.files)
+    elif fmt == "dot":
+        _emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
+              args.output, args.files)
+    elif fmt in ("pl", "yaml"):
+        doc = tree_document(result.tree)
+        header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
+                  f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
+                  f"`schemalog decompress` restores the original tree from the origins/2 facts.")
+        _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, args.files)
+    else:
+        from rich.console import Console, Group
+        from rich.table import Table
+
+        before = f"Original: {result.nodes_before} behaviours, depth {result.depth_before}"
+        after = (f"Compressed (propagate {result.propagate}): {result.nodes_after} behaviours, "
+                 f"depth {result.depth_after}")
+        to_file = bool(args.output and args.output != "-")
+        if to_file or Console().width >= 140:  # side by side where there is room
+            table = Table(show_header=True, header_style="bold", box=None, pad_edge=False)
+            table.add_column(before)
+            table.add_column(after)
+            table.add_row(rich_tree(result.original), rich_tree(result.tree))
+            view = Group(table, "", figures)
         else:
-            Console(highlight=False).print(rich_tree(tree, title))
+            view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
+        _print_rich(view, args.output, args.files)
+    return 0
+
+
+def cmd_decompress(args: argparse.Namespace) -> int:
+    """Restore the original tree of a compressed task from its provenance."""
+    kb, _ = _load(args)
+    task = _choose_tasks(kb, args.task)[0]
+    tree = _instantiate(kb, task, args)
+    if not tree.origins:
+        print(f"note: {term_to_text(task)} carries no provenance (origins/2): it is shown as it is",
+              file=sys.stderr)
+    original = decompress(tree)
+    _output_tree(args, original.label, original,
+                 f"The original tree of {term_to_text(task)}, restored by schemalog decompress.")
     return 0
 
 
@@ -196,13 +288,33 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--task", help="instantiate this task (default: every task/1)")
     p.set_defaults(run=cmd_check)
 
-    p = sub.add_parser("show", parents=[limits], help="instantiate a task and print its tree")
+    output = argparse.ArgumentParser(add_help=False)
+    output.add_argument("--format", choices=["text", "json", "dot", "yaml", "pl"],
+                        help="output format (default: from -o's suffix, else text)")
+    output.add_argument("--json", action="store_true", help="same as --format json")
+    output.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
+
+    p = sub.add_parser("show", parents=[limits, output], help="instantiate a task and print its tree")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="the task to instantiate (default: the first task/1)")
-    p.add_argument("--format", choices=["text", "json", "dot", "yaml", "pl"], default="text")
-    p.add_argument("--json", action="store_true", help="same as --format json")
-    p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
     p.set_defaults(run=cmd_show)
+
+    p = sub.add_parser("compress", parents=[limits, output],
+                       help="merge sequential behaviours (Definition 1, Algorithm 1)")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--task", help="the task to compress (default: the first task/1)")
+    p.add_argument("--propagate", choices=list(PROPAGATE_MODES), default="full",
+                   help="what the children of a merged behaviour inherit: its pre AND not post "
+                        "(full, default), its pre (pre: the paper's rule), or nothing (none)")
+    p.add_argument("--sympy-budget", type=_positive, default=DEFAULT_SYMPY_BUDGET, metavar="N",
+                   help=f"simplify with sympy up to N variables (default {DEFAULT_SYMPY_BUDGET})")
+    p.set_defaults(run=cmd_compress)
+
+    p = sub.add_parser("decompress", parents=[limits, output],
+                       help="restore the original tree of a compressed task file")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--task", help="the task (default: the first task/1)")
+    p.set_defaults(run=cmd_decompress)
 
     p = sub.add_parser("convert", parents=[limits],
                        help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")

@@ -17,6 +17,7 @@ Conditions print in the paper's words: `hand.free or spoon.taken`, `not hand.fre
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 from .terms import CONS, NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, term_to_text
@@ -187,3 +188,283 @@ def is_conjunction_of_literals(c: Condition) -> bool:
     if isinstance(c, (Lit, Const)):
         return c != FALSE
     return isinstance(c, And) and all(isinstance(i, Lit) for i in c.items)
+
+
+# ---------------------------------------------------------------------------
+# The algebra: canonical form, a fast exact DNF path, sympy for the rest.
+#
+#     DNF = frozenset[frozenset[Lit]]    an OR of ANDs of literals; {} is false, {{}} is true
+
+DNF = frozenset
+
+DEFAULT_SYMPY_BUDGET = 8      # variables; sympy's simplify_logic costs ~0.3 s at 8
+DEFAULT_DNF_LIMIT = 512       # clauses; distributing AND over OR beyond this is refused
+
+
+@functools.lru_cache(maxsize=1 << 20)  # bounded: a long REPL session must not grow without end
+def _atom_text(atom: Term) -> str:
+    return term_to_text(atom)
+
+
+def _key(c: Condition) -> tuple:
+    """A total order on conditions, for canonical sorting (the same in every run)."""
+    if isinstance(c, Const):
+        return (0, c.value)
+    if isinstance(c, Lit):
+        return (1, _atom_text(c.atom), not c.positive)
+    if isinstance(c, Not):
+        return (2, _key(c.item))
+    return (3 if isinstance(c, And) else 4, tuple(_key(i) for i in c.items))
+
+
+def nnf(c: Condition) -> Condition:
+    """Negation normal form: NOT only on literals."""
+    if isinstance(c, Not):
+        inner = c.item
+        if isinstance(inner, And):
+            return disjoin([nnf(negate(i)) for i in inner.items])
+        if isinstance(inner, Or):
+            return conjoin([nnf(negate(i)) for i in inner.items])
+        return nnf(negate(inner))
+    if isinstance(c, And):
+        return conjoin([nnf(i) for i in c.items])
+    if isinstance(c, Or):
+        return disjoin([nnf(i) for i in c.items])
+    return c
+
+
+def canonical(c: Condition) -> Condition:
+    """A canonical form: NNF, flattened, items sorted and deduplicated, constants absorbed.
+
+    Two conditions written differently but with the same structure up to order
+    (`a and b`, `b and a`, `[b, a]`) have the same canonical form."""
+    c = nnf(c)
+    if isinstance(c, (And, Or)):
+        items = {_key(i): i for i in (canonical(i) for i in c.items)}
+        ordered = [items[k] for k in sorted(items)]
+        return conjoin(ordered) if isinstance(c, And) else disjoin(ordered)
+    return c
+
+
+def to_dnf(c: Condition, limit: int = DEFAULT_DNF_LIMIT) -> DNF | None:
+    """The DNF of `c` with complementary clauses dropped and absorption applied, or None
+    when it would have more than `limit` clauses."""
+    c = nnf(c)
+    if isinstance(c, Const):
+        return frozenset({frozenset()}) if c.value else frozenset()
+    if isinstance(c, Lit):
+        return frozenset({frozenset({c})})
+    parts = [to_dnf(i, limit) for i in c.items]
+    if any(p is None for p in parts):
+        return None
+    if isinstance(c, Or):
+        return _absorb(frozenset().union(*parts))
+    result: set[frozenset] = {frozenset()}
+    for part in parts:
+        result = {a | b for a in result for b in part if not _clashes(a | b)}
+        if len(result) > limit:
+            return None
+    return _absorb(frozenset(result))
+
+
+def _clashes(clause: frozenset) -> bool:
+    return any(lit.negate() in clause for lit in clause if lit.positive)
+
+
+def _absorb(dnf: DNF) -> DNF:
+    """x or (x and y) = x: drop every clause that contains another clause."""
+    clauses = sorted((c for c in dnf if not _clashes(c)), key=len)
+    kept: list[frozenset] = []
+    for clause in clauses:
+        if not any(k <= clause for k in kept):
+            kept.append(clause)
+    return frozenset(kept)
+
+
+def from_dnf(dnf: DNF, order: dict[Lit, int] | None = None) -> Condition:
+    """The condition of a DNF: literals and clauses in `order` (first appearance in what
+    was simplified), else canonically ordered."""
+    if order is None:
+        return canonical(disjoin([conjoin(sorted(clause, key=_key)) for clause in dnf]))
+    def rank(lit: Lit) -> tuple:
+        return (order.get(lit, len(order)), _key(lit))
+    clauses = [sorted(clause, key=rank) for clause in dnf]
+    clauses.sort(key=lambda clause: [rank(lit) for lit in clause])
+    return disjoin([conjoin(list(clause)) for clause in clauses])
+
+
+def _appearance(c: Condition) -> dict[Lit, int]:
+    order: dict[Lit, int] = {}
+    for lit in literals(nnf(c)):
+        order.setdefault(lit, len(order))
+    return order
+
+
+def variables(c: Condition) -> set[Term]:
+    """The atoms `c` mentions."""
+    return {lit.atom for lit in literals(c)}
+
+
+def _needs_more_than_fast_rules(dnf: DNF) -> bool:
+    """Whether a literal and its negation occur in different clauses (x or not x, consensus):
+    the fast rules may then leave a non-minimal form."""
+    seen = {lit for clause in dnf for lit in clause}
+    return any(lit.negate() in seen for lit in seen)
+
+
+@dataclass
+class Simplifier:
+    """Simplifies conditions, fast path first, and counts what needed sympy.
+
+    Never silent: a condition it could not fully simplify is recorded in `notes`."""
+
+    sympy_budget: int = DEFAULT_SYMPY_BUDGET
+    dnf_limit: int = DEFAULT_DNF_LIMIT
+    calls: int = 0
+    sympy_calls: int = 0
+    notes: list = None  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        if self.notes is None:
+            self.notes = []
+
+    def simplify(self, c: Condition) -> Condition:
+        """An equivalent, simpler condition in canonical DNF."""
+        self.calls += 1
+        dnf = to_dnf(c, self.dnf_limit)
+        if dnf is None:
+            self.notes.append(f"kept as written (its DNF has more than {self.dnf_limit} clauses): "
+                              f"{_abridged(to_text(c))}")
+            return canonical(c)
+        order = _appearance(c)
+        if not _needs_more_than_fast_rules(dnf):
+            return from_dnf(dnf, order)
+        names = variables(c)
+        flat = from_dnf(dnf, order)
+        if len(names) > self.sympy_budget:
+            self.notes.append(f"kept the fast-path form ({len(names)} variables, over the sympy "
+                              f"budget of {self.sympy_budget}): {_abridged(to_text(flat))}")
+            return flat
+        if len(names) <= 16 and equivalent(flat, TRUE):  # sympy leaves `x or not x` as it is
+            return TRUE
+        self.sympy_calls += 1
+        simplified = _sympy_simplify(flat)
+        again = to_dnf(simplified, self.dnf_limit)
+        return from_dnf(again, order) if again is not None else simplified
+
+
+def _abridged(text: str, limit: int = 160) -> str:
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text):,} characters)"
+
+
+def simplify(c: Condition, sympy_budget: int = DEFAULT_SYMPY_BUDGET) -> Condition:
+    """An equivalent, simpler condition (see `Simplifier`)."""
+    return Simplifier(sympy_budget).simplify(c)
+
+
+def _to_sympy(c: Condition, symbols: dict):
+    import sympy
+
+    if isinstance(c, Const):
+        return sympy.true if c.value else sympy.false
+    if isinstance(c, Lit):
+        key = term_to_text(c.atom)
+        sym = symbols.setdefault(key, (sympy.Symbol(f"v{len(symbols)}"), c.atom))[0]
+        return sym if c.positive else sympy.Not(sym)
+    if isinstance(c, Not):
+        return sympy.Not(_to_sympy(c.item, symbols))
+    parts = [_to_sympy(i, symbols) for i in c.items]
+    return sympy.And(*parts) if isinstance(c, And) else sympy.Or(*parts)
+
+
+def _from_sympy(expr, atoms: dict) -> Condition:
+    import sympy
+
+    if expr is sympy.true:
+        return TRUE
+    if expr is sympy.false:
+        return FALSE
+    if isinstance(expr, sympy.Symbol):
+        return Lit(atoms[expr])
+    if isinstance(expr, sympy.Not):
+        return negate(_from_sympy(expr.args[0], atoms))
+    items = [_from_sympy(a, atoms) for a in expr.args]
+    return conjoin(items) if isinstance(expr, sympy.And) else disjoin(items)
+
+
+def _sympy_simplify(c: Condition) -> Condition:
+    from sympy.logic.boolalg import simplify_logic
+
+    symbols: dict = {}
+    expr = _to_sympy(c, symbols)
+    atoms = {sym: atom for sym, atom in symbols.values()}
+    # force=True: without it sympy returns its input unchanged above 8 variables.
+    return canonical(_from_sympy(simplify_logic(expr, form="dnf", force=True), atoms))
+
+
+def equivalent(a: Condition, b: Condition) -> bool:
+    """Whether `a` and `b` hold in exactly the same states."""
+    names = sorted(variables(a) | variables(b), key=term_to_text)
+    if len(names) <= 16:  # a truth table is faster than a SAT call here
+        for bits in range(1 << len(names)):
+            state = {n for i, n in enumerate(names) if bits >> i & 1}
+            if holds(a, state) != holds(b, state):
+                return False
+        return True
+    return not satisfiable(disjoin([conjoin([a, negate(b)]), conjoin([negate(a), b])]))
+
+
+def satisfiable(c: Condition) -> bool:
+    """Whether some state makes `c` true: a Tseitin encoding (linear in the size of `c`,
+    where sympy's own to_cnf distributes and can explode) solved by sympy's DPLL2."""
+    import sympy
+    from sympy.assumptions.cnf import EncodedCNF
+    from sympy.logic.algorithms.dpll2 import dpll_satisfiable
+
+    atoms: dict[str, int] = {}
+    clauses: list[set[int]] = []
+    count = 0
+
+    def fresh() -> int:
+        nonlocal count
+        count += 1
+        return count
+
+    def encode(x: Condition) -> int:
+        if isinstance(x, Const):
+            t = fresh()
+            clauses.append({t} if x.value else {-t})
+            return t
+        if isinstance(x, Lit):
+            key = term_to_text(x.atom)
+            if key not in atoms:
+                atoms[key] = fresh()
+            return atoms[key] if x.positive else -atoms[key]
+        if isinstance(x, Not):
+            return -encode(x.item)
+        parts = [encode(i) for i in x.items]
+        t = fresh()
+        if isinstance(x, And):  # t <-> AND(parts)
+            clauses.extend({-t, p} for p in parts)
+            clauses.append({t, *(-p for p in parts)})
+        else:  # t <-> OR(parts)
+            clauses.append({-t, *parts})
+            clauses.extend({t, -p} for p in parts)
+        return t
+
+    clauses.append({encode(c)})
+    encoding = {sympy.Symbol(f"x{i}"): i for i in range(1, count + 1)}
+    return dpll_satisfiable(EncodedCNF(clauses, encoding)) is not False
+
+
+def holds(c: Condition, state: set | frozenset) -> bool:
+    """Whether `c` is true in `state`, a set of true ground atoms (closed world)."""
+    if isinstance(c, Const):
+        return c.value
+    if isinstance(c, Lit):
+        return (c.atom in state) == c.positive
+    if isinstance(c, Not):
+        return not holds(c.item, state)
+    if isinstance(c, And):
+        return all(holds(i, state) for i in c.items)
+    return any(holds(i, state) for i in c.items)

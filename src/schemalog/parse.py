@@ -16,13 +16,13 @@ import re
 from collections import deque
 import threading
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from .errors import SchemalogError, SourcePos
+from .shipped import shipped_text
 from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, make_list
 
 MAX_NESTING = 2_000
@@ -48,11 +48,7 @@ class Directive:
 
 def grammar_text() -> str:
     """Return the grammar, from the installed package or from the source tree."""
-    packaged = resources.files("schemalog").joinpath("grammar/schemalog.lark")
-    if packaged.is_file():
-        return packaged.read_text(encoding="utf-8")
-    source_tree = Path(__file__).resolve().parents[2] / "grammar" / "schemalog.lark"
-    return source_tree.read_text(encoding="utf-8")
+    return shipped_text("grammar/schemalog.lark")
 
 
 _ESCAPE_CHARS = {"n": "\n", "t": "\t", "r": "\r", "a": "\a", "b": "\b", "f": "\f",
@@ -332,13 +328,13 @@ def _describe_token(token: Token) -> str:
 
 
 def _source_line(text: str, line: int) -> str | None:
-    lines = text.splitlines()
+    lines = text.split("\n")  # lines as lark counts them: \f and \v do not end a line
     return lines[line - 1] if 0 < line <= len(lines) else None
 
 
 def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogError:
     if isinstance(err, UnexpectedEOF) or isinstance(err, UnexpectedToken) and err.token.type == "$END":
-        lines = text.splitlines() or [""]
+        lines = text.rstrip("\n").split("\n")
         line, column = len(lines), len(lines[-1]) + 1
         message = "unexpected end of file: a clause is not finished (missing ')', ']' or the final '.'?)"
     elif isinstance(err, UnexpectedToken):

@@ -16,9 +16,11 @@ from . import conditions as cond
 from .documents import Document
 from .errors import SchemalogError
 from .parse import Clause
+from dataclasses import replace
+
 from .schema import DEFAULT_AGENT, Entry, SchemaDef, schema_term
-from .terms import TRUE, Atom, Struct, Term, is_ground, make_list, term_to_text
-from .tree import Behaviour, count_nodes, depth, walk
+from .terms import TRUE, Atom, Float, Int, Struct, Term, is_ground, make_list, term_to_text
+from .tree import Behaviour, Origin, count_nodes, depth, map_tree, walk
 
 PRE_STYLE = "green"
 POST_STYLE = "blue"
@@ -99,6 +101,24 @@ def to_dot(root: Behaviour, name: str = "task") -> str:
     return "\n".join(lines) + "\n"
 
 
+def compare_dot(original: Behaviour, compressed: Behaviour, name: str, propagate: str) -> str:
+    """Before and after side by side, like the paper's Figure 2."""
+    lines = [f'digraph "{_dot_escape(name)}" {{',
+             '  graph [rankdir=TB, fontname="Helvetica", newrank=true];',
+             '  node [shape=ellipse, fontname="Helvetica", fontsize=11];',
+             '  edge [arrowhead=none];',
+             '  subgraph cluster_original {',
+             '    label="Initial Symbolic Representation";']
+    lines.extend("  " + line for line in dot_body(original, "o"))
+    lines.append("  }")
+    lines.append("  subgraph cluster_merged {")
+    lines.append(f'    label="Merged Symbolic Representation (propagate {_dot_escape(propagate)})";')
+    lines.extend("  " + line for line in dot_body(compressed, "m"))
+    lines.append("  }")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
 def dot_body(root: Behaviour, prefix: str) -> list[str]:
     """The node and edge statements of a tree, ids starting with `prefix`."""
     lines: list[str] = []
@@ -118,33 +138,75 @@ def dot_body(root: Behaviour, prefix: str) -> list[str]:
 
 # ---------------------------------------------------------------------------
 # A tree as knowledge text: the schemas that instantiate to exactly this tree.
+#
+# An entry's releaser is the behaviour's whole pre-condition (its propagated context
+# folded in, as Algorithm 1 writes it), and a compressed tree's provenance is written
+# per entry: origins(Parent, [OriginsOfChild1, ...]) and task_origins(Task, Origins),
+# each origin as origin(Label, Releaser, Post, Importance, Position, Slot).
 
-def tree_document(task: Term, root: Behaviour, file: str = "<tree>") -> Document:
-    """Ground schema knowledge whose `task` instantiates to `root` again."""
+def origin_term(o: Origin) -> Term:
+    """An origin as the term origin(Label, Releaser, Post, Importance, Position, Slot)."""
+    weight = Int(o.importance) if isinstance(o.importance, int) else Float(o.importance)
+    return Struct("origin", (o.label, cond.to_term(o.releaser), cond.to_term(o.post), weight,
+                             Int(o.position), Int(o.slot)))
+
+
+def _signature(node: Behaviour) -> tuple:
+    return (tuple((c.label, c.pre, c.importance, c.origins) for c in node.children), node.post,
+            node.agent, node.objects)
+
+
+def _distinct_labels(root: Behaviour) -> Behaviour:
+    """Rename (name_2, name_3, ...) a behaviour whose label another, different one has."""
+    seen: dict[Term, tuple] = {}
+    used: set[Term] = {b.label for b in walk(root)}
+
+    def settle(node: Behaviour, _position: int) -> Behaviour:
+        sig = _signature(node)
+        known = seen.get(node.label)
+        if known is None or known == sig:
+            seen[node.label] = sig
+            return node
+        n = 2
+        while True:
+            name = f"{node.label.name}_{n}" if isinstance(node.label, (Atom, Struct)) else f"b_{n}"
+            label = Struct(name, node.label.args) if isinstance(node.label, Struct) else Atom(name)
+            if label not in used and label not in seen:
+                break
+            n += 1
+        used.add(label)
+        seen[label] = sig
+        return replace(node, label=label)
+    return map_tree(root, settle)
+
+
+def tree_document(root: Behaviour, file: str = "<tree>") -> Document:
+    """Ground schema knowledge whose task (the root's label) instantiates to `root` again."""
+    root = _distinct_labels(root)
     schemas: dict[Term, SchemaDef] = {}
     order: list[Term] = []
     agents: dict[Term, str] = {}
     objects_of: dict[Term, tuple[Term, ...]] = {}
     all_objects: list[Term] = []
+    provenance: dict[Term, Term] = {}
+    with_origins = bool(root.origins)
     for node in walk(root):
         if not is_ground(node.label):
             raise SchemalogError(f"cannot write {term_to_text(node.label)} as knowledge: it is not ground")
-        entries = tuple(Entry(c.label, c.releaser, c.importance) for c in node.children)
-        s = SchemaDef(node.label, entries, node.post)
-        known = schemas.get(node.label)
-        if known is None:
-            schemas[node.label] = s
+        if node.label not in schemas:
+            entries = tuple(Entry(c.label, c.pre, c.importance) for c in node.children)
+            schemas[node.label] = SchemaDef(node.label, entries, node.post)
             order.append(node.label)
-        elif (known.entries, known.post) != (entries, node.post):
-            raise SchemalogError(f"two behaviours labelled {term_to_text(node.label)} differ; "
-                                 f"they cannot be written as one schema")
+            if with_origins and node.children:
+                provenance[node.label] = make_list(
+                    [make_list([origin_term(o) for o in c.origins]) for c in node.children])
         if node.agent != DEFAULT_AGENT:
             agents[node.label] = node.agent
         objects_of[node.label] = node.objects
         for o in node.objects:
             if o not in all_objects:
                 all_objects.append(o)
-    clauses: list[Clause] = [Clause(Struct("task", (task,)), TRUE, None)]
+    clauses: list[Clause] = [Clause(Struct("task", (root.label,)), TRUE, None)]
     clauses += [Clause(Struct("object", (o,)), TRUE, None) for o in all_objects]
     object_set = set(all_objects)
     for label in order:
@@ -153,7 +215,12 @@ def tree_document(task: Term, root: Behaviour, file: str = "<tree>") -> Document
             clauses.append(Clause(Struct("objects", (label, make_list(objects_of[label]))), TRUE, None))
     clauses += [Clause(Struct("agent", (label, Atom(agent))), TRUE, None) for label, agent in agents.items()]
     clauses += [Clause(schema_term(schemas[label]), TRUE, None) for label in order]
+    if with_origins:
+        clauses.append(Clause(Struct("task_origins", (root.label, make_list(
+            [origin_term(o) for o in root.origins]))), TRUE, None))
+        clauses += [Clause(Struct("origins", (label, terms)), TRUE, None) for label, terms in provenance.items()]
     return Document(tuple(clauses), file)
 
 
-__all__ = ["node_json", "tree_json", "show_json", "rich_tree", "to_dot", "dot_body", "tree_document"]
+__all__ = ["node_json", "tree_json", "show_json", "rich_tree", "to_dot", "dot_body", "compare_dot",
+           "tree_document", "origin_term"]

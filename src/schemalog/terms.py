@@ -319,10 +319,9 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
     """Write the head of `term` to `out`, and push what follows onto `stack` (reversed)."""
     if isinstance(term, Atom):
         text = quote_atom(term.name) if style.quoted else term.name
-        # An operator atom is bare as an argument, f(-) and [:-], and bracketed as the
-        # operand of an operator, X=(:-).
-        if max_priority < 999 and (term.name in PREFIX_OPS or term.name in INFIX_OPS) \
-                and _SYMBOL.match(term.name):
+        # A symbol-char atom is bare as an argument or list element, f(-) and [:-], and
+        # bracketed anywhere else, X=(:-) and (+), where it would read as an operator.
+        if max_priority != 999 and (text == ";" or _SYMBOL.match(text)):
             text = f"({text})"
         out.append(text)
     elif isinstance(term, Var):
@@ -362,7 +361,9 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         stack.append("}")
         stack.append((args[0], 1200))
         return
-    if len(args) == 2 and name in INFIX_OPS:
+    # obj.prop reads back only when prop starts with a letter: else '.'(a,1).
+    if len(args) == 2 and name in INFIX_OPS and not (
+            name == "." and not _starts_name(_first_char(args[1], INFIX_OPS["."][0], style))):
         priority, kind = INFIX_OPS[name]
         left_max = priority if kind == "yfx" else priority - 1
         right_max = priority if kind == "xfy" else priority - 1
@@ -393,10 +394,18 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
     if not style.quoted or _SYMBOL.match(name) or name in RESERVED_WORDS:
         out.append(name)
     else:
-        out.append(quote_atom(name) if name not in ("[]", "{}") else f"'{name}'")
+        out.append(quote_atom(name) if name not in _QUOTED_FUNCTORS else f"'{name}'")
     out.append("(")
     stack.append(")")
     _push_args(list(args), 999, stack)
+
+
+# Atoms that read bare but not as functors: '[]'(a), '!'(a), ';'(a,b,c).
+_QUOTED_FUNCTORS = frozenset({"[]", "{}", "!", ";", "|", ","})
+
+
+def _starts_name(char: str) -> bool:
+    return char == "_" or char.isascii() and char.isalpha()
 
 
 def _first_char(term: Term, max_priority: int, style: _Style) -> str:

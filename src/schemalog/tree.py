@@ -13,7 +13,7 @@ explicit depth and size limits; a schema that reaches itself is a cycle error.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Iterator
 
 from . import conditions as cond
@@ -30,6 +30,23 @@ DEFAULT_MAX_NODES = 2_000_000
 
 
 @dataclass(frozen=True)
+class Origin:
+    """An original behaviour that a compressed one stands for (provenance).
+
+    `position` is its index among its original siblings; `slot` is which origin of the
+    compressed parent was its original parent. Both are relative, so two identical
+    subtrees keep identical provenance, and decompression rebuilds the original exactly.
+    """
+
+    label: Term
+    releaser: Condition
+    post: Condition
+    importance: int | float = DEFAULT_IMPORTANCE
+    position: int = 0
+    slot: int = 0
+
+
+@dataclass(frozen=True)
 class Behaviour:
     """A node of a task tree: a running behaviour with its conditions."""
 
@@ -39,16 +56,31 @@ class Behaviour:
     releaser: Condition = cond.TRUE
     post: Condition = cond.TRUE
     children: tuple["Behaviour", ...] = ()
-    context: Condition = cond.TRUE      # inherited from merged-away ancestors (compression)
-    k: int = 1                          # how many original behaviours this one stands for
-    merged_from: tuple[Term, ...] = ()  # the original behaviours it replaces, in order
+    context: Condition = cond.TRUE        # inherited from merged-away ancestors (compression)
     importance: int | float = DEFAULT_IMPORTANCE
+    origins: tuple[Origin, ...] = ()      # provenance; empty in a tree read from knowledge
     source: SourcePos | None = field(default=None, compare=False)
 
     @property
     def pre(self) -> Condition:
         """The pre-condition: propagated context AND own releaser."""
         return cond.conjoin([self.context, self.releaser])
+
+    @property
+    def k(self) -> int:
+        """How many original behaviours this one stands for (Sec. III-D)."""
+        return max(1, len(self.origins))
+
+    @property
+    def merged_from(self) -> tuple[Term, ...]:
+        """The original behaviours a merged behaviour replaces, in order (empty if not merged)."""
+        return tuple(o.label for o in self.origins) if len(self.origins) > 1 else ()
+
+    @property
+    def entry(self) -> Condition:
+        """The entry releaser: its own releaser, or for a merged one its first constituent's
+        original releaser (what Definition 1 compares with a post-condition)."""
+        return self.origins[0].releaser if self.origins else self.releaser
 
     @property
     def is_leaf(self) -> bool:
@@ -90,6 +122,21 @@ def depth(root: Behaviour) -> int:
     return max(level for _, level in walk_with_depth(root))
 
 
+def map_tree(root: Behaviour, fn) -> Behaviour:
+    """Rebuild the tree bottom-up: fn(node with its rebuilt children, position among siblings)."""
+    stack: list[tuple[Behaviour, int, list[Behaviour]]] = [(root, 0, [])]
+    while True:
+        node, position, done = stack[-1]
+        if len(done) < len(node.children):
+            stack.append((node.children[len(done)], len(done), []))
+            continue
+        stack.pop()
+        rebuilt = fn(replace(node, children=tuple(done)) if done else node, position)
+        if not stack:
+            return rebuilt
+        stack[-1][2].append(rebuilt)
+
+
 # ---------------------------------------------------------------------------
 # Instantiation
 
@@ -102,6 +149,7 @@ class _Frame:
     level: int
     path: tuple[Term, ...]
     pending: list[Entry]
+    origins: tuple[Origin, ...] = ()
     built: list[Behaviour] = field(default_factory=list)
 
 
@@ -115,7 +163,9 @@ class Instantiator:
         self.max_depth = max_depth
         self.max_nodes = max_nodes
         self._has = {name: bool(kb.clauses(name, arity))
-                     for name, arity in (("agent", 2), ("object", 1), ("objects", 2), ("behaviour", 1))}
+                     for name, arity in (("agent", 2), ("object", 1), ("objects", 2), ("behaviour", 1),
+                                         ("origins", 2), ("task_origins", 2))}
+        self._origins_cache: dict[Term, list[tuple[Origin, ...]]] = {}
         self._agent_cache: dict[Term, str] = {}
         self._objects_cache: dict[Term, tuple[Term, ...]] = {}
 
@@ -202,12 +252,41 @@ class Instantiator:
         self._objects_cache[label] = result
         return result
 
+    # -- provenance of a compressed tree (written by schemalog compress) ------
+    def child_origins(self, parent: Term, index: int, pos: SourcePos | None) -> tuple[Origin, ...]:
+        """The origins of the `index`-th sub-task of `parent`, from origins(Parent, [...])."""
+        if not self._has["origins"]:
+            return ()
+        table = self._origins_cache.get(parent)
+        if table is None:
+            table = self._origins_cache[parent] = self._read_origins(
+                Struct("origins", (parent, Var("L"))), pos, many=True)
+        return table[index] if index < len(table) else ()
+
+    def root_origins(self, root: Term) -> tuple[Origin, ...]:
+        if not self._has["task_origins"]:
+            return ()
+        found = self._read_origins(Struct("task_origins", (root, Var("L"))), None, many=False)
+        return found[0] if found else ()
+
+    def _read_origins(self, goal: Struct, pos: SourcePos | None, many: bool) -> list[tuple[Origin, ...]]:
+        b = self.engine.first(goal)
+        if b is None:
+            return []
+        value = b.resolve(goal.args[1])
+        groups = list_items(value)[0] if many else [value]
+        try:
+            return [tuple(_origin(t) for t in list_items(group)[0]) for group in groups]
+        except (ValueError, cond.NotACondition) as err:
+            raise SchemalogError(f"malformed provenance in {term_to_text(goal.args[0])}: {err}", pos) from None
+
     # -- the walk -------------------------------------------------------------
     def instantiate(self, label: Term) -> Behaviour:
         """Build the task tree rooted at `label`."""
         label, schema = self.lookup(label, None)
         nodes = 1
-        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, (label,), list(schema.entries))
+        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, (label,), list(schema.entries),
+                      self.root_origins(label))
         stack = [root]
         while True:
             frame = stack[-1]
@@ -226,17 +305,31 @@ class Instantiator:
                         term_to_text(sub) == term_to_text(p) for p in frame.path):
                     cycle = " -> ".join(term_to_text(p) for p in (*frame.path, sub))
                     raise SchemalogError(f"recursive schema: {cycle}", frame.schema.pos)
+                # The sibling being built now is entry number len(frame.built).
+                origins = self.child_origins(frame.label, len(frame.built), frame.schema.pos)
                 stack.append(_Frame(sub, entry.releaser, entry.importance, sub_schema, frame.level + 1,
-                                    (*frame.path, sub), list(sub_schema.entries)))
+                                    (*frame.path, sub), list(sub_schema.entries), origins))
                 continue
             stack.pop()
             node = Behaviour(
                 label=frame.label, agent=self.agent(frame.label), objects=self.objects(frame.label),
                 releaser=frame.releaser, post=frame.schema.post, children=tuple(frame.built),
-                importance=frame.importance, source=frame.schema.pos)
+                importance=frame.importance, origins=frame.origins, source=frame.schema.pos)
             if not stack:
                 return node
             stack[-1].built.append(node)
+
+
+def _origin(t: Term) -> Origin:
+    """Read origin(Label, Releaser, Post, Importance, Position, Slot)."""
+    if not (isinstance(t, Struct) and t.name == "origin" and len(t.args) == 6):
+        raise ValueError(f"expected origin(Label, Releaser, Post, Importance, Position, Slot), "
+                         f"not {term_to_text(t)}")
+    label, releaser, post, weight, position, slot = t.args
+    if not (isinstance(weight, (Int, Float)) and isinstance(position, Int) and isinstance(slot, Int)):
+        raise ValueError(f"importance, position and slot must be numbers in {term_to_text(t)}")
+    return Origin(label, cond.from_term(releaser), cond.from_term(post), weight.value,
+                  position.value, slot.value)
 
 
 def instantiate(kb: KnowledgeBase, label: Term, max_depth: int = DEFAULT_MAX_DEPTH,
@@ -250,5 +343,5 @@ def declared_tasks(kb: KnowledgeBase) -> list[Term]:
     return [c.head.args[0] for c in kb.clauses("task", 1) if not c.library]
 
 
-__all__ = ["Behaviour", "TaskTree", "instantiate", "declared_tasks", "walk", "walk_with_depth",
+__all__ = ["Behaviour", "Origin", "TaskTree", "instantiate", "declared_tasks", "walk", "walk_with_depth",
            "count_nodes", "depth", "Instantiator"]

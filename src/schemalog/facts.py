@@ -1,0 +1,49 @@
+"""A task tree as Prolog facts, so rules such as kb/compression.pl can be queried over it.
+
+    node(Id, Label)   parent(Id, ParentId)   agent(Id, Agent)   objects(Id, [O, ...])
+    pre(Id, C)        entry(Id, C)           post(Id, C)        k(Id, K)
+
+Ids are pre-order positions (the root is 0); conditions are canonical terms, so two
+equal conditions unify.
+"""
+
+from __future__ import annotations
+
+from . import conditions as cond
+from .kb import KnowledgeBase
+from .shipped import shipped_text
+from .terms import Atom, Int, Struct, Term, make_list
+from .tree import Behaviour
+
+
+def tree_facts(root: Behaviour) -> list[Term]:
+    """The facts describing every behaviour of `root`."""
+    facts: list[Term] = []
+    stack: list[tuple[Behaviour, int | None]] = [(root, None)]
+    next_id = 0
+    while stack:
+        node, parent = stack.pop()
+        me = Int(next_id)
+        next_id += 1
+        facts.append(Struct("node", (me, node.label)))
+        if parent is not None:
+            facts.append(Struct("parent", (me, Int(parent))))
+        facts.append(Struct("agent", (me, Atom(node.agent))))
+        facts.append(Struct("objects", (me, make_list(node.objects))))
+        for name, c in (("pre", node.pre), ("entry", node.entry), ("post", node.post)):
+            facts.append(Struct(name, (me, cond.to_term(cond.canonical(c)))))
+        facts.append(Struct("k", (me, Int(node.k))))
+        stack.extend((child, me.value) for child in reversed(node.children))
+    return facts
+
+
+def compression_kb(root: Behaviour, user: KnowledgeBase | None = None) -> KnowledgeBase:
+    """kb/compression.pl with the facts of `root` (and the user's no_merge/1 clauses)."""
+    kb = KnowledgeBase()
+    kb.consult_text(shipped_text("kb/compression.pl"), "kb/compression.pl")
+    for fact in tree_facts(root):
+        kb.add_clause(fact)
+    if user is not None:
+        for clause in user.clauses("no_merge", 1):
+            kb.add_clause(clause.head, clause.body, clause.pos)
+    return kb

@@ -1,0 +1,248 @@
+"""Definition 1 and Algorithm 1: the paper's results, properties, provenance, bad input."""
+
+import random
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from schemalog import conditions as cond
+from schemalog.compress import compress, decompress, maximal_paths, merged_label, sequential_pairs
+from schemalog.documents import document_from_text, read_document, to_pl
+from schemalog.engine import Engine
+from schemalog.facts import compression_kb
+from schemalog.kb import KnowledgeBase
+from schemalog.parse import parse_term
+from schemalog.render import tree_document
+from schemalog.terms import term_to_text
+from schemalog.tree import Behaviour, count_nodes, depth, instantiate, walk
+
+from conftest import COFFEE, MIX
+
+
+def tree_of(path, task):
+    return instantiate(read_document(path).to_kb(), parse_term(task))
+
+
+def by_label(tree):
+    return {term_to_text(n.label): n for n in walk(tree)}
+
+
+MIX_TREE = tree_of(MIX, "use(spoon)")
+COFFEE_TREE = tree_of(COFFEE, "prepareboth")
+
+
+def test_figure_2_under_the_papers_rule():
+    result = compress(MIX_TREE, "pre")
+    assert (result.nodes_before, result.nodes_after) == (12, 6)
+    nodes = by_label(result.tree)
+    assert cond.to_text(nodes["subtask(take_mix,spoon)"].pre) == "hand.free or spoon.taken"
+    assert cond.to_text(nodes["a1_a2(spoon)"].pre) == "hand.free"
+    assert cond.to_text(nodes["a3_a4_a5_a6_a7(cup)"].pre) == "spoon.taken"
+    assert cond.to_text(nodes["a1_a2(spoon)"].post) == "a2.done"  # the last constituent's
+    assert nodes["gripper(close)"].k == 1 and nodes["gripper(open)"].k == 1  # another agent: unmerged
+    assert [n.k for n in walk(result.tree)] == [1, 2, 2, 1, 5, 1]
+    assert [term_to_text(m) for m in nodes["a3_a4_a5_a6_a7(cup)"].merged_from] == \
+        ["a3(cup)", "a4(cup)", "a5(cup)", "a6(cup)", "a7(cup)"]
+
+
+def test_figure_2_with_full_propagation_adds_not_post():
+    nodes = by_label(compress(MIX_TREE, "full").tree)
+    assert cond.to_text(nodes["a1_a2(spoon)"].pre) == "hand.free and not spoon.taken"
+    assert cond.to_text(nodes["a3_a4_a5_a6_a7(cup)"].pre) == "spoon.taken and not spoon.used"
+    assert cond.to_text(nodes["gripper(close)"].pre) == "hand.free and not spoon.taken and a2.done"
+
+
+def test_figure_2_without_propagation_shows_the_aliasing():
+    nodes = by_label(compress(MIX_TREE, "none").tree)
+    # Figure 2 (middle): both merged actions always enabled.
+    assert cond.to_text(nodes["a1_a2(spoon)"].pre) == "true"
+    assert cond.to_text(nodes["a3_a4_a5_a6_a7(cup)"].pre) == "true"
+
+
+def test_coffee_and_tea_63_to_33():
+    result = compress(COFFEE_TREE)
+    assert (result.nodes_before, result.nodes_after) == (63, 33)
+    assert (result.depth_before, result.depth_after) == (5, 5)
+    assert result.reduction_degree == pytest.approx(30 / 58)
+    labels = {term_to_text(n.label) for n in walk(result.tree)}
+    assert {"subtask(take_pour,water)", "subtask(take_mix,spoon)", "a1_a2(water)", "a3_a4_a5_a6_a7(cup)"} <= labels
+    assert result.simplifier.sympy_calls == 0  # the fast exact path handles every merge here
+
+
+def test_chain_is_merged_whatever_the_sibling_order():
+    # a3..a7 shuffled: still one a3_a4_a5_a6_a7, never a3_a4 + a5_a6_a7.
+    mix = by_label(MIX_TREE)["subtask(mix,spoon)"]
+    for seed in range(20):
+        kids = list(mix.children)
+        random.Random(seed).shuffle(kids)
+        shuffled = Behaviour(label=mix.label, releaser=mix.releaser, post=mix.post, children=tuple(kids))
+        labels = sorted(term_to_text(c.label) for c in compress(shuffled).tree.children)
+        assert labels == ["a3_a4_a5_a6_a7(cup)", "gripper(open)"]
+
+
+def kb_tree(text, task="t"):
+    kb = KnowledgeBase()
+    kb.consult_text(text, "t.pl")
+    return kb, instantiate(kb, parse_term(task))
+
+
+def test_branching_gives_one_merged_behaviour_per_successor():
+    kb, tree = kb_tree("""
+        schema(t, [(b(x), true), (j(x), b.done), (k(x), b.done)], t.done).
+        schema(b(x), [], b.done). schema(j(x), [], j.done). schema(k(x), [], k.done).""")
+    result = compress(tree)
+    assert [term_to_text(c.label) for c in result.tree.children] == ["b_j(x)", "b_k(x)"]
+    assert decompress(result.tree) == tree  # b appears twice, and comes back once
+
+
+def test_releaser_cycle_is_left_unmerged_with_a_note():
+    kb, tree = kb_tree("""
+        schema(t, [(a(x), b.done), (b(x), a.done), (c(x), true), (d(x), c.done)], t.done).
+        schema(a(x), [], a.done). schema(b(x), [], b.done). schema(c(x), [], c.done). schema(d(x), [], d.done).""")
+    result = compress(tree)
+    assert sorted(term_to_text(c.label) for c in result.tree.children) == ["a(x)", "b(x)", "c_d(x)"]
+    assert any("cycle" in n and "a(x), b(x)" in n for n in result.notes)
+
+
+def test_no_merge_protects_a_behaviour():
+    from schemalog.compress import protected_labels
+    text = MIX.read_text() + "\nno_merge(a2(spoon)).\n"
+    kb = document_from_text(text, "mix.pl").to_kb()
+    tree = instantiate(kb, parse_term("use(spoon)"))
+    result = compress(tree, protected=protected_labels(kb, tree))
+    labels = {term_to_text(n.label) for n in walk(result.tree)}
+    assert "a1(spoon)" in labels and "a2(spoon)" in labels and "a1_a2(spoon)" not in labels
+
+
+def test_merged_labels_follow_the_paper():
+    p = parse_term
+    assert merged_label([p("a1(spoon)"), p("a2(spoon)")]) == p("a1_a2(spoon)")
+    assert merged_label([p("subtask(take,spoon)"), p("subtask(mix,spoon)")]) == p("subtask(take_mix,spoon)")
+    assert merged_label([p("go"), p("stop")]) == p("go_stop")
+    assert merged_label([p("pick(a, spoon)"), p("place(b, spoon)")]) == p("pick_place(a,spoon)")
+
+
+def test_merged_label_is_unique_among_siblings():
+    kb, tree = kb_tree("""
+        schema(t, [(a1_a2(x), true), (a1(x), true), (a2(x), a1.done)], t.done).
+        schema(a1_a2(x), [], q.done). schema(a1(x), [], a1.done). schema(a2(x), [], a2.done).""")
+    labels = [term_to_text(c.label) for c in compress(tree).tree.children]
+    assert sorted(labels) == ["a1_a2(x)", "a1_a2_2(x)"]
+
+
+def test_forty_variable_condition_is_kept_and_said():
+    atoms = " or ".join(f"(v{i}.x and not v{i + 1}.x)" for i in range(40))
+    simplifier = cond.Simplifier()
+    c = cond.from_term(parse_term(atoms))
+    out = simplifier.simplify(cond.disjoin([c, cond.from_term(parse_term("v0.x"))]))
+    assert simplifier.sympy_calls == 0 and simplifier.notes and "over the sympy budget" in simplifier.notes[0]
+    assert cond.equivalent(out, cond.disjoin([c, cond.from_term(parse_term("v0.x"))]))
+
+
+def test_a_100k_sibling_chain_compresses_without_recursion():
+    from schemalog.terms import Atom, Struct
+
+    def done(i):
+        return cond.Lit(Struct(".", (Atom(f"s{i}"), Atom("done"))))
+
+    n = 100_000
+    kids = tuple(Behaviour(label=Struct(f"s{i}", (Atom("x"),)), objects=(Atom("x"),),
+                           releaser=cond.TRUE if i == 0 else done(i - 1), post=done(i)) for i in range(n))
+    root = Behaviour(label=parse_term("t"), post=cond.Lit(parse_term("t.done")), children=kids)
+    result = compress(root)
+    assert result.nodes_after == 2 and result.tree.children[0].k == n
+    assert decompress(result.tree) == root
+
+
+def test_written_compressed_file_loads_back_and_decompresses():
+    result = compress(COFFEE_TREE)
+    text = to_pl(tree_document(result.tree))
+    again = instantiate(document_from_text(text, "c.pl").to_kb(), parse_term("prepareboth"))
+    assert [n.pre for n in walk(again)] == [n.pre for n in walk(result.tree)]
+    assert [n.k for n in walk(again)] == [n.k for n in walk(result.tree)]
+    assert decompress(again) == COFFEE_TREE
+    assert compress(again).nodes_after == 33  # idempotent through the file too
+
+
+# --- properties over generated trees ---------------------------------------
+
+@st.composite
+def task_trees(draw, max_children=5, levels=3):
+    """Trees whose siblings form chains, branches and cycles on shared objects and agents."""
+    ids = iter(range(100_000))
+
+    def node(level):
+        n = next(ids)
+        if level >= levels:
+            kids = ()
+        else:
+            count = draw(st.integers(0, max_children))
+            names = [f"b{next(ids)}" for _ in range(count)]
+            kids = []
+            for i, name in enumerate(names):
+                child = node(level + 1)
+                choice = draw(st.integers(0, 3))
+                releaser = "true" if i == 0 or choice == 0 else f"{names[draw(st.integers(0, count - 1))]}.done"
+                obj = draw(st.sampled_from(["cup", "cup", "spoon"]))
+                agent = draw(st.sampled_from(["arm", "arm", "gripper"]))
+                kids.append(Behaviour(label=parse_term(f"{name}({obj})"), agent=agent,
+                                      objects=(parse_term(obj),),
+                                      releaser=cond.from_term(parse_term(releaser)),
+                                      post=cond.from_term(parse_term(f"{name}.done")),
+                                      children=child.children))
+            kids = tuple(kids)
+        return Behaviour(label=parse_term(f"n{n}"), post=cond.from_term(parse_term(f"n{n}.done")), children=kids)
+    return node(1)
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(task_trees(), st.sampled_from(["none", "pre", "full"]))
+def test_decompress_undoes_compress(tree, propagate):
+    assert decompress(compress(tree, propagate).tree) == tree
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(task_trees())
+def test_compression_is_idempotent(tree):
+    once = compress(tree).tree
+    twice = compress(once).tree
+    assert count_nodes(twice) == count_nodes(once)
+    assert [n.label for n in walk(twice)] == [n.label for n in walk(once)]
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(task_trees(), st.randoms(use_true_random=False))
+def test_result_does_not_depend_on_sibling_order(tree, rnd):
+    def shuffled(b):
+        kids = [shuffled(c) for c in b.children]
+        rnd.shuffle(kids)
+        return Behaviour(label=b.label, agent=b.agent, objects=b.objects, releaser=b.releaser,
+                         post=b.post, children=tuple(kids))
+    a, b = compress(tree).tree, compress(shuffled(tree)).tree
+    assert count_nodes(a) == count_nodes(b)
+    assert sorted(term_to_text(n.label) for n in walk(a)) == sorted(term_to_text(n.label) for n in walk(b))
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(task_trees())
+def test_prolog_rule_and_indexed_rule_agree(tree):
+    kb = compression_kb(tree)
+    engine = Engine(kb)
+    from schemalog.terms import Var, Struct
+    x, y = Var("X"), Var("Y")
+    by_prolog = {(b.resolve(x).value, b.resolve(y).value)
+                 for b in engine.solve(Struct("sequential", (x, y)))}
+    by_index = set()
+    ids = {}
+    for i, node in enumerate(walk(tree)):
+        ids[id(node)] = i
+    for node in walk(tree):
+        for i, j in sequential_pairs(node.children):
+            by_index.add((ids[id(node.children[i])], ids[id(node.children[j])]))
+    assert by_prolog == by_index
+
+
+def test_maximal_paths_on_a_diamond_and_isolated_nodes():
+    paths, cycles = maximal_paths(5, [(0, 1), (0, 2), (1, 3), (2, 3)])
+    assert paths == [[0, 1, 3], [0, 2, 3], [4]] and cycles == []
