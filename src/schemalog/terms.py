@@ -418,6 +418,8 @@ def _first_char(term: Term, max_priority: int, style: _Style) -> str:
             if name == "{}" and len(args) == 1:
                 return "{"
             if len(args) == 2 and name in INFIX_OPS:
+                if name == "." and not _starts_name(_first_char(args[1], INFIX_OPS["."][0], style)):
+                    return "'"  # written '.'(A,B): see _expand_struct
                 priority, kind = INFIX_OPS[name]
                 if priority > max_priority:
                     return "("
