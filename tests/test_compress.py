@@ -15,7 +15,7 @@ from schemalog.kb import KnowledgeBase
 from schemalog.parse import parse_term
 from schemalog.render import tree_document
 from schemalog.terms import term_to_text
-from schemalog.tree import Behaviour, count_nodes, depth, instantiate, walk
+from schemalog.tree import Behaviour, count_nodes, instantiate, walk
 
 from conftest import COFFEE, MIX
 

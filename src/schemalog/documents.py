@@ -58,7 +58,7 @@ class Document:
             if isinstance(item, Clause):
                 kb.add_clause(item.head, item.body, item.pos)
             else:
-                kb._directive(item, base)
+                kb.run_directive(item, base)
         kb.files.append(self.file)
         kb.warnings.extend(self.notes)
         return kb

@@ -550,10 +550,6 @@ def standard_order_key(term: Term):
     return functools.cmp_to_key(compare_terms)(term)
 
 
-def _compare(x: Term, y: Term, b: Bindings) -> int:
-    return compare_terms(x, y, b)
-
-
 def _type_check(pred: Callable[[Term], bool]) -> Builtin:
     return lambda e, a, b: pred(b.walk(a[0]))
 
@@ -900,13 +896,13 @@ BUILTINS: dict[tuple[str, int], Builtin] = {
     ("=", 2): lambda e, a, b: b.unify(a[0], a[1]),
     ("\\=", 2): lambda e, a, b: not _unifiable(a[0], a[1], b),
     ("unify_with_occurs_check", 2): lambda e, a, b: b.unify(a[0], a[1], occurs_check=True),
-    ("==", 2): lambda e, a, b: _compare(a[0], a[1], b) == 0,
-    ("\\==", 2): lambda e, a, b: _compare(a[0], a[1], b) != 0,
-    ("@<", 2): lambda e, a, b: _compare(a[0], a[1], b) < 0,
-    ("@>", 2): lambda e, a, b: _compare(a[0], a[1], b) > 0,
-    ("@=<", 2): lambda e, a, b: _compare(a[0], a[1], b) <= 0,
-    ("@>=", 2): lambda e, a, b: _compare(a[0], a[1], b) >= 0,
-    ("compare", 3): lambda e, a, b: b.unify(a[0], Atom("<=>"[_compare(a[1], a[2], b) + 1])),
+    ("==", 2): lambda e, a, b: compare_terms(a[0], a[1], b) == 0,
+    ("\\==", 2): lambda e, a, b: compare_terms(a[0], a[1], b) != 0,
+    ("@<", 2): lambda e, a, b: compare_terms(a[0], a[1], b) < 0,
+    ("@>", 2): lambda e, a, b: compare_terms(a[0], a[1], b) > 0,
+    ("@=<", 2): lambda e, a, b: compare_terms(a[0], a[1], b) <= 0,
+    ("@>=", 2): lambda e, a, b: compare_terms(a[0], a[1], b) >= 0,
+    ("compare", 3): lambda e, a, b: b.unify(a[0], Atom("<=>"[compare_terms(a[1], a[2], b) + 1])),
     ("is", 2): lambda e, a, b: b.unify(a[0], _num(evaluate(a[1], b))),
     ("=:=", 2): _compare_numbers(lambda x, y: x == y),
     ("=\\=", 2): _compare_numbers(lambda x, y: x != y),

@@ -196,7 +196,7 @@ class KnowledgeBase:
             if isinstance(item, Clause):
                 self.add_clause(item.head, item.body, item.pos)
             elif run_directives:
-                self._directive(item, base)
+                self.run_directive(item, base)
 
     def consult(self, path: str | Path, max_bytes: int = MAX_BYTES) -> None:
         """Load a knowledge file."""
@@ -204,7 +204,8 @@ class KnowledgeBase:
         self.files.append(str(path))
         self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
 
-    def _directive(self, d: Directive, base: Path | None) -> None:
+    def run_directive(self, d: Directive, base: Path | None = None) -> None:
+        """Declare (dynamic), include (consult) or run the goal of a directive."""
         goal = d.goal
         if isinstance(goal, Struct) and goal.name in ("dynamic", "discontiguous") and len(goal.args) == 1:
             for spec in _conjuncts(goal.args[0]):
