@@ -246,3 +246,18 @@ def test_prolog_rule_and_indexed_rule_agree(tree):
 def test_maximal_paths_on_a_diamond_and_isolated_nodes():
     paths, cycles = maximal_paths(5, [(0, 1), (0, 2), (1, 3), (2, 3)])
     assert paths == [[0, 1, 3], [0, 2, 3], [4]] and cycles == []
+
+
+def test_duplicate_labels_with_different_conditions():
+    # Two a(x) siblings, released differently: a -> a -> c and a -> c (a join), so the
+    # branching rule gives two merged behaviours, with distinct labels.
+    kb, tree = kb_tree("""
+        schema(t, [(a(x), true), (a(x), a.done), (c(x), a.done)], t.done).
+        schema(a(x), [], a.done). schema(c(x), [], c.done).""")
+    result = compress(tree)
+    assert [term_to_text(c.label) for c in result.tree.children] == ["a_a_c(x)", "a_c(x)"]
+    assert [c.k for c in result.tree.children] == [3, 2]
+    assert decompress(result.tree) == tree
+    again = instantiate(document_from_text(to_pl(tree_document(result.tree)), "d.pl").to_kb(),
+                        parse_term("t"))
+    assert decompress(again) == tree

@@ -237,22 +237,14 @@ def merged_label(labels: list[Term]) -> Term:
             texts = [_atomic_text(c) for c in column]
             if any(t is None for t in texts):
                 break
-            args.append(Atom("_".join(_dedupe_runs(texts))))
+            args.append(Atom("_".join(texts)))
         else:
             return Struct(first.name, tuple(args))
     names = [lab.name if isinstance(lab, (Atom, Struct)) else term_to_text(lab) for lab in labels]
-    name = "_".join(_dedupe_runs(names))
+    name = "_".join(names)
     if isinstance(first, Struct) and all(isinstance(lab, Struct) and lab.args == first.args for lab in labels):
         return Struct(name, first.args)
     return Atom(name) if not isinstance(first, Struct) else Struct(name, first.args)
-
-
-def _dedupe_runs(texts: list[str]) -> list[str]:
-    out: list[str] = []
-    for t in texts:
-        if not out or out[-1] != t:
-            out.append(t)
-    return out
 
 
 def _unique(label: Term, taken: set[Term]) -> Term:
