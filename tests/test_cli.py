@@ -198,3 +198,26 @@ def test_compress_notes_a_releaser_cycle(tmp_path):
 def test_compress_bad_options_are_usage_errors():
     assert run("compress", MIX, "--propagate", "sideways").returncode == 2
     assert run("compress", MIX, "--sympy-budget", "0").returncode == 2
+
+
+def test_written_trees_keep_initial_state_and_no_merge(tmp_path):
+    src = tmp_path / "protected.pl"
+    src.write_text(MIX.read_text() + "\nno_merge(a2(spoon)).\n")
+    out, again = tmp_path / "c.pl", tmp_path / "d.pl"
+    assert run("compress", src, "-o", out).returncode == 0
+    text = out.read_text()
+    assert "initial(hand.free)." in text and "no_merge(a2(spoon))." in text
+    first = json.loads(run("compress", src, "--json").stdout)["nodes_after"]
+    assert json.loads(run("compress", out, "--json").stdout)["nodes_after"] == first  # still protected
+    assert run("decompress", out, "-o", again).returncode == 0
+    assert "initial(hand.free)." in again.read_text()
+
+
+def test_sympy_budget_is_capped():
+    r = run("compress", MIX, "--sympy-budget", "16")
+    assert r.returncode == 2 and "at most 12" in r.stderr
+
+
+def test_a_task_with_variables_is_refused():
+    r = run("compress", COFFEE, "--task", "add(X)", "--json")
+    assert r.returncode == 1 and "has variables: name a ground task" in r.stderr and r.stdout == ""

@@ -261,3 +261,70 @@ def test_duplicate_labels_with_different_conditions():
     again = instantiate(document_from_text(to_pl(tree_document(result.tree)), "d.pl").to_kb(),
                         parse_term("t"))
     assert decompress(again) == tree
+
+
+def test_branching_that_would_grow_the_tree_merges_only_unbranched_chains():
+    # A composite hub released-before 30 siblings: the branching rule would copy its
+    # sub-tree 30 times. Bm must stay <= Bi (RD >= 0, Sec. IV-A).
+    leaves = " ".join(f"schema(h{i}(cup), [], h{i}.done)." for i in range(5))
+    subs = ", ".join(f"(s{i}(cup), hub.done)" for i in range(30))
+    kb, tree = kb_tree(f"""
+        schema(t, [(hub(cup), true), {subs}], t.done).
+        schema(hub(cup), [{', '.join(f'(h{i}(cup), true)' for i in range(5))}], hub.done).
+        {leaves} {" ".join(f"schema(s{i}(cup), [], s{i}.done)." for i in range(30))}""")
+    result = compress(tree)
+    assert result.nodes_after <= result.nodes_before and result.reduction_degree >= 0
+    assert any("would grow the tree" in n for n in result.notes)
+    assert decompress(result.tree) == tree
+    assert compress(result.tree).nodes_after == result.nodes_after
+
+
+def test_a_lattice_does_not_explode():
+    # 8 layers of 2 siblings, each layer released by the previous one's post: 2^8 paths.
+    entries, leaves = [], []
+    for layer in range(8):
+        for k in range(2):
+            entries.append(f"(x{layer}_{k}(cup), {'true' if layer == 0 else f'l{layer - 1}.done'})")
+            leaves.append(f"schema(x{layer}_{k}(cup), [], l{layer}.done).")
+    kb, tree = kb_tree(f"schema(t, [{', '.join(entries)}], t.done).\n" + "\n".join(leaves))
+    result = compress(tree)
+    assert result.nodes_after <= result.nodes_before
+
+
+def test_decompress_refuses_a_behaviour_without_provenance():
+    from schemalog.errors import SchemalogError
+    result = compress(MIX_TREE)
+    text = to_pl(tree_document(result.tree))
+    edited = "\n".join(line for line in text.splitlines() if not line.startswith("origins(subtask(take_mix"))
+    again = instantiate(document_from_text(edited, "edited.pl").to_kb(), parse_term("use(spoon)"))
+    with pytest.raises(SchemalogError, match="has no provenance"):
+        decompress(again)
+
+
+def test_merged_label_suffixes_do_not_depend_on_sibling_order():
+    kb, tree = kb_tree("""
+        schema(t, [(a(cup), true), (a(cup), x.done), (b(cup), a.done)], t.done).
+        schema(a(cup), [], a.done). schema(b(cup), [], b.done).""")
+    forward = {term_to_text(c.label): cond.to_text(c.pre) for c in compress(tree).tree.children}
+    backward_tree = Behaviour(label=tree.label, post=tree.post, children=tuple(reversed(tree.children)))
+    backward = {term_to_text(c.label): cond.to_text(c.pre) for c in compress(backward_tree).tree.children}
+    assert forward == backward
+
+
+def test_long_chain_with_conjunctive_posts_stays_fast_and_exact():
+    # The merged pre-condition is an OR of 5,000 conjunctions: absorption must not be quadratic.
+    from schemalog.terms import Atom, Struct
+
+    def lit(name):
+        return cond.Lit(Struct(".", (Atom(name), Atom("done"))))
+
+    n = 5_000
+    kids = []
+    for i in range(n):
+        post = cond.conjoin([lit(f"a{i}"), lit("h")])
+        releaser = lit("s") if i == 0 else cond.conjoin([lit(f"a{i - 1}"), lit("h")])
+        kids.append(Behaviour(label=Struct(f"a{i}", (Atom("cup"),)), objects=(Atom("cup"),),
+                              releaser=releaser, post=post))
+    root = Behaviour(label=Atom("t"), post=lit("t"), children=tuple(kids))
+    result = compress(root)
+    assert result.nodes_after == 2 and decompress(result.tree) == root

@@ -99,3 +99,11 @@ def test_explicit_objects_and_default_objects():
                "schema(move(_, _), [], m.done).\nschema(pick(_, _), [], p.done).")
     t = instantiate(kb, parse_term("t"))
     assert [[str(o) for o in c.objects] for c in t.children] == [["b"], ["c", "1"]]
+
+
+def test_sub_task_variables_must_be_bound_by_the_schema():
+    kb = kb_of("schema(t, [(take(X), true), (pour(X), true)], t.done).\n"
+               "schema(take(cup), [], a.done).\nschema(pour(jug), [], b.done).")
+    with pytest.raises(SchemalogError, match=r"sub-task take\(_G\d+\) of t has variables") as err:
+        instantiate(kb, parse_term("t"))
+    assert str(err.value.pos) == "t.pl:1:1"

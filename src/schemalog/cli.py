@@ -21,8 +21,8 @@ from .errors import SchemalogError, UsageError
 from .kb import KnowledgeBase
 from .parse import MAX_BYTES, Clause, parse_term
 from .compress import PROPAGATE_MODES, compress, decompress, protected_labels
-from .conditions import DEFAULT_SYMPY_BUDGET, Simplifier
-from .render import compare_dot, rich_tree, show_json, to_dot, tree_document, tree_json
+from .conditions import DEFAULT_SYMPY_BUDGET, MAX_SYMPY_BUDGET, Simplifier
+from .render import carried_clauses, compare_dot, rich_tree, show_json, to_dot, tree_document, tree_json
 from .schema import check_schemas
 from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
@@ -147,7 +147,8 @@ def _print_rich(renderable, output: str | None, inputs: list[str]) -> None:
         Console(highlight=False).print(renderable)
 
 
-def _output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: str) -> None:
+def _output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: str,
+                 kb: KnowledgeBase | None = None) -> None:
     """Print or write one tree in the requested format (show, decompress)."""
     fmt = _format(args)
     if fmt == "json":
@@ -155,7 +156,7 @@ def _output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: 
     elif fmt == "dot":
         _emit(to_dot(tree, term_to_text(task)), args.output, args.files)
     elif fmt in ("pl", "yaml"):
-        doc = tree_document(tree)
+        doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
         _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, args.files)
     else:
         title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
@@ -165,17 +166,17 @@ def _output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: 
 def cmd_show(args: argparse.Namespace) -> int:
     """Instantiate a task and print its tree."""
     kb, _ = _load(args)
-    task = _choose_tasks(kb, args.task)[0]
-    tree = _instantiate(kb, task, args)
-    _output_tree(args, task, tree, f"The task tree of {term_to_text(task)}, written by schemalog show.")
+    tree = _instantiate(kb, _choose_tasks(kb, args.task)[0], args)
+    task = tree.label  # as instantiated: --task 'add(X)' shows the schema it found
+    _output_tree(args, task, tree, f"The task tree of {term_to_text(task)}, written by schemalog show.", kb)
     return 0
 
 
 def cmd_compress(args: argparse.Namespace) -> int:
     """Merge sequential behaviours (Algorithm 1) and report the paper's figures."""
     kb, _ = _load(args)
-    task = _choose_tasks(kb, args.task)[0]
-    tree = _instantiate(kb, task, args)
+    tree = _instantiate(kb, _choose_tasks(kb, args.task)[0], args)
+    task = tree.label
     result = compress(tree, args.propagate, protected_labels(kb, tree),
                       Simplifier(sympy_budget=args.sympy_budget))
     for note in result.notes:
@@ -196,7 +197,7 @@ def cmd_compress(args: argparse.Namespace) -> int:
         _emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
               args.output, args.files)
     elif fmt in ("pl", "yaml"):
-        doc = tree_document(result.tree)
+        doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
                   f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
@@ -224,14 +225,14 @@ def cmd_compress(args: argparse.Namespace) -> int:
 def cmd_decompress(args: argparse.Namespace) -> int:
     """Restore the original tree of a compressed task from its provenance."""
     kb, _ = _load(args)
-    task = _choose_tasks(kb, args.task)[0]
-    tree = _instantiate(kb, task, args)
+    tree = _instantiate(kb, _choose_tasks(kb, args.task)[0], args)
+    task = tree.label
     if not tree.origins:
         print(f"note: {term_to_text(task)} carries no provenance (origins/2): it is shown as it is",
               file=sys.stderr)
     original = decompress(tree)
     _output_tree(args, original.label, original,
-                 f"The original tree of {term_to_text(task)}, restored by schemalog decompress.")
+                 f"The original tree of {term_to_text(task)}, restored by schemalog decompress.", kb)
     return 0
 
 
@@ -265,6 +266,14 @@ def _positive(text: str) -> int:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
     if value < 1:
         raise argparse.ArgumentTypeError("must be at least 1")
+    return value
+
+
+def _budget(text: str) -> int:
+    value = _positive(text)
+    if value > MAX_SYMPY_BUDGET:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SYMPY_BUDGET} (sympy's cost doubles per variable; "
+                                         f"16 ran for over 15 minutes on one condition)")
     return value
 
 
@@ -306,8 +315,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--propagate", choices=list(PROPAGATE_MODES), default="full",
                    help="what the children of a merged behaviour inherit: its pre AND not post "
                         "(full, default), its pre (pre: the paper's rule), or nothing (none)")
-    p.add_argument("--sympy-budget", type=_positive, default=DEFAULT_SYMPY_BUDGET, metavar="N",
-                   help=f"simplify with sympy up to N variables (default {DEFAULT_SYMPY_BUDGET})")
+    p.add_argument("--sympy-budget", type=_budget, default=DEFAULT_SYMPY_BUDGET, metavar="N",
+                   help=f"simplify with sympy up to N variables (default {DEFAULT_SYMPY_BUDGET}, "
+                        f"at most {MAX_SYMPY_BUDGET}: its cost doubles per variable)")
     p.set_defaults(run=cmd_compress)
 
     p = sub.add_parser("decompress", parents=[limits, output],

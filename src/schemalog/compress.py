@@ -273,6 +273,47 @@ def with_origins(root: Behaviour) -> Behaviour:
     return map_tree(root, lambda b, pos: b if b.origins else stamp(b, pos))
 
 
+def _grows(paths: list[list[int]], children: tuple[Behaviour, ...]) -> bool:
+    """Whether the branching rule would make the tree larger: a behaviour with a sub-tree
+    copied into several merged ones, or more merged behaviours than siblings (a lattice).
+
+    Both tests are kept by compression itself (a leaf stays a leaf; merging a chain keeps
+    the set of paths), so compressing twice decides the same way: idempotence."""
+    seen: set[int] = set()
+    copied: set[int] = set()
+    for p in paths:
+        for i in p:
+            (copied if i in seen else seen).add(i)
+    if not copied:
+        return False  # no behaviour in two paths: merging only shrinks
+    return len(paths) > len(children) or any(children[i].children for i in copied)
+
+
+def _unbranched(paths: list[list[int]], n: int) -> list[list[int]]:
+    """The chains through links that neither branch nor join, every sibling exactly once."""
+    succ: dict[int, set[int]] = {}
+    pred: dict[int, set[int]] = {}
+    for p in paths:
+        for i, j in zip(p, p[1:]):
+            succ.setdefault(i, set()).add(j)
+            pred.setdefault(j, set()).add(i)
+    nxt = {i: next(iter(js)) for i, js in succ.items() if len(js) == 1 and len(pred.get(next(iter(js)), ())) == 1}
+    has_prev = set(nxt.values())
+    chains = []
+    for start in range(n):
+        if start in has_prev:
+            continue
+        chain = [start]
+        while chain[-1] in nxt:
+            chain.append(nxt[chain[-1]])
+        chains.append(chain)
+    return sorted(chains)
+
+
+def _content_key(b: Behaviour) -> tuple:
+    return (term_to_text(b.label), cond.to_text(cond.canonical(b.entry)), cond.to_text(cond.canonical(b.post)))
+
+
 class Compressor:
     """Applies Algorithm 1 with one propagation mode and one simplifier."""
 
@@ -328,16 +369,24 @@ class Compressor:
             names = ", ".join(term_to_text(children[i].label) for i in cycle)
             self.notes.append(f"releasers form a cycle among the children of "
                               f"{term_to_text(parent.label)} ({names}): not merged")
+        if _grows(paths, children):
+            # Branching copies a behaviour (and its sub-tree) into every merged successor;
+            # where that adds more than it removes, merge only the unbranched chains.
+            self.notes.append(f"branching among the children of {term_to_text(parent.label)} would "
+                              f"grow the tree ({len(paths):,} merged behaviours from {len(children):,}, "
+                              f"or a sub-tree copied): merged only its unbranched chains")
+            paths = _unbranched(paths, len(children))
         taken = {children[p[0]].label for p in paths if len(p) == 1}
-        result = []
-        for path in paths:
-            if len(path) == 1:
-                result.append(children[path[0]])
-                continue
-            label = _unique(merged_label([children[i].label for i in path]), taken)
-            taken.add(label)
-            result.append(self.merge([children[i] for i in path], label))
-        return result
+        labels: dict[int, Term] = {}
+        # Suffixes (_2, _3) go by content, not by sibling order, so a shuffled parent gets
+        # the same labels for the same merged behaviours.
+        merged = [k for k, p in enumerate(paths) if len(p) > 1]
+        merged.sort(key=lambda k: [_content_key(children[i]) for i in paths[k]])
+        for k in merged:
+            labels[k] = _unique(merged_label([children[i].label for i in paths[k]]), taken)
+            taken.add(labels[k])
+        return [children[p[0]] if len(p) == 1 else self.merge([children[i] for i in p], labels[k])
+                for k, p in enumerate(paths)]
 
     def compress(self, root: Behaviour) -> Behaviour:
         """Algorithm 1 over the whole tree, top down, iteratively."""
@@ -383,6 +432,9 @@ def decompress(root: Behaviour) -> Behaviour:
 
 def _expand(node: Behaviour) -> list[tuple[Origin, Behaviour]]:
     """The original behaviours `node` stands for, each with its rebuilt subtree."""
+    if not node.origins:
+        raise SchemalogError(f"{term_to_text(node.label)} has no provenance (origins/2) in a compressed "
+                             f"tree: was the file edited? It cannot be decompressed", node.source)
     kids: list[dict[int, Behaviour]] = [{} for _ in node.origins]
     for child in node.children:
         for origin, original in _expand(child):

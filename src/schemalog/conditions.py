@@ -198,6 +198,7 @@ def is_conjunction_of_literals(c: Condition) -> bool:
 DNF = frozenset
 
 DEFAULT_SYMPY_BUDGET = 8      # variables; sympy's simplify_logic costs ~0.3 s at 8
+MAX_SYMPY_BUDGET = 12         # its cost doubles per variable: 16 ran for over 15 minutes
 DEFAULT_DNF_LIMIT = 512       # clauses; distributing AND over OR beyond this is refused
 
 
@@ -272,11 +273,36 @@ def _clashes(clause: frozenset) -> bool:
 
 
 def _absorb(dnf: DNF) -> DNF:
-    """x or (x and y) = x: drop every clause that contains another clause."""
+    """x or (x and y) = x: drop every clause that contains another clause.
+
+    Only a strictly shorter clause can absorb one (equal ones are already merged by the
+    set), and it must share all its literals: candidates come from a literal index, so
+    an OR of n distinct clauses of one length costs O(n), not O(n^2)."""
     clauses = sorted((c for c in dnf if not _clashes(c)), key=len)
     kept: list[frozenset] = []
+    by_literal: dict[Lit, list[int]] = {}
+    pending: list[tuple[frozenset, int]] = []  # kept, but not yet indexed (same length)
+    length = -1
     for clause in clauses:
-        if not any(k <= clause for k in kept):
+        if len(clause) != length:  # clauses of the previous length may now absorb
+            for k, index in pending:
+                for lit in k:
+                    by_literal.setdefault(lit, []).append(index)
+            pending, length = [], len(clause)
+        if not clause:
+            return frozenset({clause})  # true absorbs everything
+        hits: dict[int, int] = {}
+        absorbed = False
+        for lit in clause:
+            for index in by_literal.get(lit, ()):
+                hits[index] = hits.get(index, 0) + 1
+                if hits[index] == len(kept[index]):
+                    absorbed = True
+                    break
+            if absorbed:
+                break
+        if not absorbed:
+            pending.append((clause, len(kept)))
             kept.append(clause)
     return frozenset(kept)
 
@@ -323,14 +349,22 @@ class Simplifier:
     calls: int = 0
     sympy_calls: int = 0
     notes: list = None  # type: ignore[assignment]
+    _memo: dict = None  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         if self.notes is None:
             self.notes = []
+        self._memo = {}
 
     def simplify(self, c: Condition) -> Condition:
-        """An equivalent, simpler condition in canonical DNF."""
+        """An equivalent, simpler condition in canonical DNF (each distinct one computed once)."""
         self.calls += 1
+        known = self._memo.get(c)
+        if known is None:
+            known = self._memo[c] = self._simplify(c)
+        return known
+
+    def _simplify(self, c: Condition) -> Condition:
         dnf = to_dnf(c, self.dnf_limit)
         if dnf is None:
             self.notes.append(f"kept as written (its DNF has more than {self.dnf_limit} clauses): "

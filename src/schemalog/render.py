@@ -180,8 +180,22 @@ def _distinct_labels(root: Behaviour) -> Behaviour:
     return map_tree(root, settle)
 
 
-def tree_document(root: Behaviour, file: str = "<tree>") -> Document:
-    """Ground schema knowledge whose task (the root's label) instantiates to `root` again."""
+# What a written tree states itself; every other clause of its source is carried over.
+STRUCTURE = frozenset({("schema", 3), ("schema", 2), ("goal", 2), ("task", 1), ("object", 1),
+                       ("objects", 2), ("agent", 2), ("behaviour", 1), ("origins", 2),
+                       ("task_origins", 2)})
+
+
+def carried_clauses(kb) -> list[Clause]:
+    """The source's clauses that are not tree structure: initial/1, no_merge/1, rules..."""
+    from .terms import indicator
+    return [Clause(c.head, c.body, c.pos) for c in kb.user_clauses()
+            if indicator(c.head) not in STRUCTURE]
+
+
+def tree_document(root: Behaviour, file: str = "<tree>", carried: list[Clause] = ()) -> Document:
+    """Ground schema knowledge whose task (the root's label) instantiates to `root` again,
+    followed by the `carried` clauses of its source (initial state, no_merge/1, rules)."""
     root = _distinct_labels(root)
     schemas: dict[Term, SchemaDef] = {}
     order: list[Term] = []
@@ -219,8 +233,9 @@ def tree_document(root: Behaviour, file: str = "<tree>") -> Document:
         clauses.append(Clause(Struct("task_origins", (root.label, make_list(
             [origin_term(o) for o in root.origins]))), TRUE, None))
         clauses += [Clause(Struct("origins", (label, terms)), TRUE, None) for label, terms in provenance.items()]
+    clauses += list(carried)
     return Document(tuple(clauses), file)
 
 
 __all__ = ["node_json", "tree_json", "show_json", "rich_tree", "to_dot", "dot_body", "compare_dot",
-           "tree_document", "origin_term"]
+           "tree_document", "carried_clauses", "origin_term", "STRUCTURE"]

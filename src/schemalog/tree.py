@@ -282,7 +282,10 @@ class Instantiator:
 
     # -- the walk -------------------------------------------------------------
     def instantiate(self, label: Term) -> Behaviour:
-        """Build the task tree rooted at `label`."""
+        """Build the task tree rooted at `label` (a ground term)."""
+        if not is_ground(label):
+            raise SchemalogError(f"the task {term_to_text(label)} has variables: name a ground task "
+                                 f"(its objects filled in, e.g. add(water) rather than add(X))")
         label, schema = self.lookup(label, None)
         nodes = 1
         root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, (label,), list(schema.entries),
@@ -300,6 +303,12 @@ class Instantiator:
                     raise SchemalogError(f"the task is deeper than {self.max_depth} levels at "
                                          f"{term_to_text(entry.behaviour)} (raise the limit with --max-depth)",
                                          frame.schema.pos)
+                if not is_ground(entry.behaviour):
+                    # Each look-up would bind the variable on its own, so siblings sharing it
+                    # could disagree: the schema must bind it.
+                    raise SchemalogError(
+                        f"the sub-task {term_to_text(entry.behaviour)} of {term_to_text(frame.label)} has "
+                        f"variables the schema does not bind", frame.schema.pos)
                 sub, sub_schema = self.lookup(entry.behaviour, frame.schema.pos)
                 if any(sub == p for p in frame.path) or not is_ground(sub) and any(
                         term_to_text(sub) == term_to_text(p) for p in frame.path):
