@@ -221,3 +221,33 @@ def test_sympy_budget_is_capped():
 def test_a_task_with_variables_is_refused():
     r = run("compress", COFFEE, "--task", "add(X)", "--json")
     assert r.returncode == 1 and "has variables: name a ground task" in r.stderr and r.stdout == ""
+
+
+def test_output_never_overwrites_a_consulted_file(tmp_path):
+    (tmp_path / "m.pl").write_text("object(cup).\n")
+    (tmp_path / "inc.pl").write_text(":- [m].\n" + MIX.read_text())
+    r = run("convert", "inc.pl", "-o", "m.pl", cwd=tmp_path)
+    assert r.returncode == 2 and "would overwrite an input file" in r.stderr
+    assert (tmp_path / "m.pl").read_text() == "object(cup).\n"
+
+
+def test_consult_cycle_is_named(tmp_path):
+    (tmp_path / "a.pl").write_text("task(t).\n:- [b].\n")
+    (tmp_path / "b.pl").write_text(":- [a].\n")
+    r = run("check", "a.pl", cwd=tmp_path)
+    assert r.returncode == 1 and "consult cycle" in r.stderr and "b.pl:1:1" in r.stderr
+
+
+def test_yaml_item_errors_point_into_the_yaml_file(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("schemalog: 1\nitems:\n- task: t\n- schema: t\n  subtasks:\n  - {behaviour: 'a(', releaser: x.y}\n"
+                   "  post: t.done\n")
+    r = run("check", bad)
+    assert r.returncode == 1 and r.stderr.startswith(f"{bad}:4:3: error: items[1]:")
+    assert "Traceback" not in r.stderr
+
+
+def test_seed_import_declares_each_gripper_pattern_once(tmp_path):
+    out = tmp_path / "t.pl"
+    run("convert", SEED_COFFEE, "-o", out)
+    assert out.read_text().count("agent(gripper(_),gripper).") == 1

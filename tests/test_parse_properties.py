@@ -646,3 +646,8 @@ def test_form_feed_does_not_shift_quoted_source_line():
                          ids=["alone", "inside", "args", "operands", "list"])
 def test_known_bug_atom_with_nul(term):
     _assert_round_trips(term)
+
+
+def test_a_full_stop_before_a_block_comment_ends_the_clause():
+    clauses = parse_text("a(1)./* note */b(2).\n", "t.pl")
+    assert [str(c.head) for c in clauses] == ["a(1)", "b(2)"]

@@ -88,11 +88,12 @@ def _instantiate(kb: KnowledgeBase, task: Term, args: argparse.Namespace) -> Beh
 
 
 def _emit(text: str, output: str | None, inputs: list[str]) -> None:
+    """Print, or write atomically to `output`, which must not be any file read."""
     if output is None or output == "-":
         sys.stdout.write(text)
         return
     out = Path(output).resolve()
-    if any(Path(i).resolve() == out for i in inputs):
+    if any(not i.startswith("<") and Path(i).resolve() == out for i in inputs):
         raise UsageError(f"-o {output} would overwrite an input file; choose another name")
     write_atomically(output, text)
 
@@ -151,16 +152,17 @@ def _output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: 
                  kb: KnowledgeBase | None = None) -> None:
     """Print or write one tree in the requested format (show, decompress)."""
     fmt = _format(args)
+    inputs = kb.files if kb is not None else args.files
     if fmt == "json":
-        _emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, args.files)
+        _emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs)
     elif fmt == "dot":
-        _emit(to_dot(tree, term_to_text(task)), args.output, args.files)
+        _emit(to_dot(tree, term_to_text(task)), args.output, inputs)
     elif fmt in ("pl", "yaml"):
         doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
-        _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, args.files)
+        _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs)
     else:
         title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
-        _print_rich(rich_tree(tree, title), args.output, args.files)
+        _print_rich(rich_tree(tree, title), args.output, inputs)
 
 
 def cmd_show(args: argparse.Namespace) -> int:
@@ -192,16 +194,16 @@ def cmd_compress(args: argparse.Namespace) -> int:
                 "conditions": {"simplified": result.simplifier.calls,
                                "needed_sympy": result.simplifier.sympy_calls},
                 "notes": result.notes, "tree": tree_json(result.tree)}
-        _emit(json.dumps(data, indent=2) + "\n", args.output, args.files)
+        _emit(json.dumps(data, indent=2) + "\n", args.output, kb.files)
     elif fmt == "dot":
         _emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
-              args.output, args.files)
+              args.output, kb.files)
     elif fmt in ("pl", "yaml"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
                   f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
-        _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, args.files)
+        _emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, kb.files)
     else:
         from rich.console import Console, Group
         from rich.table import Table
@@ -218,7 +220,7 @@ def cmd_compress(args: argparse.Namespace) -> int:
             view = Group(table, "", figures)
         else:
             view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
-        _print_rich(view, args.output, args.files)
+        _print_rich(view, args.output, kb.files)
     return 0
 
 
@@ -244,7 +246,8 @@ def cmd_convert(args: argparse.Namespace) -> int:
     if args.task:
         declaration = Clause(Struct("task", (_task_term(args.task),)), TRUE, None)
         doc = Document((declaration, *doc.items), doc.file, doc.notes, doc.seed)
-    check_schemas(doc.to_kb())  # what is written must load again: check before writing
+    loaded = doc.to_kb()
+    check_schemas(loaded)  # what is written must load again: check before writing
     target = args.to or ("yaml" if args.output and args.output.endswith(YAML_SUFFIXES) else "pl")
     if target == "yaml":
         text = to_yaml(doc)
@@ -252,7 +255,7 @@ def cmd_convert(args: argparse.Namespace) -> int:
         origin = "the SEED long-term memory" if doc.seed else ""
         header = f"Converted by schemalog from {origin + ' ' if origin else ''}{doc.file}."
         text = to_pl(doc, header=header)
-    _emit(text, args.output, [args.input])
+    _emit(text, args.output, [args.input, *loaded.files])
     return 0
 
 

@@ -53,13 +53,20 @@ class Document:
     def to_kb(self, kb: KnowledgeBase | None = None) -> KnowledgeBase:
         """Load the document into a (new) knowledge base."""
         kb = kb if kb is not None else KnowledgeBase()
-        base = Path(self.file).parent if self.file and not self.file.startswith("<") else None
-        for item in self.items:
-            if isinstance(item, Clause):
-                kb.add_clause(item.head, item.body, item.pos)
-            else:
-                kb.run_directive(item, base)
+        real = bool(self.file) and not self.file.startswith("<")
+        base = Path(self.file).parent if real else None
         kb.files.append(self.file)
+        if real:
+            kb._consulting.append(Path(self.file).resolve())
+        try:
+            for item in self.items:
+                if isinstance(item, Clause):
+                    kb.add_clause(item.head, item.body, item.pos)
+                else:
+                    kb.run_directive(item, base)
+        finally:
+            if real:
+                kb._consulting.pop()
         kb.warnings.extend(self.notes)
         return kb
 
@@ -107,11 +114,32 @@ def document_from_yaml(text: str, file: str = "<string>") -> Document:
     if not isinstance(data, dict) or not isinstance(data.get("items", []), list):
         raise SchemalogError("a schemalog YAML file is a mapping with an `items` list",
                              SourcePos(file, 1, 1))
+    marks = _item_marks(text)
+    lines = text.split("\n")
     items: list[Clause | Directive] = []
     for i, record in enumerate(data.get("items") or []):
-        where = f"{file}: items[{i}]"
-        items.extend(_record_items(record, where, file, i))
+        line, column = marks[i] if i < len(marks) else (1, 1)
+        pos = SourcePos(file, line, column)
+        try:
+            items.extend(_record_items(record, f"items[{i}]", file, i))
+        except SchemalogError as err:
+            # The item's own place in the YAML file, and the clause it made, to see what broke.
+            raise SchemalogError(err.message, pos, lines[line - 1] if line <= len(lines) else None) from None
     return Document(tuple(items), file)
+
+
+def _item_marks(text: str) -> list[tuple[int, int]]:
+    """The (line, column) where each element of the top-level `items` list starts."""
+    try:
+        root = yaml.compose(text)
+    except yaml.YAMLError:
+        return []
+    if not isinstance(root, yaml.MappingNode):
+        return []
+    for key, value in root.value:
+        if key.value == "items" and isinstance(value, yaml.SequenceNode):
+            return [(n.start_mark.line + 1, n.start_mark.column + 1) for n in value.value]
+    return []
 
 
 def _record_items(record: object, where: str, file: str, index: int) -> list[Clause | Directive]:
@@ -121,7 +149,7 @@ def _record_items(record: object, where: str, file: str, index: int) -> list[Cla
     try:
         parsed = parse_text(text, f"{file}#items[{index}]")
     except SchemalogError as err:
-        raise SchemalogError(f"{where}: {err.message}\n    {text}") from None
+        raise SchemalogError(f"{where}: {err.message.splitlines()[0]} (in the clause it makes: {text})") from None
     return list(parsed)
 
 

@@ -109,7 +109,8 @@ class KnowledgeBase:
     def __init__(self, prelude: bool = True) -> None:
         self.predicates: dict[tuple[str, int], Predicate] = {}
         self.warnings: list[str] = []
-        self.files: list[str] = []
+        self.files: list[str] = []  # every file read, consulted ones included
+        self._consulting: list[Path] = []
         if prelude:
             for clause in _prelude():
                 self._store(StoredClause(clause.head, clause.body, clause.pos, library=True))
@@ -198,11 +199,19 @@ class KnowledgeBase:
             elif run_directives:
                 self.run_directive(item, base)
 
-    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES) -> None:
-        """Load a knowledge file."""
+    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None) -> None:
+        """Load a knowledge file (a file that consults itself, directly or not, is an error)."""
         p = Path(path)
+        key = p.resolve()
+        if key in self._consulting:
+            chain = " -> ".join(str(f) for f in (*self._consulting, key))
+            raise SchemalogError(f"consult cycle: {chain}", pos)
         self.files.append(str(path))
-        self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
+        self._consulting.append(key)
+        try:
+            self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
+        finally:
+            self._consulting.pop()
 
     def run_directive(self, d: Directive, base: Path | None = None) -> None:
         """Declare (dynamic), include (consult) or run the goal of a directive."""
@@ -234,7 +243,7 @@ class KnowledgeBase:
                     path = path.with_suffix(".pl")
                 if not path.exists():
                     raise SchemalogError(f"consult: no such file {name!r}", d.pos)
-                self.consult(path)
+                self.consult(path, pos=d.pos)
             return
         if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
                 or isinstance(goal, Atom) and goal.name == "use_module":

@@ -21,7 +21,7 @@ from . import conditions as cond
 from .errors import SchemalogError
 from .parse import Clause, Directive
 from .schema import Entry, SchemaDef, read_entry, schema_term
-from .terms import NIL, TRUE, Atom, Float, Int, Struct, Term, Var, list_items, term_to_text
+from .terms import NIL, TRUE, Atom, Float, Int, Struct, Term, Var, iter_vars, list_items, term_to_text
 from .unify import Bindings, rename, variant
 
 
@@ -133,7 +133,8 @@ def _note_gripper(label: Term, grippers: dict[str, Term]) -> None:
     """Declare behaviours that command the gripper (`kuka(gripper(open))`) to the gripper agent."""
     if _mentions_gripper(label):
         pattern = _generalise_gripper(label)
-        grippers.setdefault(term_to_text(pattern), pattern)
+        key = term_to_text(pattern, names={v: "_" for v in iter_vars(pattern)})  # _G12 == _G40
+        grippers.setdefault(key, pattern)
 
 
 def _mentions_gripper(t: Term) -> bool:
