@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,18 +56,12 @@ class Document:
         kb = kb if kb is not None else KnowledgeBase()
         real = bool(self.file) and not self.file.startswith("<")
         base = Path(self.file).parent if real else None
-        kb.files.append(self.file)
-        if real:
-            kb._consulting.append(Path(self.file).resolve())
-        try:
+        with kb.reading(self.file) if real else nullcontext():
             for item in self.items:
                 if isinstance(item, Clause):
                     kb.add_clause(item.head, item.body, item.pos)
                 else:
                     kb.run_directive(item, base)
-        finally:
-            if real:
-                kb._consulting.pop()
         kb.warnings.extend(self.notes)
         return kb
 

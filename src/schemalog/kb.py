@@ -13,7 +13,9 @@ running call keeps its snapshot (the logical update view).
 from __future__ import annotations
 
 import functools
+from contextlib import contextmanager
 from dataclasses import dataclass, field
+from typing import Iterator
 from importlib import resources
 from pathlib import Path
 
@@ -199,19 +201,26 @@ class KnowledgeBase:
             elif run_directives:
                 self.run_directive(item, base)
 
-    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None) -> None:
-        """Load a knowledge file (a file that consults itself, directly or not, is an error)."""
-        p = Path(path)
-        key = p.resolve()
+    @contextmanager
+    def reading(self, path: str | Path, pos: SourcePos | None = None) -> Iterator[None]:
+        """Mark `path` as being read while the block runs: a file that consults itself,
+        directly or through others, is an error naming the chain."""
+        key = Path(path).resolve()
         if key in self._consulting:
             chain = " -> ".join(str(f) for f in (*self._consulting, key))
             raise SchemalogError(f"consult cycle: {chain}", pos)
         self.files.append(str(path))
         self._consulting.append(key)
         try:
-            self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
+            yield
         finally:
             self._consulting.pop()
+
+    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None) -> None:
+        """Load a knowledge file."""
+        p = Path(path)
+        with self.reading(p, pos):
+            self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
 
     def run_directive(self, d: Directive, base: Path | None = None) -> None:
         """Declare (dynamic), include (consult) or run the goal of a directive."""
