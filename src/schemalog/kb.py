@@ -21,7 +21,7 @@ from pathlib import Path
 
 from .errors import SchemalogError, SourcePos
 from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
-from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, list_items, term_to_text
+from .terms import TRUE, Atom, Int, Str, Struct, Term, Var, indicator, list_items, term_to_text
 from .unify import rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
@@ -276,4 +276,4 @@ def _conjuncts(term: Term) -> list[Term]:
     return out
 
 
-__all__ = ["KnowledgeBase", "StoredClause", "Predicate", "first_arg_key", "Float"]
+__all__ = ["KnowledgeBase", "StoredClause", "Predicate", "first_arg_key"]

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from .terms import Atom, Float, Int, Str, Struct, Term, Var
+from .terms import Struct, Term, Var
 
 Subst = dict[Var, Term]
 
@@ -171,5 +171,4 @@ def variant(x: Term, y: Term) -> bool:
     return True
 
 
-__all__ = ["Bindings", "Subst", "unify_terms", "rename", "variant",
-           "Atom", "Int", "Float", "Str"]
+__all__ = ["Bindings", "Subst", "unify_terms", "rename", "variant"]
