@@ -251,3 +251,75 @@ def test_seed_import_declares_each_gripper_pattern_once(tmp_path):
     out = tmp_path / "t.pl"
     run("convert", SEED_COFFEE, "-o", out)
     assert out.read_text().count("agent(gripper(_),gripper).") == 1
+
+
+# --- run: the attentional executive ------------------------------------------
+
+KITCHEN = ROOT / "kb" / "scenes" / "kitchen.yaml"
+FIG2_SCENE = ROOT / "kb" / "scenes" / "mix_with_spoon.yaml"
+
+
+def test_run_prints_decisions_and_a_summary():
+    r = run("run", COFFEE, "--task", "prepareboth", "--scene", KITCHEN, "--compressed")
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    assert lines[0].startswith("run prepareboth: compressed (propagate full) tree of 33 behaviours")
+    assert "   1  a1_a2(water)" in r.stdout and "      - a1(water)" in r.stdout   # merged, expanded
+    assert "runner-up" in lines[2] and " e " in lines[2]
+    assert "completed: prepareboth is accomplished (spoon.used and tea.used)" in r.stdout
+    assert "16 decisions, 36 actions; time per decision (incremental): mean" in r.stdout
+
+
+def test_run_json_for_both_selectors_and_trees():
+    traces = {}
+    for selector in ("scan", "incremental"):
+        for compressed in ((), ("--compressed",)):
+            r = run("run", COFFEE, "--scene", KITCHEN, "--json", "--selector", selector, *compressed,
+                    "--seed", "3", "--jitter", "0.1")
+            assert r.returncode == 0, r.stderr
+            data = json.loads(r.stdout)
+            assert data["completed"] is True and data["status"] == "completed"
+            assert len(data["decision_times"]) == len(data["decisions"])
+            traces[selector, bool(compressed)] = data["trace"]
+            first = data["decisions"][0]
+            assert set(first) >= {"behaviour", "emphasis", "runner_up", "executed", "seconds", "hand"}
+    assert traces["scan", False] == traces["incremental", False] and len(traces["scan", False]) == 36
+    assert traces["scan", True] == traces["incremental", True]
+
+
+def test_run_with_another_state_and_a_failing_action():
+    r = run("run", MIX, "--scene", FIG2_SCENE, "--state", "hand.free, spoon.taken")
+    assert r.returncode == 0 and "   1  a3(cup)" in r.stdout
+    r = run("run", MIX, "--scene", FIG2_SCENE, "--fail", "a5(cup)")
+    assert r.returncode == 1
+    assert "FAILED: the robot did not complete a5(cup)" in r.stdout
+    assert "stuck: nothing is enabled" in r.stdout and "a5(cup): its command failed 3 times; inhibited" in r.stdout
+    r = run("run", MIX, "--scene", FIG2_SCENE, "--fail", "a5(cup)", "--fail-times", "1", "--compressed")
+    assert r.returncode == 0 and "- a5(cup) (failed)" in r.stdout and "(skipped: accomplished)" in r.stdout
+
+
+def test_run_reports_bad_input_without_traceback(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("end_effector: [0, 0, 0.4]\nobjects:\n  spoon: [0.3, near, 0]\n")
+    r = run("run", MIX, "--scene", scene)
+    assert r.returncode == 1 and f"{scene}:3:16: error: a coordinate of the position of spoon" in r.stderr
+    scene.write_text("end_effector: [0, 0, 0.4]\nobjects:\n  spoon: [0.3, 0.1, 0]\n")
+    r = run("run", MIX, "--scene", scene)
+    assert r.returncode == 1 and "has no position for cup, which a3(cup) acts on" in r.stderr
+    assert "mix_with_spoon.pl:" in r.stderr     # where the behaviour is defined
+    r = run("run", MIX, "--state", "hand.fre")
+    assert "warning: --state names hand.fre, which no condition of use(spoon) reads or sets" in r.stderr
+    assert r.returncode == 1 and "stuck:" in r.stdout
+    r = run("run", MIX, "--max-decisions", "2")
+    assert r.returncode == 1 and "decision limit: no completion after 2 decisions" in r.stdout
+    for bad in (("--seed", "1"), ("--selector", "fast"), ("--state", "hand.free(")):
+        r = run("run", MIX, *bad)
+        assert r.returncode == 2 and "Traceback" not in r.stderr
+
+
+def test_run_output_file_is_written_and_inputs_are_protected(tmp_path):
+    out = tmp_path / "run.json"
+    r = run("run", MIX, "--scene", FIG2_SCENE, "--json", "-o", out)
+    assert r.returncode == 0 and json.loads(out.read_text())["trace"][0] == "a1(spoon)"
+    r = run("run", MIX, "--json", "-o", MIX)
+    assert r.returncode == 2 and "would overwrite an input file" in r.stderr

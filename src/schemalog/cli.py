@@ -1,4 +1,4 @@
-"""The `schemalog` command: check, show and convert task knowledge.
+"""The `schemalog` command: check, show, compress, run and convert task knowledge.
 
 Exit status: 0 success, 1 bad input (a message with file:line:column), 2 bad usage.
 No command prints a traceback; SCHEMALOG_DEBUG=1 shows one for internal errors.
@@ -26,8 +26,13 @@ from .render import carried_clauses, compare_dot, rich_tree, show_json, to_dot, 
 from .schema import check_schemas
 from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
-from .tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate
+from .execute import DEFAULT_RETRIES, SELECTORS, Decision, Executive, RobotManager
+from .scene import NO_SCENE, Scene, object_name, read_scene
+from .world import World, initial_state, state_atoms
+from .tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate, walk
 
+
+DEFAULT_JITTER = 0.05
 
 # ---------------------------------------------------------------------------
 # Shared steps
@@ -259,6 +264,163 @@ def cmd_convert(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_run(args: argparse.Namespace) -> int:
+    """Execute a task with the attentional executive against an emulated robot."""
+    kb, _ = _load(args)
+    tree = _instantiate(kb, _choose_tasks(kb, args.task)[0], args)
+    task = tree.label
+    original = decompress(tree)
+    kind = "compressed" if tree.origins else "original"
+    if args.compressed:
+        result = compress(original, args.propagate, protected_labels(kb, original),
+                          Simplifier(sympy_budget=args.sympy_budget))
+        for note in result.notes:
+            print(f"note: {note}", file=sys.stderr)
+        tree, kind = result.tree, f"compressed (propagate {args.propagate})"
+    scene = _scene(args, original)
+    world = World(original)
+    if args.state is not None:
+        initial = state_atoms(_term_option(args.state, "--state"), "--state")
+    else:
+        initial = initial_state(kb)
+    for atom in world.unknown(initial):
+        print(f"warning: {'--state' if args.state is not None else 'initial/1'} names "
+              f"{term_to_text(atom)}, which no condition of {term_to_text(task)} reads or sets",
+              file=sys.stderr)
+    world.reset(initial)
+    failures = _failures(args, original, tree)
+    executive = Executive(tree, world, scene, robot=RobotManager(scene, failures),
+                          selector=args.selector, retries=args.retries, max_decisions=args.max_decisions)
+    if scene is NO_SCENE:
+        print("note: no --scene: every behaviour gets the neutral lambda, so emphasis follows "
+              "progress alone", file=sys.stderr)
+    header = (f"run {term_to_text(task)}: {kind} tree of {count_nodes(tree)} behaviours; "
+              f"selector {args.selector}; scene {scene.name}")
+    fmt = "json" if args.json else "text"
+    if fmt == "json":
+        outcome = executive.run()
+        data = run_json(executive, task, kind, initial, args)
+        _emit(json.dumps(data, indent=2) + "\n", args.output, kb.files)
+    else:
+        lines = [header, f"initial state: {', '.join(term_to_text(a) for a in initial) or '(nothing true)'}"]
+        out = sys.stdout if not args.output or args.output == "-" else None
+        width = min(40, max(len(n.name) for n in walk(tree)))
+        if out:
+            print("\n".join(lines), flush=True)
+            lines = []
+        for decision in executive:
+            text = decision_lines(decision, width)
+            if out:
+                print("\n".join(text))
+            else:
+                lines.extend(text)
+        outcome = executive.outcome
+        lines.extend(summary_lines(executive))
+        if out:
+            print("\n".join(lines))
+        else:
+            _emit("\n".join(lines) + "\n", args.output, kb.files)
+    return 0 if outcome.completed else 1
+
+
+def _term_option(text: str, option: str) -> Term:
+    try:
+        return parse_term(text, option)
+    except SchemalogError as err:
+        raise UsageError(f"{option} {text!r} is not a term: {err.message}") from None
+
+
+def _scene(args: argparse.Namespace, original: Behaviour) -> Scene:
+    """The scene of --scene, jittered by --seed/--jitter, checked against the task's objects."""
+    if args.scene is None:
+        if args.seed is not None or args.jitter is not None:
+            raise UsageError("--seed and --jitter move the objects of a scene: give --scene too")
+        return NO_SCENE
+    scene = read_scene(args.scene)
+    for node in walk(original):
+        for obj in node.objects[:1]:
+            if object_name(obj) not in scene.objects:
+                known = ", ".join(sorted(scene.objects)) or "none"
+                raise SchemalogError(f"the scene {args.scene} has no position for {object_name(obj)}, which "
+                                     f"{node.name} acts on (objects in the scene: {known})", node.source)
+    if args.seed is not None or args.jitter is not None:
+        scene = scene.jittered(args.seed if args.seed is not None else 0,
+                               args.jitter if args.jitter is not None else DEFAULT_JITTER)
+    return scene
+
+
+def _failures(args: argparse.Namespace, original: Behaviour, tree: Behaviour) -> dict:
+    """--fail LABEL (repeatable): the robot fails these commands (--fail-times, default always)."""
+    known = {n.label for n in walk(original)} | {n.label for n in walk(tree)}
+    failures = {}
+    for text in args.fail or []:
+        label = _term_option(text, "--fail")
+        if label not in known:
+            print(f"warning: --fail {text}: no behaviour of the task is labelled {term_to_text(label)}",
+                  file=sys.stderr)
+        failures[label] = args.fail_times
+    return failures
+
+
+def decision_lines(d: Decision, width: int) -> list[str]:
+    """One decision as text: the winner, its emphasis, the runner-up, merged actions beneath."""
+    runner = f"{term_to_text(d.runner_up[0])} {d.runner_up[1]:.4g}" if d.runner_up else "-"
+    status = f"  FAILED: the robot did not complete {term_to_text(d.failed)}" if d.failed is not None else ""
+    lines = [f"{d.index:4d}  {term_to_text(d.behaviour):<{width}}  e {d.emphasis:<9.4g} "
+             f"runner-up {runner:<{width + 8}} {d.enabled:3d} enabled{status}"]
+    steps = [*d.skipped, *d.executed, *([d.failed] if d.failed is not None else [])]
+    if len(steps) > 1 or (steps and steps[0] != d.behaviour):  # a merged behaviour: its actions
+        lines.extend(f"{'':6}- {term_to_text(a)} (skipped: accomplished)" for a in d.skipped)
+        lines.extend(f"{'':6}- {term_to_text(a)}" for a in d.executed)
+        if d.failed is not None:
+            lines.append(f"{'':6}- {term_to_text(d.failed)} (failed)")
+    return lines
+
+
+def _micro(seconds: float) -> str:
+    return f"{seconds * 1e6:.0f} us" if seconds < 0.01 else f"{seconds * 1e3:.1f} ms"
+
+
+def summary_lines(ex: Executive) -> list[str]:
+    """The end of a run: status, reasons, decisions and time per decision."""
+    o = ex.outcome
+    lines = [f"{o.status.value}: {o.reason}"]
+    lines.extend(f"  {b}" for b in o.blocked)
+    times = sorted(d.seconds for d in ex.decisions)
+    if times:
+        mean = sum(times) / len(times)
+        lines.append(f"{len(ex.decisions)} decisions, {len(ex.trace)} actions; time per decision "
+                     f"({ex.selector_name}): mean {_micro(mean)}, median {_micro(times[len(times) // 2])}, "
+                     f"max {_micro(times[-1])}")
+    else:
+        lines.append("no decision taken")
+    return lines
+
+
+def run_json(ex: Executive, task: Term, kind: str, initial: list[Term], args: argparse.Namespace) -> dict:
+    """The run as data (docs/formats.md)."""
+    times = [d.seconds for d in ex.decisions]
+    return {
+        "task": term_to_text(task), "tree": kind, "behaviours": count_nodes(ex.tree),
+        "selector": ex.selector_name, "scene": ex.scene.name,
+        "initial_state": [term_to_text(a) for a in initial],
+        "completed": ex.outcome.completed, "status": ex.outcome.status.value,
+        "reason": ex.outcome.reason, "blocked": list(ex.outcome.blocked),
+        "trace": [term_to_text(a) for a in ex.trace],
+        "decisions": [{
+            "index": d.index, "behaviour": term_to_text(d.behaviour), "emphasis": d.emphasis,
+            "runner_up": None if d.runner_up is None else {
+                "behaviour": term_to_text(d.runner_up[0]), "emphasis": d.runner_up[1]},
+            "enabled": d.enabled, "executed": [term_to_text(a) for a in d.executed],
+            "skipped": [term_to_text(a) for a in d.skipped],
+            "failed": None if d.failed is None else term_to_text(d.failed),
+            "seconds": d.seconds, "hand": list(d.hand)} for d in ex.decisions],
+        "decision_times": times,
+        "final_state": sorted(term_to_text(a) for a in ex.world.atoms),
+        "setup_seconds": ex.setup_seconds,
+    }
+
+
 # ---------------------------------------------------------------------------
 # Argument parsing
 
@@ -269,6 +431,26 @@ def _positive(text: str) -> int:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
     if value < 1:
         raise argparse.ArgumentTypeError("must be at least 1")
+    return value
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError("must be at least 0")
+    return value
+
+
+def _distance(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (value >= 0 and value < float("inf")):
+        raise argparse.ArgumentTypeError("must be a finite distance, at least 0")
     return value
 
 
@@ -328,6 +510,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="the task (default: the first task/1)")
     p.set_defaults(run=cmd_decompress)
+
+    p = sub.add_parser("run", parents=[limits],
+                       help="execute a task with the attentional executive against an emulated robot")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--task", help="the task to run (default: the first task/1)")
+    p.add_argument("--scene", metavar="FILE", help="object positions (YAML, docs/semantics.md); "
+                                                   "without it every lambda is neutral")
+    p.add_argument("--compressed", action="store_true", help="compress first, then run in the same world")
+    p.add_argument("--propagate", choices=list(PROPAGATE_MODES), default="full",
+                   help="with --compressed: what merged behaviours pass to their children (default full)")
+    p.add_argument("--sympy-budget", type=_budget, default=DEFAULT_SYMPY_BUDGET, metavar="N",
+                   help=argparse.SUPPRESS)
+    p.add_argument("--state", metavar="ATOMS", help="the initial state, e.g. 'hand.free, spoon.taken' "
+                                                    "(default: the file's initial/1 facts)")
+    p.add_argument("--seed", type=int, help="move the scene's objects randomly with this seed")
+    p.add_argument("--jitter", type=_distance, metavar="M",
+                   help=f"how far (metres, per coordinate) --seed moves objects (default {DEFAULT_JITTER})")
+    p.add_argument("--selector", choices=list(SELECTORS), default="incremental",
+                   help="incremental (default): re-evaluate what an action touched; "
+                        "scan: visit every behaviour at every decision, the paper's cost model")
+    p.add_argument("--fail", action="append", metavar="LABEL",
+                   help="make the robot fail this action's command (repeatable), e.g. 'a5(cup)'")
+    p.add_argument("--fail-times", type=_positive, metavar="N",
+                   help="each --fail action fails only its first N commands (default: every one)")
+    p.add_argument("--retries", type=_count, default=DEFAULT_RETRIES, metavar="N",
+                   help=f"retry a failed behaviour N times before inhibiting it (default {DEFAULT_RETRIES})")
+    p.add_argument("--max-decisions", type=_positive, metavar="N",
+                   help="stop after N decisions (default: 4 per action of the original task, at least 100)")
+    p.add_argument("--json", action="store_true", help="print the run as JSON (docs/formats.md)")
+    p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
+    p.set_defaults(run=cmd_run)
 
     p = sub.add_parser("convert", parents=[limits],
                        help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")

@@ -360,23 +360,28 @@ class IncrementalSelector:
 
     def select(self, hand: Position) -> tuple[list[Candidate], int]:
         """The two best enabled leaves (best first) and how many are enabled."""
-        best: list[Candidate] = []
+        tops: list[tuple[Candidate, str | None, float]] = []
         total = 0
         for obj, count in self.enabled.items():
             if count <= 0:
                 continue
             total += count
             top = self._top(obj)
-            if top is None:
-                continue
-            lam = self.scene.lambda_at(obj, hand)
-            best.append((emphasis(top[0], lam), top[0], -top[1]))
-            if count > 1:
-                second = self._top(obj, skip=top[1])
-                if second is not None:
-                    best.append((emphasis(second[0], lam), second[0], -second[1]))
-        best.sort(reverse=True)
-        return best[:2], total
+            if top is not None:
+                lam = self.scene.lambda_at(obj, hand)
+                tops.append(((emphasis(top[0], lam), top[0], -top[1]), obj, lam))
+        if not tops:
+            return [], total
+        tops.sort(reverse=True)
+        best, obj, lam = tops[0]
+        candidates = [best] + [t[0] for t in tops[1:2]]
+        # The runner-up is the next object's head or the winner's own second, whichever is better.
+        if self.enabled[obj] > 1:
+            second = self._top(obj, skip=-best[2])
+            if second is not None:
+                candidates.append((emphasis(second[0], lam), second[0], -second[1]))
+        candidates.sort(reverse=True)
+        return candidates[:2], total
 
 
 def make_selector(name: str, plan: Plan, world: World, scene: Scene):
@@ -402,6 +407,7 @@ class Executive:
         self.plan = Plan.of(tree)
         started = time.perf_counter()
         self.selector = make_selector(selector, self.plan, world, scene)
+        self.selector_name = selector
         self.setup_seconds = time.perf_counter() - started
         self.retries = retries
         leaves = sum(1 for n in walk(world.original) if not n.children)

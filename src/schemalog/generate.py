@@ -36,7 +36,7 @@ def node_count(depth: int, branching: int) -> int:
 
 def max_links(depth: int, branching: int) -> int:
     """How many sequential pairs the shape allows: every adjacent pair below level 2."""
-    return sum(branching ** (level - 1) * (branching - 1) for level in range(3, depth + 1))
+    return sum(branching ** (level - 2) * (branching - 1) for level in range(3, depth + 1))
 
 
 def generate(depth: int, branching: int, reduction: float = 0.0, seed: int = 0) -> Behaviour:

@@ -113,14 +113,19 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
         raise SchemalogError("a scene is a mapping with `objects` and `end_effector`", SourcePos(file, 1, 1))
 
     def number(node, what: str, positive: bool = False) -> float:
-        if not isinstance(node, yaml.ScalarNode) or node.tag not in (
-                "tag:yaml.org,2002:int", "tag:yaml.org,2002:float"):
-            raise fail(f"{what} must be a number, not {node.value!r}"
-                       if isinstance(node, yaml.ScalarNode) else f"{what} must be a number", node)
+        # A plain scalar that reads as a number: YAML 1.1 leaves `1e-1` a string, users don't.
+        if not isinstance(node, yaml.ScalarNode):
+            raise fail(f"{what} must be a number", node)
+        numeric = node.tag in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float") or (
+            node.tag == "tag:yaml.org,2002:str" and node.style is None)
+        text = node.value.replace("_", "").lower()
+        text = {".nan": "nan", ".inf": "inf", "+.inf": "inf", "-.inf": "-inf"}.get(text, text)
         try:
-            value = float(node.value.replace("_", ""))
+            value = float(text) if numeric else None
         except ValueError:
-            raise fail(f"{what} must be a number, not {node.value!r}", node) from None
+            value = None
+        if value is None:
+            raise fail(f"{what} must be a number, not {node.value!r}", node)
         if not math.isfinite(value) or (positive and value <= 0):
             raise fail(f"{what} must be a finite{' positive' if positive else ''} number", node)
         return value
