@@ -323,3 +323,16 @@ def test_run_output_file_is_written_and_inputs_are_protected(tmp_path):
     assert r.returncode == 0 and json.loads(out.read_text())["trace"][0] == "a1(spoon)"
     r = run("run", MIX, "--json", "-o", MIX)
     assert r.returncode == 2 and "would overwrite an input file" in r.stderr
+
+
+def test_run_a_seed_file_and_a_compressed_file(tmp_path):
+    r = run("run", SEED_COFFEE, "--task", "prepareboth", "--scene", KITCHEN)
+    assert r.returncode == 1 and "declares no initial state (initial/1)" in r.stderr
+    r = run("run", SEED_COFFEE, "--task", "prepareboth", "--scene", KITCHEN, "--state", "kukahand.free")
+    assert r.returncode == 0 and "36 decisions, 36 actions" in r.stdout
+    out = tmp_path / "c.pl"
+    assert run("compress", COFFEE, "-o", out).returncode == 0
+    r = run("run", out, "--scene", KITCHEN, "--json")
+    data = json.loads(r.stdout)
+    assert r.returncode == 0 and data["tree"] == "compressed" and data["behaviours"] == 33
+    assert len(data["decisions"]) == 16 and len(data["trace"]) == 36

@@ -283,6 +283,9 @@ def cmd_run(args: argparse.Namespace) -> int:
         initial = state_atoms(_term_option(args.state, "--state"), "--state")
     else:
         initial = initial_state(kb)
+        if not kb.clauses("initial", 1):
+            print(f"note: {', '.join(args.files)} declares no initial state (initial/1): every atom "
+                  f"starts false; give one with --state", file=sys.stderr)
     for atom in world.unknown(initial):
         print(f"warning: {'--state' if args.state is not None else 'initial/1'} names "
               f"{term_to_text(atom)}, which no condition of {term_to_text(task)} reads or sets",

@@ -181,6 +181,8 @@ def initial_state(kb) -> list[Term]:
     from .engine import Engine
 
     atoms: list[Term] = []
+    if not kb.clauses("initial", 1):
+        return atoms
     x = Var("X")
     for b in Engine(kb).solve(Struct("initial", (x,))):
         atoms.extend(state_atoms(b.resolve(x), "initial/1"))
