@@ -336,3 +336,30 @@ def test_run_a_seed_file_and_a_compressed_file(tmp_path):
     data = json.loads(r.stdout)
     assert r.returncode == 0 and data["tree"] == "compressed" and data["behaviours"] == 33
     assert len(data["decisions"]) == 16 and len(data["trace"]) == 36
+
+
+def test_run_review_regressions(tmp_path):
+    compressed = tmp_path / "c.pl"
+    assert run("compress", COFFEE, "-o", compressed).returncode == 0
+    # a sub-task of a compressed file runs in the world rebuilt from its children's provenance
+    r = run("run", compressed, "--task", "preparecoffee", "--scene", KITCHEN)
+    assert r.returncode == 0 and "compressed tree" in r.stdout and "27 actions" in r.stdout
+    r = run("run", compressed, "--task", "subtask(take_pour,water)")
+    assert r.returncode == 1 and "is a merged behaviour" in r.stderr
+    # the scene is an input too
+    scene = tmp_path / "s.yaml"
+    scene.write_text(FIG2_SCENE.read_text())
+    r = run("run", MIX, "--scene", scene, "-o", scene)
+    assert r.returncode == 2 and scene.read_text() == FIG2_SCENE.read_text()
+    # write errors are messages
+    r = run("run", MIX, "-o", tmp_path)
+    assert r.returncode == 1 and "is a directory" in r.stderr and "internal error" not in r.stderr
+    # a non-finite importance is refused where it is written
+    bad = tmp_path / "nan.pl"
+    bad.write_text("task(t).\nschema(t, [(a, true, 1.5NaN)], a.done).\nschema(a, [], a.done).\n")
+    r = run("run", bad)
+    assert r.returncode == 1 and f"{bad}:2:1:" in r.stderr and "finite number" in r.stderr
+    # --fail on a composite, --propagate without --compressed: said
+    r = run("run", MIX, "--fail", "subtask(take,spoon)", "--propagate", "pre")
+    assert "no action (leaf behaviour)" in r.stderr and "--propagate applies with --compressed" in r.stderr
+    assert run("run", MIX, "--state", "").returncode == run("run", MIX, "--state", "not a.b").returncode == 2

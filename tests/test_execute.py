@@ -307,3 +307,25 @@ def test_generated_tasks_complete_alike_with_both_selectors_and_compressed(depth
     assert runs["original", "scan"] == runs["original", "incremental"]
     assert runs["compressed", "scan"] == runs["compressed", "incremental"]
     assert replay(tree, [], runs["compressed", "incremental"]).valid
+
+
+# --- regressions found in review ---------------------------------------------
+
+def test_an_atom_set_and_cleared_within_a_merged_decision_is_no_change():
+    """b1_b2 sets x.on then clears it; the loop b1_b2 -> t is found after two decisions."""
+    b1 = Behaviour(t("b1"), post=c("x.on"))
+    b2 = Behaviour(t("b2"), releaser=c("x.on"), post=c("y.on and not x.on"))
+    toggle = Behaviour(t("t"), releaser=c("y.on"), post=c("not y.on"))
+    original = Behaviour(t("root"), post=c("goal.on"), children=(b1, b2, toggle))
+    ex = execute(compress(original).tree, original, [], Scene())
+    assert ex.outcome.status is Status.LIVELOCK
+    assert ex.outcome.blocked == ("loop: b1_b2 -> t",)
+
+
+def test_a_failure_of_the_merged_label_does_not_mask_the_actions_own():
+    tree = compress(FIG2).tree
+    robot = RobotManager(FIG2_SCENE, {t("a1_a2(spoon)"): 1, t("a1(spoon)"): 1})
+    ex = Executive(tree, World(FIG2, FIG2_INIT), FIG2_SCENE, robot=robot)
+    ex.run()
+    assert [term_to_text(d.failed) for d in ex.decisions if d.failed] == ["a1(spoon)", "a1(spoon)"]
+    assert ex.outcome.completed

@@ -45,7 +45,7 @@ def test_jitter_is_reproducible_and_bounded():
     ("end_effector: [0, 0]\nmin_lambda: 2\n", (2, 13), "(0, 1]"),
     ("end_effector: [0, 0]\nobjects:\n  cup: [1, .nan]\n", (3, 12), "finite"),
     ("objects:\n  cup: [1, 2]\n", (1, 1), "no `end_effector`"),
-    ("end_effector: [0, 0, 0]\nobjects:\n  cup: [1, 2]\n", (1, 1), "mix 2-D and 3-D"),
+    ("end_effector: [0, 0, 0]\nobjects:\n  cup: [1, 2]\n", (3, 3), "mix 2-D and 3-D"),
     ("end_effector: [0, 0\n", (2, 1), "YAML syntax error"),
     ("- 1\n- 2\n", (1, 1), "a mapping"),
 ])
@@ -60,3 +60,22 @@ def test_numbers_keep_yaml_semantics():
     scene = scene_from_yaml("end_effector: [0, 1e-1]\nobjects:\n  cup: [1_000, -2.5]\n")
     assert scene.end_effector == (0.0, 0.1) and scene.objects["cup"] == (1000.0, -2.5)
     assert math.isclose(scene.lambda_at("cup", (0.0, 0.0)), 1.0)
+
+
+@pytest.mark.parametrize("text, where, message", [
+    ("end_effector: [0, 0]\nname: [a, b]\n", (2, 7), "`name` is a line of text"),
+    ("end_effector: [0, 0]\nobjects:\n  ? [spoon]\n  : [1, 2]\n", (3, 5), "an object's name"),
+    ("end_effector: [0, 0]\nobjects:\n  cup: [1, 2]\n  pan: [1, 2, 3]\n", (4, 3), "positions mix 2-D and 3-D"),
+])
+def test_more_bad_scenes_are_located(text, where, message):
+    with pytest.raises(SchemalogError) as err:
+        scene_from_yaml(text, "s.yaml")
+    assert (err.value.pos.line, err.value.pos.column) == where
+    assert message in err.value.message
+
+
+def test_a_scene_over_the_size_limit_is_refused(tmp_path):
+    big = tmp_path / "big.yaml"
+    big.write_text("end_effector: [0, 0]\n" + "# padding\n" * 500)
+    with pytest.raises(SchemalogError, match="more than the limit"):
+        read_scene(big, max_bytes=1000)

@@ -107,3 +107,25 @@ def test_state_hash_depends_only_on_the_state(steps):
         world.perform(cond.Lit(t(f"{atom}.on"), value))
     fresh = World(root, world.atoms)
     assert fresh.hash == world.hash and fresh.atoms == world.atoms
+
+
+def test_completions_that_undo_each_other_are_an_error_whatever_the_history():
+    """c1 asserts y and clears z, c2 the reverse: once both complete, the world cannot settle."""
+    from schemalog.tree import Behaviour
+    c1 = Behaviour(t("c1"), post=c("y.on and not z.on"), children=(Behaviour(t("a"), post=c("x.on")),))
+    c2 = Behaviour(t("c2"), post=c("z.on and not y.on"), children=(Behaviour(t("b"), post=c("w.on")),))
+    root = Behaviour(t("t"), post=c("goal"), children=(c1, c2))
+    with pytest.raises(SchemalogError, match="does not settle"):
+        World(root, [t("x.on"), t("w.on")])
+    world = World(root)
+    world.perform(c("x.on"))
+    with pytest.raises(SchemalogError, match="does not settle"):
+        world.perform(c("w.on"))
+
+
+def test_initial_facts_are_located(kb_of):
+    kb = kb_of("initial(hand.free).\ninitial(not spoon.taken).\n")
+    with pytest.raises(SchemalogError) as err:
+        initial_state(kb)
+    assert (err.value.pos.line, err.value.pos.column) == (2, 1)
+    assert initial_state(kb_of("initial(a.on).\ninitial(a.on).\n")) == [t("a.on")]

@@ -20,7 +20,7 @@ from .engine import PrologError
 from .errors import SchemalogError, UsageError
 from .kb import KnowledgeBase
 from .parse import MAX_BYTES, Clause, parse_term
-from .compress import PROPAGATE_MODES, compress, decompress, protected_labels
+from .compress import PROPAGATE_MODES, compress, decompress, original_of, protected_labels
 from .conditions import DEFAULT_SYMPY_BUDGET, MAX_SYMPY_BUDGET, Simplifier
 from .render import carried_clauses, compare_dot, rich_tree, show_json, to_dot, tree_document, tree_json
 from .schema import check_schemas
@@ -97,10 +97,15 @@ def _emit(text: str, output: str | None, inputs: list[str]) -> None:
     if output is None or output == "-":
         sys.stdout.write(text)
         return
+    _emit_check(output, inputs)
+    write_atomically(output, text)
+
+
+def _emit_check(output: str, inputs: list[str]) -> None:
+    """Refuse an output file that is one of the files read (through links too)."""
     out = Path(output).resolve()
     if any(not i.startswith("<") and Path(i).resolve() == out for i in inputs):
         raise UsageError(f"-o {output} would overwrite an input file; choose another name")
-    write_atomically(output, text)
 
 
 # ---------------------------------------------------------------------------
@@ -269,8 +274,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     kb, _ = _load(args)
     tree = _instantiate(kb, _choose_tasks(kb, args.task)[0], args)
     task = tree.label
-    original = decompress(tree)
-    kind = "compressed" if tree.origins else "original"
+    original = original_of(tree)
+    kind = "compressed" if original is not tree else "original"
+    if args.propagate is not None and not args.compressed:
+        print("note: --propagate applies with --compressed; this run compresses nothing", file=sys.stderr)
+    args.propagate = args.propagate or "full"
     if args.compressed:
         result = compress(original, args.propagate, protected_labels(kb, original),
                           Simplifier(sympy_budget=args.sympy_budget))
@@ -280,7 +288,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     scene = _scene(args, original)
     world = World(original)
     if args.state is not None:
-        initial = state_atoms(_term_option(args.state, "--state"), "--state")
+        try:
+            initial = state_atoms(_term_option(args.state, "--state"), "--state")
+        except UsageError:
+            raise
+        except SchemalogError as err:
+            raise UsageError(err.message) from None
     else:
         initial = initial_state(kb)
         if not kb.clauses("initial", 1):
@@ -300,10 +313,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     header = (f"run {term_to_text(task)}: {kind} tree of {count_nodes(tree)} behaviours; "
               f"selector {args.selector}; scene {scene.name}")
     fmt = "json" if args.json else "text"
+    inputs = [*kb.files, *([args.scene] if args.scene else [])]
+    if args.output and args.output != "-":
+        _emit_check(args.output, inputs)   # refuse before running, not after
     if fmt == "json":
         outcome = executive.run()
         data = run_json(executive, task, kind, initial, args)
-        _emit(json.dumps(data, indent=2) + "\n", args.output, kb.files)
+        _emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
     else:
         lines = [header, f"initial state: {', '.join(term_to_text(a) for a in initial) or '(nothing true)'}"]
         out = sys.stdout if not args.output or args.output == "-" else None
@@ -322,7 +338,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if out:
             print("\n".join(lines))
         else:
-            _emit("\n".join(lines) + "\n", args.output, kb.files)
+            _emit("\n".join(lines) + "\n", args.output, inputs)
     return 0 if outcome.completed else 1
 
 
@@ -339,9 +355,9 @@ def _scene(args: argparse.Namespace, original: Behaviour) -> Scene:
         if args.seed is not None or args.jitter is not None:
             raise UsageError("--seed and --jitter move the objects of a scene: give --scene too")
         return NO_SCENE
-    scene = read_scene(args.scene)
+    scene = read_scene(args.scene, args.max_bytes)
     for node in walk(original):
-        for obj in node.objects[:1]:
+        for obj in node.objects[:1]:    # lambda reads the distance to a behaviour's first object
             if object_name(obj) not in scene.objects:
                 known = ", ".join(sorted(scene.objects)) or "none"
                 raise SchemalogError(f"the scene {args.scene} has no position for {object_name(obj)}, which "
@@ -354,13 +370,14 @@ def _scene(args: argparse.Namespace, original: Behaviour) -> Scene:
 
 def _failures(args: argparse.Namespace, original: Behaviour, tree: Behaviour) -> dict:
     """--fail LABEL (repeatable): the robot fails these commands (--fail-times, default always)."""
-    known = {n.label for n in walk(original)} | {n.label for n in walk(tree)}
+    actions = {n.label for n in walk(original) if not n.children} | \
+        {n.label for n in walk(tree) if not n.children}
     failures = {}
     for text in args.fail or []:
         label = _term_option(text, "--fail")
-        if label not in known:
-            print(f"warning: --fail {text}: no behaviour of the task is labelled {term_to_text(label)}",
-                  file=sys.stderr)
+        if label not in actions:
+            print(f"warning: --fail {text}: no action (leaf behaviour) of the task is labelled "
+                  f"{term_to_text(label)}, so no command will fail", file=sys.stderr)
         failures[label] = args.fail_times
     return failures
 
@@ -521,7 +538,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scene", metavar="FILE", help="object positions (YAML, docs/semantics.md); "
                                                    "without it every lambda is neutral")
     p.add_argument("--compressed", action="store_true", help="compress first, then run in the same world")
-    p.add_argument("--propagate", choices=list(PROPAGATE_MODES), default="full",
+    p.add_argument("--propagate", choices=list(PROPAGATE_MODES),
                    help="with --compressed: what merged behaviours pass to their children (default full)")
     p.add_argument("--sympy-budget", type=_budget, default=DEFAULT_SYMPY_BUDGET, metavar="N",
                    help=argparse.SUPPRESS)

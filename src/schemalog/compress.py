@@ -430,6 +430,24 @@ def decompress(root: Behaviour) -> Behaviour:
     return originals[0][1]
 
 
+def original_of(root: Behaviour) -> Behaviour:
+    """The original tree of a tree read from knowledge: itself, or rebuilt from provenance.
+
+    A sub-task of a compressed file (`--task preparecoffee`) has no provenance of its own
+    but its children have: it stands for itself, unless its children name more than one
+    original parent (then it is a merged behaviour, which is no single original tree)."""
+    if root.origins:
+        return decompress(root)
+    if not any(c.origins for c in root.children):
+        return root
+    slots = {o.slot for c in root.children for o in c.origins}
+    if slots != {0}:
+        raise SchemalogError(f"{term_to_text(root.label)} is a merged behaviour (it stands for "
+                             f"{max(slots) + 1} original behaviours), not one original task: run the "
+                             f"task that contains it", root.source)
+    return decompress(replace(root, origins=(Origin(root.label, root.releaser, root.post, root.importance),)))
+
+
 def _expand(node: Behaviour) -> list[tuple[Origin, Behaviour]]:
     """The original behaviours `node` stands for, each with its rebuilt subtree."""
     if not node.origins:

@@ -104,14 +104,15 @@ class RobotManager:
         self.failures = dict(failures or {})
         self.commands = 0
 
-    def command(self, action: Term, obj: str | None) -> bool:
-        """Execute one learned action; whether it succeeded."""
+    def command(self, action: Term, obj: str | None, within: Term | None = None) -> bool:
+        """Execute one learned action (the first one of merged behaviour `within`, if given);
+        whether it succeeded. A failure asked for the merged behaviour is spent first."""
         self.commands += 1
-        if action in self.failures:
-            left = self.failures[action]
+        for label in (within, action):
+            left = self.failures.get(label, 0) if label is not None else 0
             if left is None or left > 0:
                 if left is not None:
-                    self.failures[action] = left - 1
+                    self.failures[label] = left - 1
                 return False
         if obj is not None and obj in self.scene.objects:
             self.hand = self.scene.objects[obj]
@@ -478,25 +479,28 @@ class Executive:
         """Command the robot through the leaf's constituents, skipping accomplished ones."""
         executed: list[Term] = []
         skipped: list[Term] = []
-        added: set[Term] = set()
-        removed: set[Term] = set()
+        before: dict[Term, bool] = {}       # each changed atom's value before the decision
         obj = self.plan.obj[leaf]
-        merged_label = self.plan.nodes[leaf].label
+        steps = self.plan.steps[leaf]
+        merged_label = self.plan.nodes[leaf].label if len(steps) > 1 else None
         failed = None
-        for action, post in self.plan.steps[leaf]:
+        for action, post in steps:
             if self.world.holds(post):
                 skipped.append(action)
                 continue
-            fail_as = merged_label if not executed and merged_label in self.robot.failures else action
-            if not self.robot.command(fail_as, obj):
+            if not self.robot.command(action, obj, merged_label if not executed else None):
                 failed = action
                 break
             change = self.world.perform(post)
-            added = (added - change.removed) | change.added
-            removed = (removed - change.added) | change.removed
+            for atom in change.added:
+                before.setdefault(atom, False)
+            for atom in change.removed:
+                before.setdefault(atom, True)
             executed.append(action)
             self.trace.append(action)
-        change = Change(frozenset(added), frozenset(removed))
+        # The net change: an atom set and cleared again within the decision did not change.
+        change = Change(frozenset(a for a, was in before.items() if not was and a in self.world),
+                        frozenset(a for a, was in before.items() if was and a not in self.world))
         self._pending = change
         self._journal.append(change)
         return executed, skipped, failed

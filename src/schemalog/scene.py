@@ -81,10 +81,14 @@ NO_SCENE = Scene()
 # ---------------------------------------------------------------------------
 # Reading scene files
 
-def read_scene(path: str | Path) -> Scene:
+def read_scene(path: str | Path, max_bytes: int | None = None) -> Scene:
     """Read and check a scene file; every error names file:line:column."""
     file = str(path)
     try:
+        size = Path(path).stat().st_size
+        if max_bytes is not None and size > max_bytes:
+            raise SchemalogError(f"scene {file} has {size:,} bytes, more than the limit of {max_bytes:,} "
+                                 f"(raise it with --max-bytes)")
         text = Path(path).read_text(encoding="utf-8")
     except OSError as err:
         raise SchemalogError(f"cannot read scene {file}: {err.strerror or err}") from None
@@ -146,6 +150,8 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
             raise fail(f"{key!r} appears twice", key_node)
         seen.add(key)
         if key == "name":
+            if not isinstance(value, yaml.ScalarNode) or not str(value.value).strip():
+                raise fail("`name` is a line of text", value)
             values["name"] = str(value.value)
         elif key == "end_effector":
             values["end_effector"] = position(value, "end_effector")
@@ -154,6 +160,8 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
                 raise fail("`objects` maps each object name to its position", value)
             objects: dict[str, Position] = {}
             for name_node, pos_node in value.value:
+                if not isinstance(name_node, yaml.ScalarNode) or not str(name_node.value).strip():
+                    raise fail("an object's name is a word, like spoon", name_node)
                 name = str(name_node.value)
                 if name in objects:
                     raise fail(f"object {name!r} appears twice", name_node)
@@ -172,9 +180,13 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
             values[key] = number(value, key, positive=True)
     if "end_effector" not in values:
         raise SchemalogError("the scene has no `end_effector` (where the hand starts)", SourcePos(file, 1, 1))
-    dims = {len(values["end_effector"]), *(len(p) for p in values.get("objects", {}).values())}
-    if len(dims) > 1:
-        raise SchemalogError("positions mix 2-D and 3-D coordinates", SourcePos(file, 1, 1))
+    dims = len(values["end_effector"])
+    for name, pos in values.get("objects", {}).items():
+        if len(pos) != dims:
+            mark = marks[name]
+            raise SchemalogError(f"{name} has {len(pos)} coordinates but end_effector has {dims}: "
+                                 f"positions mix 2-D and 3-D", mark,
+                                 lines[mark.line - 1] if mark.line <= len(lines) else None)
     values.setdefault("name", Path(file).stem)
     return Scene(file=file, marks=marks, **values)
 

@@ -19,6 +19,8 @@ items, so that text -> YAML -> text round-trips exactly.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 from . import conditions as cond
@@ -66,14 +68,23 @@ def read_entry(term: Term, where: str) -> Entry:
                 and isinstance(rest.args[1], (Int, Float)):
             rest, importance = rest.args
         return Entry(_behaviour(sub, where), _condition(rest, f"the releaser of {term_to_text(sub)}", where),
-                     importance.value)
+                     _importance(importance, sub, where))
     items, tail = list_items(term)
     if tail == NIL and len(items) == 3 and isinstance(items[1], (Int, Float)):
         sub, weight, releasers = items
         return Entry(_behaviour(sub, where), _condition(releasers, f"the releaser of {term_to_text(sub)}", where),
-                     weight.value)
+                     _importance(weight, sub, where))
     raise SchemalogError(f"{where}: a sub-task must be (Behaviour, Releaser) or "
                          f"[Behaviour, Importance, [Releasers]], not {term_to_text(term)}")
+
+
+def _importance(weight: Term, sub: Term, where: str) -> int | float:
+    """A weight of emphasis: a finite number, at least 0 (NaN or infinity would rank nothing)."""
+    value = weight.value
+    if not (math.isfinite(value) and value >= 0):
+        raise SchemalogError(f"{where}: the importance of {term_to_text(sub)} must be a finite number "
+                             f"at least 0, not {term_to_text(weight)}")
+    return value
 
 
 def _behaviour(term: Term, where: str) -> Term:

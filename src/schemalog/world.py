@@ -18,8 +18,8 @@ from typing import Iterable
 
 from . import conditions as cond
 from .conditions import Condition
-from .errors import SchemalogError
-from .terms import Struct, Term, Var, is_ground, term_to_text
+from .errors import SchemalogError, SourcePos
+from .terms import TRUE, Struct, Term, Var, is_ground, term_to_text
 from .tree import Behaviour, walk
 
 Effect = tuple[tuple[Term, ...], tuple[Term, ...]]
@@ -66,6 +66,7 @@ class _Completion:
     label: Term
     post: Condition
     children: tuple[Condition, ...]
+    source: SourcePos | None = None
 
 
 class World:
@@ -79,13 +80,16 @@ class World:
             known.update(lit.atom for lit in cond.literals(node.pre))
             known.update(lit.atom for lit in cond.literals(node.post))
             if node.children and node.post != cond.TRUE:
-                c = _Completion(node.label, node.post, tuple(ch.post for ch in node.children))
+                c = _Completion(node.label, node.post, tuple(ch.post for ch in node.children), node.source)
                 completions.setdefault((c.post, c.children), c)  # add(water) twice: one rule
         self.completions = tuple(completions.values())
         self.known_atoms = frozenset(known)
         self._reads: dict[Term, list[int]] = {}
+        # A rule is looked at again when an atom of its children's posts or of its own post
+        # changes: the world is settled when no composite has its children accomplished and
+        # its own post false.
         for i, c in enumerate(self.completions):
-            for atom in {lit.atom for child in c.children for lit in cond.literals(child)}:
+            for atom in {lit.atom for part in (*c.children, c.post) for lit in cond.literals(part)}:
                 self._reads.setdefault(atom, []).append(i)
         self._effects: dict[Condition, Effect] = {}
         self._atoms: set[Term] = set()
@@ -169,7 +173,8 @@ class World:
             budget -= 1
             if budget < 0:
                 raise SchemalogError(f"the world does not settle: completing {term_to_text(c.label)} "
-                                     f"keeps undoing other completions (post-conditions that contradict)")
+                                     f"({cond.to_text(c.post)}) keeps undoing other completions "
+                                     f"(post-conditions that contradict)", c.source)
             for j in self._apply(c.post):
                 if j not in queued:
                     queued.add(j)
@@ -181,11 +186,25 @@ def initial_state(kb) -> list[Term]:
     from .engine import Engine
 
     atoms: list[Term] = []
-    if not kb.clauses("initial", 1):
+    clauses = [c for c in kb.clauses("initial", 1) if not c.library]
+    if not clauses:
         return atoms
+    if all(c.body == TRUE for c in clauses):       # facts: each error at its own place
+        for c in clauses:
+            try:
+                atoms.extend(state_atoms(c.head.args[0], "initial/1"))
+            except SchemalogError as err:
+                raise SchemalogError(err.message, c.pos) from None
+        return list(dict.fromkeys(atoms))
+    from .engine import PrologError, StepLimitExceeded
+
     x = Var("X")
-    for b in Engine(kb).solve(Struct("initial", (x,))):
-        atoms.extend(state_atoms(b.resolve(x), "initial/1"))
+    where = f"initial/1 ({clauses[0].pos})" if clauses[0].pos else "initial/1"
+    try:
+        for b in Engine(kb, max_steps=100_000).solve(Struct("initial", (x,))):
+            atoms.extend(state_atoms(b.resolve(x), where))
+    except (PrologError, StepLimitExceeded) as err:
+        raise SchemalogError(f"{where}: asking the initial state failed: {err}") from None
     return list(dict.fromkeys(atoms))
 
 
@@ -206,7 +225,7 @@ def state_atoms(term: Term, where: str) -> list[Term]:
         if not is_ground(item.atom):
             raise SchemalogError(f"{where}: {term_to_text(item.atom)} has variables; a state is ground")
         atoms.append(item.atom)
-    return atoms
+    return list(dict.fromkeys(atoms))
 
 
 __all__ = ["World", "Change", "effect_of", "atom_key", "initial_state", "state_atoms"]
