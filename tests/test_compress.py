@@ -264,14 +264,15 @@ def test_duplicate_labels_with_different_conditions():
 
 
 def test_branching_that_would_grow_the_tree_merges_only_unbranched_chains():
-    # A composite hub released-before 30 siblings: the branching rule would copy its
-    # sub-tree 30 times. Bm must stay <= Bi (RD >= 0, Sec. IV-A).
+    # A composite hub released-before 30 sibling sub-tasks: the branching rule would copy
+    # its sub-tree 30 times. Bm must stay <= Bi (RD >= 0, Sec. IV-A).
     leaves = " ".join(f"schema(h{i}(cup), [], h{i}.done)." for i in range(5))
     subs = ", ".join(f"(s{i}(cup), hub.done)" for i in range(30))
     kb, tree = kb_tree(f"""
         schema(t, [(hub(cup), true), {subs}], t.done).
         schema(hub(cup), [{', '.join(f'(h{i}(cup), true)' for i in range(5))}], hub.done).
-        {leaves} {" ".join(f"schema(s{i}(cup), [], s{i}.done)." for i in range(30))}""")
+        {leaves} {" ".join(f"schema(s{i}(cup), [(x{i}(cup), true)], s{i}.done)." for i in range(30))}
+        {" ".join(f"schema(x{i}(cup), [], x{i}.done)." for i in range(30))}""")
     result = compress(tree)
     assert result.nodes_after <= result.nodes_before and result.reduction_degree >= 0
     assert any("would grow the tree" in n for n in result.notes)

@@ -50,3 +50,9 @@ schema(a6(cup), [], a6.done).
 schema(a7(cup), [], a7.done).
 schema(gripper(close), [], not hand.free).
 schema(gripper(open), [], hand.free).
+
+% Integrity constraints: the initial states `schemalog verify --states all` covers are the
+% assignments of the task's atoms (other than the actions' `done`) that satisfy these.
+constraint(not spoon.used or spoon.taken).                  % what is used was taken
+constraint(not (spoon.taken and not spoon.used and hand.free)).   % a held spoon fills the hand
+constraint(spoon.taken or hand.free).                       % nothing else is ever held

@@ -151,3 +151,14 @@ schema(a25(cup), [], a25.done).
 schema(a26(cup), [], a26.done).
 schema(a27(cup), [], a27.done).
 schema(a28(cup), [], a28.done).
+
+% Integrity constraints: the initial states `schemalog verify --states all` covers are the
+% assignments of the task's atoms (other than the actions' `done`) that satisfy these.
+ingredient(water).  ingredient(coffee).  ingredient(tea).  ingredient(spoon).
+% What is used was taken first.
+constraint(not O.used or O.taken) :- ingredient(O).
+% A taken ingredient not yet used is in the hand: then the hand is not free ...
+constraint(not (O.taken and not O.used and kukahand.free)) :- ingredient(O).
+% ... and it holds one thing at a time.
+constraint(not (A.taken and not A.used and B.taken and not B.used)) :-
+    ingredient(A), ingredient(B), A @< B.

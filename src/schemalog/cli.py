@@ -28,11 +28,13 @@ from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
 from .execute import DEFAULT_RETRIES, SELECTORS, Decision, Executive, RobotManager
 from .scene import NO_SCENE, Scene, object_name, read_scene
+from .verify import DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms
 from .world import World, initial_state, state_atoms
 from .tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate, walk
 
 
 DEFAULT_JITTER = 0.05
+INCONCLUSIVE = 3    # verify: no counterexample, but no proof either (state limit, sampling)
 
 # ---------------------------------------------------------------------------
 # Shared steps
@@ -342,6 +344,171 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0 if outcome.completed else 1
 
 
+def cmd_verify(args: argparse.Namespace) -> int:
+    """Prove a compressed task against its original: soundness and completion, with diagnostics."""
+    kb, original, compressed, how, inputs = _verify_inputs(args)
+    task = original.label
+    world = World(original)
+    initial = _initial_states(args, kb, world, task)
+    scene = _scene(argparse.Namespace(**{**vars(args), "seed": None}), original)  # --seed samples here
+    verifier = Verifier(original, compressed, world, max_states=args.max_states)
+    if args.sample:
+        report = verifier.sample(initial, args.sample, args.seed or 0, scene, task)
+    else:
+        report = verifier.verify(initial, scene, task)
+    if args.json:
+        _emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
+              args.output, inputs)
+    else:
+        lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states)
+        _emit("\n".join(lines) + "\n", args.output, inputs)
+    if report.violated:
+        return 1
+    return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
+
+
+def _verify_inputs(args: argparse.Namespace):
+    """(kb, original, compressed, how, inputs): one task file compressed here, or an original
+    file and a compressed file someone else produced."""
+    if len(args.files) == 2:
+        first, second = (KnowledgeBase(), KnowledgeBase())
+        for kb, path in ((first, args.files[0]), (second, args.files[1])):
+            read_document(path, args.max_bytes).to_kb(kb)
+        task = _choose_tasks(first, args.task)[0]
+        other_tasks = declared_tasks(second) or [task]
+        compressed = _instantiate(second, other_tasks[0] if args.task is None else task, args)
+        if any(n.origins for n in walk(compressed)):
+            original = _instantiate(first, task, args)
+            rebuilt = original_of(compressed)
+            if rebuilt != original:
+                print(f"note: the provenance of {args.files[1]} does not rebuild {args.files[0]}'s "
+                      f"{term_to_text(task)} exactly; the world is the original file's", file=sys.stderr)
+            return first, original, compressed, f"{args.files[1]}", [*first.files, *second.files]
+        raise UsageError(f"{args.files[1]} carries no provenance (origins/2): give one task file to "
+                         f"compress and verify, or an original and a file written by schemalog compress")
+    if len(args.files) != 1:
+        raise UsageError("verify takes one task file, or an original and a compressed file")
+    kb, _ = _load(args)
+    tree = _instantiate(kb, _choose_tasks(kb, args.task)[0], args)
+    original = original_of(tree)
+    if original is not tree:
+        return kb, original, tree, "the compressed file", list(kb.files)
+    result = compress(original, args.propagate, protected_labels(kb, original),
+                      Simplifier(sympy_budget=args.sympy_budget))
+    for note in result.notes:
+        print(f"note: {note}", file=sys.stderr)
+    return kb, original, result.tree, f"propagate {args.propagate}", list(kb.files)
+
+
+def _initial_states(args: argparse.Namespace, kb: KnowledgeBase, world: World, task: Term) -> list:
+    """--states default | all | 'atom, atom': the initial states to cover, settled."""
+    if args.states == "all":
+        atoms = free_atoms(kb, world.original)
+        states = all_states(world, atoms, constraints(kb))
+        if not states:
+            raise SchemalogError("no assignment of the free atoms satisfies the constraints (constraint/1)")
+        return states
+    if args.states == "default":
+        atoms = initial_state(kb)
+    else:
+        try:
+            atoms = state_atoms(_term_option(args.states, "--states"), "--states")
+        except UsageError:
+            raise
+        except SchemalogError as err:
+            raise UsageError(err.message) from None
+    for atom in world.unknown(atoms):
+        print(f"warning: {term_to_text(atom)} is read or set by no condition of {term_to_text(task)}",
+              file=sys.stderr)
+    world.reset(atoms)
+    return [world.atoms]
+
+
+def _state_text(state) -> str:
+    return ", ".join(sorted(term_to_text(a) for a in state)) or "(nothing true)"
+
+
+def verify_lines(report, how: str, before: int, after: int, states_option: str) -> list[str]:
+    """The report as a person reads it: each property, and a counterexample where one fails."""
+    n = len(report.initial_states)
+    which = "default: " + _state_text(report.initial_states[0]) if states_option == "default" else \
+        ("all that satisfy the constraints" if states_option == "all" else _state_text(report.initial_states[0]))
+    lines = [f"verify {term_to_text(report.task)}: original {before} behaviours, compressed {after} ({how}); "
+             f"{n} initial state{'s' if n != 1 else ''} ({which})",
+             (f"sampled: visited {report.compressed_states:,} states of the compressed tree in "
+              f"{report.seconds:.2f} s (NOT a proof)" if report.sampled else
+              f"explored {report.compressed_states:,} states of the compressed tree and "
+              f"{report.original_states:,} of the original in {report.seconds:.2f} s"
+              + ("" if report.exhaustive else " (stopped at --max-states: NOT a proof)")), ""]
+    titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",
+              "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
+              "selection": "selection under emphasis (diagnostic)"}
+    for name, verdict in report.properties.items():
+        status = {True: "holds", False: "FAILS", None: "unknown"}[verdict.holds]
+        lines.append(f"{titles[name]}: {status}: {verdict.summary}")
+        if verdict.counterexample is not None:
+            lines.extend(counterexample_lines(verdict.counterexample))
+        lines.append("")
+    if report.violated:
+        verdict = "the compressed tree is " + ("not sound" if report.properties["soundness"].holds is False
+                                               else "not complete") + " (exit 1)"
+    elif report.exhaustive:
+        verdict = "the compressed tree is sound and complete (exit 0)"
+    else:
+        verdict = "no counterexample found, but this is not a proof (exit 3)"
+    lines.append(f"result: {verdict}")
+    return lines
+
+
+def counterexample_lines(ce) -> list[str]:
+    lines = [f"  counterexample, from the initial state {_state_text(ce.initial)}:"]
+    if not ce.path:
+        lines.append("    (at the start)")
+    for k, step in enumerate(ce.path, 1):
+        actions = ", ".join(term_to_text(a) for a in step.actions)
+        label = term_to_text(step.behaviour)
+        lines.append(f"    {k:3d}  {label}" + (f"   [{actions}]" if actions != label else ""))
+    if ce.action is not None:
+        done = "".join(f"{term_to_text(a)}, " for a in ce.done_first)
+        own = "" if ce.behaviour == ce.action and not done else f": {done}{term_to_text(ce.action)}"
+        lines.append(f"    then the compressed tree takes {term_to_text(ce.behaviour)}{own}")
+        lines.append(f"      ({ce.where})")
+        lines.append(f"    the original would not take {term_to_text(ce.action)} there "
+                     f"(state: {_state_text(ce.state)}):")
+    else:
+        lines.append(f"    state: {_state_text(ce.state)}")
+    lines.extend(f"      {r}" for r in ce.reasons)
+    return lines
+
+
+def verify_json(report, how: str, before: int, after: int) -> dict:
+    """The report as data (docs/formats.md)."""
+    def ce_json(ce):
+        if ce is None:
+            return None
+        return {"initial": sorted(term_to_text(a) for a in ce.initial),
+                "run": [{"behaviour": term_to_text(s.behaviour), "actions": [term_to_text(a) for a in s.actions]}
+                        for s in ce.path],
+                "state": sorted(term_to_text(a) for a in ce.state),
+                "behaviour": None if ce.behaviour is None else term_to_text(ce.behaviour),
+                "behaviour_path": ce.where or None,
+                "actions_before": [term_to_text(a) for a in ce.done_first],
+                "action": None if ce.action is None else term_to_text(ce.action),
+                "reasons": list(ce.reasons)}
+    return {
+        "task": term_to_text(report.task), "compressed": how, "behaviours": {"original": before, "compressed": after},
+        "sound": report.sound, "complete": report.complete, "exhaustive": report.exhaustive,
+        "states": len(report.initial_states),
+        "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
+        "explored": {"compressed": report.compressed_states, "original": report.original_states,
+                     "seconds": report.seconds},
+        "counterexample": ce_json(report.properties["soundness"].counterexample
+                                  or report.properties["completion"].counterexample),
+        "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),
+                              **v.details} for name, v in report.properties.items()},
+    }
+
+
 def _term_option(text: str, option: str) -> Term:
     try:
         return parse_term(text, option)
@@ -561,6 +728,30 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the run as JSON (docs/formats.md)")
     p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
     p.set_defaults(run=cmd_run)
+
+    p = sub.add_parser("verify", parents=[limits],
+                       help="prove a compressed task against its original, with counterexamples")
+    p.add_argument("files", nargs="+", metavar="FILE",
+                   help="a task file (compressed here), or an original and a compressed file")
+    p.add_argument("--task", help="the task (default: the first task/1)")
+    p.add_argument("--propagate", choices=list(PROPAGATE_MODES), default="full",
+                   help="how to compress a single task file (default full; pre is the paper's rule)")
+    p.add_argument("--sympy-budget", type=_budget, default=DEFAULT_SYMPY_BUDGET, metavar="N",
+                   help=argparse.SUPPRESS)
+    p.add_argument("--states", default="default", metavar="default|all|ATOMS",
+                   help="initial states to cover: the file's (default), all assignments of the free atoms "
+                        "that satisfy constraint/1, or one state such as 'hand.free, spoon.taken'")
+    p.add_argument("--scene", metavar="FILE", help="scene for the selection diagnostic (winner-take-all runs)")
+    p.add_argument("--max-states", type=_positive, default=DEFAULT_MAX_STATES, metavar="N",
+                   help=f"stop exploring after N states per tree; the result then says it is no proof "
+                        f"(default {DEFAULT_MAX_STATES:,})")
+    p.add_argument("--sample", type=_positive, metavar="RUNS",
+                   help="check RUNS random runs instead of every state: finds violations, proves nothing "
+                        "(exit 3 when none is found)")
+    p.add_argument("--seed", type=int, help="random seed of --sample (default 0)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON (docs/formats.md)")
+    p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
+    p.set_defaults(run=cmd_verify, jitter=None)
 
     p = sub.add_parser("convert", parents=[limits],
                        help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")

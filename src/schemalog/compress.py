@@ -76,7 +76,10 @@ class Compression:
 # Definition 1
 
 def _group_key(b: Behaviour) -> tuple:
-    return (b.agent, b.objects)
+    # Same agent, same objects, and the same kind: an action merges with actions and a
+    # sub-task with sub-tasks. A merged behaviour runs its actions or its sub-behaviours;
+    # one made of both would never command its action (the verifier found the dead end).
+    return (b.agent, b.objects, bool(b.children))
 
 
 def sequential_pairs(children: tuple[Behaviour, ...] | list[Behaviour],

@@ -579,18 +579,22 @@ def blocked_reasons(plan: Plan, world: World, inhibited: set[int], failures: Cou
 # ---------------------------------------------------------------------------
 # Checking a trace against the original task
 
-def enabled_leaves(tree: Behaviour, world: World) -> list[Behaviour]:
-    """The leaves of `tree` enabled in the world's current state, in tree order."""
-    plan = Plan.of(tree)
-    atoms = world._atoms
+def enabled_indices(plan: Plan, atoms: set | frozenset) -> list[int]:
+    """The leaves of `plan` enabled when exactly `atoms` are true, in tree order."""
     live = [False] * len(plan)
     out = []
     for i in range(len(plan)):
         up = plan.parent[i]
         live[i] = (up < 0 or live[up]) and cond.holds(plan.pre[i], atoms) and not cond.holds(plan.post[i], atoms)
         if live[i] and not plan.children[i]:
-            out.append(plan.nodes[i])
+            out.append(i)
     return out
+
+
+def enabled_leaves(tree: Behaviour, world: World) -> list[Behaviour]:
+    """The leaves of `tree` enabled in the world's current state, in tree order."""
+    plan = Plan.of(tree)
+    return [plan.nodes[i] for i in enabled_indices(plan, world._atoms)]
 
 
 @dataclass(frozen=True)
@@ -617,5 +621,5 @@ def replay(original: Behaviour, initial, trace: list[Term]) -> Replay:
 
 
 __all__ = ["Executive", "Decision", "Outcome", "Status", "RobotManager", "Plan", "SELECTORS",
-           "ScanSelector", "IncrementalSelector", "enabled_leaves", "replay", "Replay", "emphasis",
+           "ScanSelector", "IncrementalSelector", "enabled_leaves", "enabled_indices", "replay", "Replay", "emphasis",
            "blocked_reasons"]

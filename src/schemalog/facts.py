@@ -2,6 +2,7 @@
 
     node(Id, Label)   parent(Id, ParentId)   agent(Id, Agent)   objects(Id, [O, ...])
     pre(Id, C)        entry(Id, C)           post(Id, C)        k(Id, K)
+    kind(Id, action | subtask)
 
 Ids are pre-order positions (the root is 0); conditions are canonical terms, so two
 equal conditions unify.
@@ -33,6 +34,7 @@ def tree_facts(root: Behaviour) -> list[Term]:
         for name, c in (("pre", node.pre), ("entry", node.entry), ("post", node.post)):
             facts.append(Struct(name, (me, cond.to_term(cond.canonical(c)))))
         facts.append(Struct("k", (me, Int(node.k))))
+        facts.append(Struct("kind", (me, Atom("subtask" if node.children else "action"))))
         stack.extend((child, me.value) for child in reversed(node.children))
     return facts
 

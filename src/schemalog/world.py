@@ -94,7 +94,7 @@ class World:
         self._effects: dict[Condition, Effect] = {}
         self._atoms: set[Term] = set()
         self._before: dict[Term, bool] = {}
-        self.hash = 0
+        self._hash: int | None = 0
         self.reset(initial)
 
     # -- reading --------------------------------------------------------------
@@ -125,6 +125,27 @@ class World:
         self._settle(range(len(self.completions)))
         return self._change()
 
+    @property
+    def hash(self) -> int:
+        """A 64-bit hash of the state, kept up to date as atoms change (the executive's loop check)."""
+        if self._hash is None:
+            self._hash = 0
+            for atom in self._atoms:
+                self._hash ^= atom_key(atom)
+        return self._hash
+
+    def load(self, atoms: frozenset[Term]) -> None:
+        """Put the world in a state known to be settled (one it produced), without settling."""
+        self._atoms = set(atoms)
+        self._hash = None
+
+    def successor(self, atoms: frozenset[Term], post: Condition) -> frozenset[Term]:
+        """The settled state after executing a leaf with post-condition `post` in state `atoms`."""
+        self.load(atoms)
+        self._before = {}
+        self._settle(sorted(self._apply(post)))
+        return frozenset(self._atoms)
+
     def perform(self, post: Condition) -> Change:
         """Execute a leaf whose post-condition is `post`; return what changed, completion included."""
         self._before = {}
@@ -141,7 +162,8 @@ class World:
             self._atoms.add(atom)
         else:
             self._atoms.discard(atom)
-        self.hash ^= atom_key(atom)
+        if self._hash is not None:
+            self._hash ^= atom_key(atom)
         return True
 
     def _apply(self, post: Condition) -> set[int]:

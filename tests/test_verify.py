@@ -1,0 +1,147 @@
+"""Verification: soundness and completion of compressed trees, with counterexamples."""
+
+import pytest
+from hypothesis import HealthCheck, assume, given, settings, strategies as st
+
+from schemalog import conditions as cond
+from schemalog.compress import Compressor, compress, with_origins
+from schemalog.documents import load_kb
+from schemalog.generate import generate
+from schemalog.parse import parse_term
+from schemalog.terms import term_to_text
+from schemalog.tree import Behaviour, instantiate
+from schemalog.verify import Verifier, all_states, constraints, free_atoms
+from schemalog.world import World, initial_state
+
+from conftest import COFFEE, MIX
+from test_compress import task_trees
+
+
+def t(text):
+    return parse_term(text)
+
+
+def c(text):
+    return cond.from_term(parse_term(text))
+
+
+def loaded(path, label):
+    kb = load_kb([path])
+    return kb, instantiate(kb, t(label))
+
+
+FIG2_KB, FIG2 = loaded(MIX, "use(spoon)")
+COFFEE_KB, COFFEE_TREE = loaded(COFFEE, "prepareboth")
+
+
+def verify(original, compressed, kb=None, states="default", **kw):
+    world = World(original)
+    if states == "all":
+        initial = all_states(world, free_atoms(kb, original), constraints(kb))
+    else:
+        world.reset(initial_state(kb) if kb is not None else [])
+        initial = [world.atoms]
+    return Verifier(original, compressed, world, **kw).verify(initial)
+
+
+@pytest.mark.parametrize("propagate", ["pre", "full"])
+@pytest.mark.parametrize("states", ["default", "all"])
+def test_figure_2_compressed_is_sound_and_complete(propagate, states):
+    report = verify(FIG2, compress(FIG2, propagate).tree, FIG2_KB, states)
+    assert report.sound and report.complete and report.exhaustive
+    assert len(report.initial_states) == (4 if states == "all" else 1)
+
+
+def test_figure_2_without_propagation_shows_the_aliasing():
+    report = verify(FIG2, compress(FIG2, "none").tree, FIG2_KB)
+    assert not report.sound
+    ce = report.properties["soundness"].counterexample
+    assert ce.path == () and term_to_text(ce.behaviour) == "a3_a4_a5_a6_a7(cup)"
+    assert term_to_text(ce.action) == "a3(cup)"
+    assert ce.reasons == ("use(spoon) > subtask(mix,spoon) > a3(cup): subtask(mix,spoon)'s pre-condition "
+                          "spoon.taken is false (false: spoon.taken)",)
+
+
+def test_coffee_and_tea_is_sound_with_full_propagation_from_every_allowed_state():
+    report = verify(COFFEE_TREE, compress(COFFEE_TREE, "full").tree, COFFEE_KB, "all")
+    assert report.sound and report.complete and report.exhaustive
+    assert len(report.initial_states) == 64
+    assert report.properties["flexibility"].holds
+
+
+def test_coffee_and_tea_under_the_papers_rule_has_a_counterexample():
+    """DESIGN.md section 4: propagating only the parent's pre-condition is not sound."""
+    report = verify(COFFEE_TREE, compress(COFFEE_TREE, "pre").tree, COFFEE_KB)
+    assert not report.sound and report.complete
+    ce = report.properties["soundness"].counterexample
+    assert term_to_text(ce.action) == "gripper(close)"
+    steps = [term_to_text(s.behaviour) for s in ce.path]
+    assert steps[-1] == "gripper(open)" and "a3_a4_a5_a6_a7(cup)" in steps
+    assert any("add(water) is accomplished (water.used holds)" in r for r in ce.reasons)
+    # the counterexample is a real run: replaying its actions through the compressed tree
+    # reaches the reported state
+    world = World(COFFEE_TREE, initial_state(COFFEE_KB))
+    for step in ce.path:
+        for action in step.actions:
+            leaf = next(n for n in _leaves(COFFEE_TREE) if n.label == action)
+            world.perform(leaf.post)
+    assert world.atoms == ce.state
+
+
+def _leaves(tree):
+    from schemalog.tree import walk
+    return [n for n in walk(tree) if not n.children]
+
+
+def test_a_merged_action_and_sub_task_would_get_stuck():
+    """What Definition 1's same-kind condition prevents: merging an action with a sub-task."""
+    act = Behaviour(t("b3(cup)"), objects=(t("cup"),), post=c("b3.done"))
+    sub = Behaviour(t("b4(cup)"), objects=(t("cup"),), releaser=c("b3.done"), post=c("b4.done"),
+                    children=(Behaviour(t("b7(cup)"), objects=(t("cup"),), post=c("b7.done")),))
+    original = Behaviour(t("r"), post=c("r.done"), children=(act, sub))
+    assert compress(original).nodes_after == 4                  # r, b3, b4, b7: nothing merged
+    stamped = with_origins(original)
+    merged = Compressor().merge(list(stamped.children), t("b3_b4(cup)"))
+    forced = Behaviour(t("r"), post=c("r.done"), children=(merged,), origins=stamped.origins)
+    report = verify(original, forced)
+    assert not report.complete
+    ce = report.properties["completion"].counterexample
+    assert ce.reasons[0] == "the original could still take: b3(cup)"
+
+
+def test_trace_counts_and_a_lost_interleaving():
+    two = Behaviour(t("r"), post=c("a.done and b.done"), children=(
+        Behaviour(t("s"), post=c("a.done"), children=(Behaviour(t("a"), post=c("a.done")),)),
+        Behaviour(t("u"), post=c("b.done"), children=(Behaviour(t("b"), post=c("b.done")),))))
+    report = verify(two, compress(two).tree)
+    assert report.properties["traces"].summary.startswith("the original has 2 complete trace(s), "
+                                                          "the compressed tree 2")
+    report = verify(COFFEE_TREE, compress(COFFEE_TREE).tree, COFFEE_KB)
+    traces = report.properties["traces"]
+    assert not traces.holds and traces.details["lost_example"]["trace"][0] == "a1(water)"
+
+
+def test_the_state_limit_makes_the_result_no_proof():
+    report = verify(COFFEE_TREE, compress(COFFEE_TREE).tree, COFFEE_KB, max_states=20)
+    assert not report.exhaustive
+    assert report.properties["soundness"].holds is None
+    assert "not all" in report.properties["soundness"].summary
+
+
+@settings(max_examples=150, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(task_trees(max_children=3, levels=4))
+def test_full_propagation_is_sound_and_complete_on_random_trees(tree):
+    report = verify(tree, compress(tree, "full").tree, max_states=5_000)
+    assume(report.exhaustive)
+    assert report.sound, report.properties["soundness"].counterexample
+    assert report.complete, report.properties["completion"].counterexample
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(2, 4), st.integers(1, 3), st.sampled_from([0.3, 0.5, 0.7]), st.integers(0, 10**6))
+def test_generated_tasks_compress_soundly(depth, branching, rd, seed):
+    tree = generate(depth, branching, rd, seed)
+    report = verify(tree, compress(tree).tree, max_states=20_000)
+    assume(report.exhaustive)
+    assert report.sound and report.complete
