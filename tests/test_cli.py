@@ -363,3 +363,52 @@ def test_run_review_regressions(tmp_path):
     r = run("run", MIX, "--fail", "subtask(take,spoon)", "--propagate", "pre")
     assert "no action (leaf behaviour)" in r.stderr and "--propagate applies with --compressed" in r.stderr
     assert run("run", MIX, "--state", "").returncode == run("run", MIX, "--state", "not a.b").returncode == 2
+
+
+# --- verify -----------------------------------------------------------------
+
+def test_verify_proves_full_propagation_and_refutes_the_papers_rule():
+    r = run("verify", COFFEE, "--task", "prepareboth")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "soundness (no perceptual aliasing): holds" in r.stdout
+    assert "result: the compressed tree is sound and complete (exit 0)" in r.stdout
+    r = run("verify", COFFEE, "--propagate", "pre")
+    assert r.returncode == 1
+    assert "counterexample, from the initial state kukahand.free:" in r.stdout
+    assert "    then the compressed tree takes gripper(close)" in r.stdout
+    assert "add(water) is accomplished (water.used holds)" in r.stdout
+
+
+def test_verify_json_and_all_states():
+    data = json.loads(run("verify", MIX, "--states", "all", "--propagate", "none", "--json").stdout)
+    assert data["sound"] is False and data["states"] == 4 and data["exhaustive"] is True
+    ce = data["counterexample"]
+    assert ce["action"] and ce["reasons"] and isinstance(ce["run"], list)
+    assert set(data["properties"]) == {"soundness", "completion", "flexibility", "traces", "selection"}
+    data = json.loads(run("verify", COFFEE, "--states", "all", "--json").stdout)
+    assert (data["sound"], data["complete"], data["states"]) == (True, True, 64)
+
+
+def test_verify_a_compressed_file_against_its_original(tmp_path):
+    out = tmp_path / "pre.pl"
+    assert run("compress", COFFEE, "--propagate", "pre", "-o", out).returncode == 0
+    r = run("verify", COFFEE, out)
+    assert r.returncode == 1 and f"compressed 33 ({out})" in r.stdout
+    r = run("verify", out)                        # the file alone: its provenance gives the original
+    assert r.returncode == 1 and "(the compressed file)" in r.stdout
+
+
+def test_verify_inconclusive_runs_say_so():
+    r = run("verify", COFFEE, "--max-states", "30")
+    assert r.returncode == 3 and "NOT a proof" in r.stdout and "soundness (no perceptual aliasing): unknown" in r.stdout
+    r = run("verify", COFFEE, "--sample", "20", "--seed", "4")
+    assert r.returncode == 3 and "sampled:" in r.stdout
+    r = run("verify", COFFEE, "--sample", "20", "--propagate", "pre")
+    assert r.returncode == 1 and "counterexample" in r.stdout
+
+
+def test_verify_bad_input():
+    for bad in (("verify", MIX, MIX), ("verify", MIX, "--states", "not hand.free"),
+                ("verify", MIX, MIX, MIX), ("verify", MIX, "--max-states", "0")):
+        r = run(*bad)
+        assert r.returncode == 2 and "Traceback" not in r.stderr, (bad, r.stderr)
