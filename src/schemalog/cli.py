@@ -28,7 +28,7 @@ from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
 from .execute import DEFAULT_RETRIES, SELECTORS, Decision, Executive, RobotManager
 from .scene import NO_SCENE, Scene, object_name, read_scene
-from .verify import DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms
+from .verify import DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms, verify_by_parts
 from .world import World, initial_state, state_atoms
 from .tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate, walk
 
@@ -352,9 +352,12 @@ def cmd_verify(args: argparse.Namespace) -> int:
     initial = _initial_states(args, kb, world, task)
     scene = _scene(argparse.Namespace(**{**vars(args), "seed": None}), original)  # --seed samples here
     verifier = Verifier(original, compressed, world, max_states=args.max_states)
+    report = None
     if args.sample:
         report = verifier.sample(initial, args.sample, args.seed or 0, scene, task)
-    else:
+    elif not args.no_split:
+        report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
+    if report is None:
         report = verifier.verify(initial, scene, task)
     if args.json:
         _emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
@@ -439,6 +442,7 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
               f"{report.seconds:.2f} s (NOT a proof)" if report.sampled else
               f"explored {report.compressed_states:,} states of the compressed tree and "
               f"{report.original_states:,} of the original in {report.seconds:.2f} s"
+              + (f", in {report.parts} independent parts" if report.parts > 1 else "")
               + ("" if report.exhaustive else " (stopped at --max-states: NOT a proof)")), ""]
     titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",
               "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
@@ -501,7 +505,7 @@ def verify_json(report, how: str, before: int, after: int) -> dict:
         "states": len(report.initial_states),
         "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
         "explored": {"compressed": report.compressed_states, "original": report.original_states,
-                     "seconds": report.seconds},
+                     "seconds": report.seconds, "parts": report.parts, "sampled": report.sampled},
         "counterexample": ce_json(report.properties["soundness"].counterexample
                                   or report.properties["completion"].counterexample),
         "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),
@@ -745,6 +749,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-states", type=_positive, default=DEFAULT_MAX_STATES, metavar="N",
                    help=f"stop exploring after N states per tree; the result then says it is no proof "
                         f"(default {DEFAULT_MAX_STATES:,})")
+    p.add_argument("--no-split", action="store_true",
+                   help="explore the whole task even where it splits into independent parts")
     p.add_argument("--sample", type=_positive, metavar="RUNS",
                    help="check RUNS random runs instead of every state: finds violations, proves nothing "
                         "(exit 3 when none is found)")

@@ -175,6 +175,7 @@ class Report:
     seconds: float
     exhaustive: bool = True
     sampled: bool = False
+    parts: int = 1
 
     @property
     def sound(self) -> bool:
@@ -711,5 +712,180 @@ def _word(parent, node) -> list[Term]:
     return list(reversed(word))
 
 
+
+# ---------------------------------------------------------------------------
+# Independent parts: an exact reduction (docs/semantics.md, "Independent parts")
+
+def _atoms_of(node: Behaviour) -> set[Term]:
+    """Every atom a condition of `node`'s subtree reads or sets."""
+    found: set[Term] = set()
+    stack = [node]
+    while stack:
+        n = stack.pop()
+        for c in (n.pre, n.post):
+            found.update(lit.atom for lit in cond.literals(c))
+        stack.extend(n.children)
+    return found
+
+
+def _written_inside(node: Behaviour) -> set[Term]:
+    """The atoms the post-conditions below `node` set (its own post excluded)."""
+    found: set[Term] = set()
+    stack = list(node.children)
+    while stack:
+        n = stack.pop()
+        found.update(lit.atom for lit in cond.literals(n.post))
+        stack.extend(n.children)
+    return found
+
+
+def _read_inside(node: Behaviour) -> set[Term]:
+    found: set[Term] = set()
+    for child in node.children:
+        found |= _atoms_of(child)
+    return found
+
+
+@dataclass
+class Part:
+    """One independent part: the original behaviours and their compressed counterparts."""
+
+    label: Term
+    original: Behaviour
+    compressed: Behaviour
+    atoms: frozenset
+
+
+def independent_parts(original: Behaviour, compressed: Behaviour, initial: list[State]) -> list[Part] | None:
+    """Split a task into parts that share no atom, recursively, where that is exact; None when
+    the task does not split.
+
+    At a behaviour X (the root, then an unmerged behaviour alone in its part), the children are
+    grouped by shared atoms. Splitting is exact when X's post-condition is set only by X's
+    completion and read by none of its descendants, and X's pre-condition is set by none of them,
+    holds, and X's post does not, in every covered initial state: then X stays active until all
+    its children are accomplished, each group runs on its own atoms, and a group whose children
+    are all accomplished is frozen. Compression merges only siblings that share an atom, so each
+    compressed child falls in one group."""
+    parts: list[Part] = []
+    if not _split(original, compressed, initial, parts, depth=0):
+        return None
+    return parts if len(parts) > 1 else None
+
+
+def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], depth: int) -> bool:
+    post_atoms = {lit.atom for lit in cond.literals(o.post)}
+    inside = _read_inside(o)
+    if not o.children or post_atoms & inside or {lit.atom for lit in cond.literals(o.pre)} & _written_inside(o):
+        return False
+    if depth and not all(cond.holds(o.pre, s) and not cond.holds(o.post, s) for s in initial):
+        return False
+    if depth == 0 and any(cond.holds(o.post, s) for s in initial):
+        return False
+    atoms = [_atoms_of(child) for child in o.children]
+    group = list(range(len(o.children)))
+
+    def find(i: int) -> int:
+        while group[i] != i:
+            group[i] = group[group[i]]
+            i = group[i]
+        return i
+
+    owner: dict[Term, int] = {}
+    for i, found in enumerate(atoms):
+        for atom in found:
+            if atom in owner:
+                group[find(i)] = find(owner[atom])
+            else:
+                owner[atom] = i
+    members: dict[int, list[int]] = {}
+    for i in range(len(o.children)):
+        members.setdefault(find(i), []).append(i)
+    mapped: dict[int, list[Behaviour]] = {}
+    for child in c.children:
+        positions = {origin.position for origin in child.origins if origin.slot == 0}
+        if not child.origins or len(positions) != len(child.origins):
+            return False
+        roots = {find(p) for p in positions if p < len(o.children)}
+        if len(roots) != 1:
+            return False
+        mapped.setdefault(roots.pop(), []).append(child)
+    if len(members) == 1 and depth > 0:
+        return False
+    for root, indices in members.items():
+        o_kids = tuple(o.children[i] for i in indices)
+        c_kids = tuple(mapped.get(root, ()))
+        group_atoms = frozenset().union(*(atoms[i] for i in indices))
+        if len(o_kids) == 1 and len(c_kids) == 1 and len(c_kids[0].origins) == 1 and \
+                c_kids[0].context == cond.TRUE:
+            projected = list(dict.fromkeys(frozenset(s & group_atoms) for s in initial))
+            nested: list[Part] = []
+            if _split(o_kids[0], c_kids[0], projected, nested, depth + 1):
+                parts.extend(nested)
+                continue
+        post = cond.conjoin([k.post for k in o_kids])
+        parts.append(Part(o.label, Behaviour(o.label, post=post, children=o_kids),
+                          Behaviour(o.label, post=post, children=c_kids, origins=c.origins[:1]), group_atoms))
+    return True
+
+
+def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
+                    scene: Scene | None = None, task: Term | None = None,
+                    max_states: int = DEFAULT_MAX_STATES) -> Report | None:
+    """Verify each independent part on its own and combine (None if the task does not split)."""
+    parts = independent_parts(original, compressed, initial)
+    if parts is None:
+        return None
+    started = time.perf_counter()
+    reports = []
+    for part in parts:
+        part_world = World(part.original)
+        projected = []
+        for s in initial:
+            part_world.reset(s & part.atoms)
+            projected.append(frozenset(part_world.atoms))
+        projected = list(dict.fromkeys(projected))
+        verifier = Verifier(part.original, part.compressed, part_world, max_states)
+        parent, succ, order, unsound, stuck, exhaustive = verifier._explore_compressed(projected)
+        soundness = verifier._soundness(unsound, parent, exhaustive, len(order))
+        good_o, o_states, o_exhaustive = verifier._can_complete_original(order)
+        good_c = _backward(order, succ, verifier.compressed.accomplished)
+        completion = verifier._completion(projected, parent, order, stuck, good_o, good_c,
+                                          exhaustive and o_exhaustive)
+        reports.append((part, soundness, completion, len(order), o_states, exhaustive and o_exhaustive))
+    whole = Verifier(original, compressed, world, max_states)
+    props: dict[str, Verdict] = {}
+    for name, index in (("soundness", 1), ("completion", 2)):
+        failed = next((r for r in reports if r[index].holds is False), None)
+        unknown = any(r[index].holds is None for r in reports)
+        if failed is not None:
+            verdict = failed[index]
+            props[name] = Verdict(name, False, f"{verdict.summary} (in the part of {len(failed[0].atoms)} atoms "
+                                               f"under {term_to_text(failed[0].label)})",
+                                  _lift(verdict.counterexample, failed[0], initial))
+        else:
+            props[name] = Verdict(name, None if unknown else True,
+                                  f"holds in each of {len(parts)} independent parts"
+                                  + (" (some within the state limit only: not a proof)" if unknown else ""))
+    props["flexibility"] = whole._flexibility(initial)
+    props["traces"] = Verdict("traces", None, f"not counted: the task was verified in {len(parts)} "
+                                              f"independent parts, whose interleavings are not enumerated")
+    props["selection"] = whole._selection(initial, scene)
+    exhaustive = all(r[5] for r in reports)
+    return Report(task if task is not None else compressed.label, initial, props,
+                  sum(r[3] for r in reports), sum(r[4] for r in reports),
+                  time.perf_counter() - started, exhaustive, parts=len(parts))
+
+
+def _lift(ce: Counterexample | None, part: Part, initial: list[State]) -> Counterexample | None:
+    """A part's counterexample as a run of the whole task: the other parts stay as they were."""
+    if ce is None:
+        return None
+    whole = next((s for s in initial if s & part.atoms == ce.initial & part.atoms), initial[0])
+    outside = whole - part.atoms
+    return Counterexample(whole, ce.path, outside | ce.state, ce.behaviour, ce.where, ce.done_first,
+                          ce.action, ce.reasons)
+
+
 __all__ = ["Verifier", "Report", "Verdict", "Counterexample", "Step", "Model", "free_atoms", "constraints",
-           "all_states", "DEFAULT_MAX_STATES"]
+           "all_states", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part"]
