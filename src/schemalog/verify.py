@@ -35,8 +35,9 @@ from .world import World, state_atoms
 State = frozenset
 Action = tuple[Term, Condition]           # an original action: its label and post-condition
 
-DEFAULT_MAX_STATES = 200_000
+DEFAULT_MAX_STATES = 50_000
 MAX_FREE_ATOMS = 16
+CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, states can be large
 
 
 # ---------------------------------------------------------------------------
@@ -51,7 +52,9 @@ class Model:
         self.world = world
         self._enabled: dict[State, list[int]] = {}
         self._steps: dict[tuple[State, int], tuple[tuple[Action, ...], tuple[State, ...]]] = {}
-        self._allowed: dict[State, set[Action]] = {}
+        self._leaves_of: dict[Action, list[int]] = {}
+        for i in self.plan.leaves:
+            self._leaves_of.setdefault(self.plan.steps[i][0], []).append(i)
 
     def accomplished(self, state: State) -> bool:
         return cond.holds(self.plan.post[0], state)
@@ -59,6 +62,8 @@ class Model:
     def enabled(self, state: State) -> list[int]:
         found = self._enabled.get(state)
         if found is None:
+            if len(self._enabled) > CACHE_LIMIT:
+                self._enabled.clear()
             found = self._enabled[state] = [] if self.accomplished(state) else enabled_indices(self.plan, state)
         return found
 
@@ -77,15 +82,24 @@ class Model:
                 current = self.world.successor(current, post)
                 actions.append((label, post))
                 states.append(current)
+            if len(self._steps) > CACHE_LIMIT:
+                self._steps.clear()
             found = self._steps[key] = (tuple(actions), tuple(states))
         return found
 
-    def allowed(self, state: State) -> set[Action]:
-        """The actions this (original) tree can take in `state`."""
-        found = self._allowed.get(state)
-        if found is None:
-            found = self._allowed[state] = {self.plan.steps[i][0] for i in self.enabled(state)}
-        return found
+    def allows(self, state: State, action: Action) -> bool:
+        """Whether this (original) tree enables a leaf doing `action` in `state`: that leaf and
+        every ancestor active, the task not accomplished."""
+        if self.accomplished(state):
+            return False
+        plan = self.plan
+        for i in self._leaves_of.get(action, ()):
+            j = i
+            while j >= 0 and cond.holds(plan.pre[j], state) and not cond.holds(plan.post[j], state):
+                j = plan.parent[j]
+            if j < 0:
+                return True
+        return False
 
     def label(self, leaf: int) -> Term:
         return self.plan.nodes[leaf].label
@@ -304,7 +318,7 @@ class Verifier:
                 actions, states = c.step(s, leaf)
                 before = s
                 for k, action in enumerate(actions):
-                    if action not in o.allowed(before):
+                    if not o.allows(before, action):
                         if unsound is None:
                             unsound = (first, tuple(path), s, leaf, k, before)
                         break
@@ -371,7 +385,7 @@ class Verifier:
                 if unsound is None:
                     before = s
                     for k, action in enumerate(actions):
-                        if action not in o.allowed(before):
+                        if not o.allows(before, action):
                             unsound = (s, leaf, k, before)
                             break
                         before = states[k]
