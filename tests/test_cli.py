@@ -412,3 +412,14 @@ def test_verify_bad_input():
                 ("verify", MIX, MIX, MIX), ("verify", MIX, "--max-states", "0")):
         r = run(*bad)
         assert r.returncode == 2 and "Traceback" not in r.stderr, (bad, r.stderr)
+
+
+def test_verify_refuses_a_compressed_file_of_another_task(tmp_path):
+    out = tmp_path / "coffee_only.pl"
+    assert run("compress", COFFEE, "--task", "preparecoffee", "-o", out).returncode == 0
+    r = run("verify", COFFEE, out)
+    assert r.returncode == 1 and "compresses preparecoffee" in r.stderr
+    r = run("verify", COFFEE, out, "--task", "preparecoffee")
+    assert r.returncode == 0, r.stdout
+    data = json.loads(run("verify", MIX, "--sample", "20", "--json").stdout)
+    assert data["sound"] is None and data["complete"] is None       # nothing proved

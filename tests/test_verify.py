@@ -190,3 +190,46 @@ def test_parts_and_the_whole_give_the_same_verdict(tree, propagate):
     parts = verify_by_parts(tree, compressed, World(tree), initial, max_states=5_000)
     assume(whole.exhaustive and parts is not None and parts.exhaustive)
     assert (parts.sound, parts.complete) == (whole.sound, whole.complete)
+
+
+# --- regressions found in review ----------------------------------------------
+
+def test_a_state_limit_never_invents_a_completion_counterexample():
+    report = verify(COFFEE_TREE, compress(COFFEE_TREE).tree, COFFEE_KB, max_states=100)
+    assert not report.exhaustive and not report.violated
+    assert report.properties["completion"].holds is None
+
+
+def test_a_part_stuck_while_another_part_loops_is_not_a_dead_end_of_the_whole():
+    """Part A's merged behaviour is accomplished early; part B can toggle for ever."""
+    a1 = Behaviour(t("b1(cup)"), objects=(t("cup"),), post=c("b1.done"))
+    a2 = Behaviour(t("b2(cup)"), objects=(t("cup"),), releaser=c("b1.done"), post=c("b2.done"))
+    part_a = Behaviour(t("pa"), post=c("pa.done"), children=(a1, a2))
+    on = Behaviour(t("c1(y)"), objects=(t("y"),), releaser=c("not y.on"), post=c("y.on"))
+    off = Behaviour(t("c2(y)"), objects=(t("y"),), releaser=c("y.on"), post=c("not y.on"))
+    part_b = Behaviour(t("pb"), post=c("pb.done"), children=(on, off))
+    root = Behaviour(t("r"), post=c("g.on"), children=(part_a, part_b))
+    compressed = compress(root).tree
+    for start in ([t("b2.done")], []):
+        world = World(root, start)
+        whole = Verifier(root, compressed, World(root, start)).verify([world.atoms])
+        parts = verify_by_parts(root, compressed, world, [world.atoms])
+        assert parts is not None
+        assert (parts.sound, parts.complete) == (whole.sound, whole.complete)
+
+
+def test_parts_check_the_compressed_behaviour_itself():
+    """A compressed file whose unmerged sub-task got another releaser is not split away."""
+    from dataclasses import replace
+    tb = Behaviour(t("tb(y)"), objects=(t("y"),), post=c("tb.done"), children=(
+        Behaviour(t("c1(y)"), objects=(t("y"),), post=c("c1.done")),))
+    ta = Behaviour(t("ta(cup)"), objects=(t("cup"),), post=c("ta.done"), children=(
+        Behaviour(t("a1(cup)"), objects=(t("cup"),), post=c("a1.done")),))
+    root = Behaviour(t("r"), post=c("r.done"), children=(ta, tb))
+    good = compress(root).tree
+    edited = replace(good, children=(good.children[0], replace(good.children[1], releaser=c("zz.on"))))
+    world = World(root)
+    parts = verify_by_parts(root, edited, world, [world.atoms])
+    whole = Verifier(root, edited, World(root)).verify([world.atoms])
+    assert not whole.complete
+    assert parts is None or not parts.complete

@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
+from . import conditions as cond
 from .documents import YAML_SUFFIXES, Document, read_document, to_pl, to_yaml, write_atomically
 from .engine import PrologError
 from .errors import SchemalogError, UsageError
@@ -380,10 +381,17 @@ def _verify_inputs(args: argparse.Namespace):
         task = _choose_tasks(first, args.task)[0]
         other_tasks = declared_tasks(second) or [task]
         compressed = _instantiate(second, other_tasks[0] if args.task is None else task, args)
+        for kb in (first, second):
+            for warning in kb.warnings:
+                print(warning, file=sys.stderr)
         if any(n.origins for n in walk(compressed)):
-            original = _instantiate(first, task, args)
-            rebuilt = original_of(compressed)
-            if rebuilt != original:
+            original = original_of(_instantiate(first, task, args))
+            if (compressed.label, compressed.post) != (original.label, original.post):
+                raise SchemalogError(
+                    f"{args.files[1]} compresses {term_to_text(compressed.label)} (post-condition "
+                    f"{cond.to_text(compressed.post)}), not {term_to_text(original.label)} of {args.files[0]} "
+                    f"({cond.to_text(original.post)}): name the task with --task")
+            if original_of(compressed) != original:
                 print(f"note: the provenance of {args.files[1]} does not rebuild {args.files[0]}'s "
                       f"{term_to_text(task)} exactly; the world is the original file's", file=sys.stderr)
             return first, original, compressed, f"{args.files[1]}", [*first.files, *second.files]
@@ -501,7 +509,8 @@ def verify_json(report, how: str, before: int, after: int) -> dict:
                 "reasons": list(ce.reasons)}
     return {
         "task": term_to_text(report.task), "compressed": how, "behaviours": {"original": before, "compressed": after},
-        "sound": report.sound, "complete": report.complete, "exhaustive": report.exhaustive,
+        "sound": report.properties["soundness"].holds, "complete": report.properties["completion"].holds,
+        "exhaustive": report.exhaustive,
         "states": len(report.initial_states),
         "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
         "explored": {"compressed": report.compressed_states, "original": report.original_states,

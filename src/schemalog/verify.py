@@ -363,9 +363,11 @@ class Verifier:
         succ: dict[State, list[State]] = {}
         order: list[State] = []
         queue: deque[State] = deque()
+        interned: dict[State, State] = {}                  # one object per state (memory)
         for s in initial:
             if s not in parent:
                 parent[s] = None
+                interned[s] = s
                 queue.append(s)
         unsound = None
         stuck: list[State] = []
@@ -390,13 +392,17 @@ class Verifier:
                             break
                         before = states[k]
                 after = states[-1] if states else s
+                known = interned.get(after)
+                if known is not None:
+                    nexts.append(known)
+                    continue
+                if len(parent) >= self.max_states:
+                    exhaustive = False
+                    continue
+                interned[after] = after
                 nexts.append(after)
-                if after not in parent:
-                    if len(parent) >= self.max_states:
-                        exhaustive = False
-                        continue
-                    parent[after] = (s, leaf)
-                    queue.append(after)
+                parent[after] = (s, leaf)
+                queue.append(after)
         return parent, succ, order, unsound, stuck, exhaustive
 
     def _path(self, parent, state: State) -> tuple[State, tuple[Step, ...]]:
@@ -429,7 +435,8 @@ class Verifier:
         o = self.original
         succ: dict[State, list[State]] = {}
         queue = deque(seeds)
-        seen = set(seeds)
+        seen: dict[State, State] = {s: s for s in seeds}     # one object per state (memory)
+        budget = len(seen) + self.max_states                  # its own budget beyond the seeds
         order = []
         exhaustive = True
         while queue:
@@ -439,13 +446,16 @@ class Verifier:
             for leaf in o.enabled(s):
                 _, states = o.step(s, leaf)
                 after = states[-1] if states else s
+                known = seen.get(after)
+                if known is not None:
+                    nexts.append(known)
+                    continue
+                if len(seen) >= budget:
+                    exhaustive = False
+                    continue
+                seen[after] = after
                 nexts.append(after)
-                if after not in seen:
-                    if len(seen) >= self.max_states:
-                        exhaustive = False
-                        continue
-                    seen.add(after)
-                    queue.append(after)
+                queue.append(after)
         self._original_succ = succ
         return _backward(order, succ, o.accomplished), len(order), exhaustive
 
@@ -461,6 +471,10 @@ class Verifier:
                 ce = Counterexample(first, path, s, reasons=(
                     f"the original could still take: {offered}", *blocked))
                 return Verdict("completion", False, "the compressed tree gets stuck where the original does not", ce)
+        if not exhaustive:   # dead ends and completing states need the whole graph
+            return Verdict("completion", None, "no state where only the compressed tree is stuck among the "
+                                               "explored ones; the rest needs the whole graph (state limit "
+                                               "reached: not a proof)")
         for s in order:
             if s in good_o and s not in good_c:
                 first, path = self._path(parent, s)
@@ -505,7 +519,11 @@ class Verifier:
         rows = []
         example = None
         for s in initial:
-            n_o, n_c = o_counts.get(s, 0), c_counter.count(s)
+            n_c = c_counter.count(s) if o_counts is not None else None
+            if o_counts is None or n_c is None:
+                return Verdict("traces", None, "not counted: too many traces to enumerate "
+                                               "(more than 500,000 automaton states)")
+            n_o = o_counts.get(s, 0)
             rows.append({"state": _state_text(s), "original": _num(n_o), "compressed": _num(n_c)})
             if example is None and n_o != n_c:
                 example = _missing_trace(self.original, c_counter, s)
@@ -604,7 +622,7 @@ def count_words(starts, moves, accepting, limit: int = 500_000) -> dict:
         for n in succ[node]:
             if n not in seen:
                 if len(seen) >= limit:
-                    return {}
+                    return None
                 seen.add(n)
                 queue.append(n)
     good = _backward(list(succ), succ, accepting)
@@ -690,9 +708,10 @@ class _CompressedTraces:
     def accepting(self, node: tuple) -> bool:
         return any(leaf < 0 and self.c.accomplished(origin) for origin, leaf, _ in node[1])
 
-    def count(self, s: State) -> int | float:
+    def count(self, s: State) -> int | float | None:
         root = self.start(s)
-        return count_words([root], self.moves, self.accepting).get(root, 0)
+        counts = count_words([root], self.moves, self.accepting)
+        return None if counts is None else counts.get(root, 0)
 
 
 def _missing_trace(o: Model, c: _CompressedTraces, s: State) -> list[Term] | None:
@@ -788,13 +807,16 @@ def independent_parts(original: Behaviour, compressed: Behaviour, initial: list[
 
 
 def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], depth: int) -> bool:
+    # X stands for itself in both trees: the same conditions, active in every initial state
+    if cond.canonical(o.pre) != cond.canonical(c.pre) or cond.canonical(o.post) != cond.canonical(c.post):
+        return False
+    if not all(cond.holds(o.pre, s) for s in initial):
+        return False
     post_atoms = {lit.atom for lit in cond.literals(o.post)}
     inside = _read_inside(o)
     if not o.children or post_atoms & inside or {lit.atom for lit in cond.literals(o.pre)} & _written_inside(o):
         return False
-    if depth and not all(cond.holds(o.pre, s) and not cond.holds(o.post, s) for s in initial):
-        return False
-    if depth == 0 and any(cond.holds(o.post, s) for s in initial):
+    if any(cond.holds(o.post, s) for s in initial):
         return False
     atoms = [_atoms_of(child) for child in o.children]
     group = list(range(len(o.children)))
@@ -830,8 +852,7 @@ def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], 
         o_kids = tuple(o.children[i] for i in indices)
         c_kids = tuple(mapped.get(root, ()))
         group_atoms = frozenset().union(*(atoms[i] for i in indices))
-        if len(o_kids) == 1 and len(c_kids) == 1 and len(c_kids[0].origins) == 1 and \
-                c_kids[0].context == cond.TRUE:
+        if len(o_kids) == 1 and len(c_kids) == 1 and len(c_kids[0].origins) == 1:
             projected = list(dict.fromkeys(frozenset(s & group_atoms) for s in initial))
             nested: list[Part] = []
             if _split(o_kids[0], c_kids[0], projected, nested, depth + 1):
@@ -846,56 +867,102 @@ def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], 
 def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
                     scene: Scene | None = None, task: Term | None = None,
                     max_states: int = DEFAULT_MAX_STATES) -> Report | None:
-    """Verify each independent part on its own and combine (None if the task does not split)."""
+    """Verify each independent part on its own and combine exactly (None if the task does not
+    split, or when more than one initial state is covered)."""
+    if len(initial) != 1:
+        return None
     parts = independent_parts(original, compressed, initial)
     if parts is None:
         return None
     started = time.perf_counter()
-    reports = []
+    whole_initial = initial[0]
+    facts = []
     for part in parts:
         part_world = World(part.original)
-        projected = []
-        for s in initial:
-            part_world.reset(s & part.atoms)
-            projected.append(frozenset(part_world.atoms))
-        projected = list(dict.fromkeys(projected))
-        verifier = Verifier(part.original, part.compressed, part_world, max_states)
-        parent, succ, order, unsound, stuck, exhaustive = verifier._explore_compressed(projected)
-        soundness = verifier._soundness(unsound, parent, exhaustive, len(order))
-        good_o, o_states, o_exhaustive = verifier._can_complete_original(order)
-        good_c = _backward(order, succ, verifier.compressed.accomplished)
-        completion = verifier._completion(projected, parent, order, stuck, good_o, good_c,
-                                          exhaustive and o_exhaustive)
-        reports.append((part, soundness, completion, len(order), o_states, exhaustive and o_exhaustive))
+        part_world.reset(whole_initial & part.atoms)
+        start = frozenset(part_world.atoms)
+        v = Verifier(part.original, part.compressed, part_world, max_states)
+        parent, succ, order, unsound, stuck, exhaustive = v._explore_compressed([start])
+        good_o, o_states, o_exhaustive = v._can_complete_original(order)
+        good_c = _backward(order, succ, v.compressed.accomplished)
+        quiet = next((q for q in order if not v.compressed.enabled(q)), None)
+        facts.append({
+            "part": part, "verifier": v, "parent": parent, "start": start, "states": len(order),
+            "o_states": o_states, "exhaustive": exhaustive and o_exhaustive,
+            "soundness": v._soundness(unsound, parent, exhaustive, len(order)),
+            "quiet": quiet,                                        # a reachable quiescent state
+            "stuck": next((q for q in stuck if v.original.enabled(q)), None),
+            "dead": next((q for q in order if q in good_o and q not in good_c), None),
+            "can": next((q for q in order if q in good_o), None),
+            "o_init": start in good_o, "c_init": start in good_c})
     whole = Verifier(original, compressed, world, max_states)
+    exhaustive = all(f["exhaustive"] for f in facts)
     props: dict[str, Verdict] = {}
-    for name, index in (("soundness", 1), ("completion", 2)):
-        failed = next((r for r in reports if r[index].holds is False), None)
-        unknown = any(r[index].holds is None for r in reports)
-        if failed is not None:
-            verdict = failed[index]
-            props[name] = Verdict(name, False, f"{verdict.summary} (in the part of {len(failed[0].atoms)} atoms "
-                                               f"under {term_to_text(failed[0].label)})",
-                                  _lift(verdict.counterexample, failed[0], initial))
-        else:
-            props[name] = Verdict(name, None if unknown else True,
-                                  f"holds in each of {len(parts)} independent parts"
-                                  + (" (some within the state limit only: not a proof)" if unknown else ""))
+    failed = next((f for f in facts if f["soundness"].holds is False), None)
+    if failed is not None:
+        v = failed["soundness"]
+        props["soundness"] = Verdict("soundness", False, v.summary, _lift(v.counterexample, failed["part"], whole_initial))
+    else:
+        props["soundness"] = Verdict("soundness", True if exhaustive else None,
+                                     f"holds in each of {len(parts)} independent parts"
+                                     + ("" if exhaustive else " (within the state limit: not a proof)"))
+    props["completion"] = _combined_completion(facts, whole_initial, exhaustive, len(parts))
     props["flexibility"] = whole._flexibility(initial)
     props["traces"] = Verdict("traces", None, f"not counted: the task was verified in {len(parts)} "
                                               f"independent parts, whose interleavings are not enumerated")
     props["selection"] = whole._selection(initial, scene)
-    exhaustive = all(r[5] for r in reports)
     return Report(task if task is not None else compressed.label, initial, props,
-                  sum(r[3] for r in reports), sum(r[4] for r in reports),
+                  sum(f["states"] for f in facts), sum(f["o_states"] for f in facts),
                   time.perf_counter() - started, exhaustive, parts=len(parts))
 
 
-def _lift(ce: Counterexample | None, part: Part, initial: list[State]) -> Counterexample | None:
+def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, count: int) -> Verdict:
+    """Completion of the whole from its parts' facts. Parts are independent, so every
+    combination of their reachable states is reachable: the whole is stuck where every part is
+    quiescent (nothing enabled); it can complete from a state when every part can."""
+    def run_to(chosen: dict[int, State]) -> Counterexample:
+        path: list[Step] = []
+        state = set(initial)
+        for k, f in enumerate(facts):
+            target = chosen.get(k, f["start"])
+            _, steps = f["verifier"]._path(f["parent"], target)
+            path.extend(steps)
+            state = (state - f["part"].atoms) | target
+        return Counterexample(initial, tuple(path), frozenset(state))
+
+    if not exhaustive:
+        return Verdict("completion", None, "not decided: a part reached the state limit (not a proof)")
+    stuck = next((k for k, f in enumerate(facts) if f["stuck"] is not None), None)
+    if stuck is not None and all(f["quiet"] is not None for f in facts):
+        chosen = {k: f["quiet"] for k, f in enumerate(facts)}
+        chosen[stuck] = facts[stuck]["stuck"]
+        ce = run_to(chosen)
+        o = facts[stuck]["verifier"].original
+        offered = ", ".join(dict.fromkeys(term_to_text(o.label(i)) for i in o.enabled(chosen[stuck])))
+        ce = Counterexample(ce.initial, ce.path, ce.state, reasons=(f"the original could still take: {offered}",))
+        return Verdict("completion", False, "the compressed tree gets stuck where the original does not", ce)
+    dead = next((k for k, f in enumerate(facts) if f["dead"] is not None), None)
+    if dead is not None and all(f["can"] is not None for k, f in enumerate(facts) if k != dead):
+        chosen = {k: f["can"] for k, f in enumerate(facts)}
+        chosen[dead] = facts[dead]["dead"]
+        ce = run_to(chosen)
+        ce = Counterexample(ce.initial, ce.path, ce.state, reasons=(
+            "from this state the original can still complete the task, the compressed tree cannot "
+            "(every continuation loops or gets stuck)",))
+        return Verdict("completion", False, "the compressed tree reaches a state it cannot complete from, "
+                                            "where the original can", ce)
+    o_init = all(f["o_init"] for f in facts)
+    if o_init != all(f["c_init"] for f in facts):
+        return Verdict("completion", False, "the initial state completes with one tree only",
+                       Counterexample(initial, (), initial))
+    return Verdict("completion", True, f"holds, from the {count} independent parts combined; the initial "
+                                       f"state {'can' if o_init else 'cannot'} complete, in both trees")
+
+
+def _lift(ce: Counterexample | None, part: Part, whole: State) -> Counterexample | None:
     """A part's counterexample as a run of the whole task: the other parts stay as they were."""
     if ce is None:
         return None
-    whole = next((s for s in initial if s & part.atoms == ce.initial & part.atoms), initial[0])
     outside = whole - part.atoms
     return Counterexample(whole, ce.path, outside | ce.state, ce.behaviour, ce.where, ce.done_first,
                           ce.action, ce.reasons)
