@@ -29,7 +29,8 @@ from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
 from .execute import DEFAULT_RETRIES, SELECTORS, Decision, Executive, RobotManager
 from .scene import NO_SCENE, Scene, object_name, read_scene
-from .verify import DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms, verify_by_parts
+from .verify import (DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms, state_text,
+                     verify_by_parts)
 from .world import World, initial_state, state_atoms
 from .tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate, walk
 
@@ -435,15 +436,11 @@ def _initial_states(args: argparse.Namespace, kb: KnowledgeBase, world: World, t
     return [world.atoms]
 
 
-def _state_text(state) -> str:
-    return ", ".join(sorted(term_to_text(a) for a in state)) or "(nothing true)"
-
-
 def verify_lines(report, how: str, before: int, after: int, states_option: str) -> list[str]:
     """The report as a person reads it: each property, and a counterexample where one fails."""
     n = len(report.initial_states)
-    which = "default: " + _state_text(report.initial_states[0]) if states_option == "default" else \
-        ("all that satisfy the constraints" if states_option == "all" else _state_text(report.initial_states[0]))
+    which = "default: " + state_text(report.initial_states[0]) if states_option == "default" else \
+        ("all that satisfy the constraints" if states_option == "all" else state_text(report.initial_states[0]))
     lines = [f"verify {term_to_text(report.task)}: original {before} behaviours, compressed {after} ({how}); "
              f"{n} initial state{'s' if n != 1 else ''} ({which})",
              (f"sampled: visited {report.compressed_states:,} states of the compressed tree in "
@@ -473,7 +470,7 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
 
 
 def counterexample_lines(ce) -> list[str]:
-    lines = [f"  counterexample, from the initial state {_state_text(ce.initial)}:"]
+    lines = [f"  counterexample, from the initial state {state_text(ce.initial)}:"]
     if not ce.path:
         lines.append("    (at the start)")
     for k, step in enumerate(ce.path, 1):
@@ -486,9 +483,9 @@ def counterexample_lines(ce) -> list[str]:
         lines.append(f"    then the compressed tree takes {term_to_text(ce.behaviour)}{own}")
         lines.append(f"      ({ce.where})")
         lines.append(f"    the original would not take {term_to_text(ce.action)} there "
-                     f"(state: {_state_text(ce.state)}):")
+                     f"(state: {state_text(ce.state)}):")
     else:
-        lines.append(f"    state: {_state_text(ce.state)}")
+        lines.append(f"    state: {state_text(ce.state)}")
     lines.extend(f"      {r}" for r in ce.reasons)
     return lines
 

@@ -332,13 +332,7 @@ class Verifier:
             props["soundness"] = Verdict("soundness", None, f"no violation found in {note}")
         else:
             first, path, s, leaf, k, before = unsound
-            actions, _ = c.step(s, leaf)
-            action = actions[k]
-            props["soundness"] = Verdict("soundness", False, f"the compressed tree can take {term_to_text(action[0])} "
-                                                             f"where the original would not (perceptual aliasing)",
-                                         Counterexample(first, path, before, c.label(leaf), c.path_name(leaf),
-                                                        tuple(a for a, _ in actions[:k]), action[0],
-                                                        tuple(o.why_not(before, action))))
+            props["soundness"] = self._unsound(first, path, s, leaf, k, before)
         if stuck is None:
             props["completion"] = Verdict("completion", None, f"no state where only the compressed tree is "
                                                               f"stuck, in {note}")
@@ -421,11 +415,17 @@ class Verifier:
                            f"{scope} reachable state: each step of the compressed tree is a run of the original")
         s, leaf, k, before = unsound
         initial, path = self._path(parent, s)
-        actions, _ = self.compressed.step(s, leaf)
+        return self._unsound(initial, path, s, leaf, k, before)
+
+    def _unsound(self, initial: State, path: tuple[Step, ...], s: State, leaf: int, k: int,
+                 before: State) -> Verdict:
+        """The verdict for leaf `leaf` of the compressed tree taken in `s`, whose k-th action the
+        original would not take in `before`."""
+        c = self.compressed
+        actions, _ = c.step(s, leaf)
         action = actions[k]
-        ce = Counterexample(initial, path, before, self.compressed.label(leaf), self.compressed.path_name(leaf),
-                            tuple(a for a, _ in actions[:k]), action[0],
-                            tuple(self.original.why_not(before, action)))
+        ce = Counterexample(initial, path, before, c.label(leaf), c.path_name(leaf),
+                            tuple(a for a, _ in actions[:k]), action[0], tuple(self.original.why_not(before, action)))
         return Verdict("soundness", False, f"the compressed tree can take {term_to_text(action[0])} where the "
                                            f"original would not (perceptual aliasing)", ce)
 
@@ -499,7 +499,7 @@ class Verifier:
         for s in initial:
             first_o = sorted({term_to_text(o.label(i)) for i in o.enabled(s)})
             first_c = sorted({term_to_text(c.step(s, i)[0][0][0]) for i in c.enabled(s) if c.step(s, i)[0]})
-            rows.append({"state": _state_text(s), "original": first_o, "compressed": first_c,
+            rows.append({"state": state_text(s), "original": first_o, "compressed": first_c,
                          "done": o.accomplished(s)})
         startable = [r for r in rows if r["original"]]
         blocked = [r for r in startable if not r["compressed"]]
@@ -524,7 +524,7 @@ class Verifier:
                 return Verdict("traces", None, "not counted: too many traces to enumerate "
                                                "(more than 500,000 automaton states)")
             n_o = o_counts.get(s, 0)
-            rows.append({"state": _state_text(s), "original": _num(n_o), "compressed": _num(n_c)})
+            rows.append({"state": state_text(s), "original": _num(n_o), "compressed": _num(n_c)})
             if example is None and n_o != n_c:
                 example = _missing_trace(self.original, c_counter, s)
                 if example is not None:
@@ -535,7 +535,7 @@ class Verifier:
                    f"{_count_text(total_c)}")
         details = {"states": rows}
         if example:
-            details["lost_example"] = {"state": _state_text(example[0]),
+            details["lost_example"] = {"state": state_text(example[0]),
                                        "trace": [term_to_text(a) for a in example[1]]}
             summary += "; e.g. this original trace is no longer produced: " + \
                 ", ".join(term_to_text(a) for a in example[1])
@@ -555,7 +555,7 @@ class Verifier:
             (t_o, st_o), (t_c, st_c) = traces
             diff = next((k for k, (a, b) in enumerate(zip(t_o, t_c)) if a != b),
                         None if len(t_o) == len(t_c) else min(len(t_o), len(t_c)))
-            rows.append({"state": _state_text(s), "same": diff is None and st_o == st_c,
+            rows.append({"state": state_text(s), "same": diff is None and st_o == st_c,
                          "first_difference": diff, "original": [term_to_text(a) for a in t_o],
                          "compressed": [term_to_text(a) for a in t_c],
                          "original_status": st_o, "compressed_status": st_c})
@@ -586,7 +586,8 @@ def _backward(order: list[State], succ: dict[State, list[State]], accomplished) 
     return good
 
 
-def _state_text(s: State) -> str:
+def state_text(s: State) -> str:
+    """A state as text: its true atoms, sorted."""
     return ", ".join(sorted(term_to_text(a) for a in s)) or "(nothing true)"
 
 
@@ -969,4 +970,4 @@ def _lift(ce: Counterexample | None, part: Part, whole: State) -> Counterexample
 
 
 __all__ = ["Verifier", "Report", "Verdict", "Counterexample", "Step", "Model", "free_atoms", "constraints",
-           "all_states", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part"]
+           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part"]
