@@ -102,12 +102,10 @@ class RobotManager:
         self.scene = scene
         self.hand: Position = scene.end_effector
         self.failures = dict(failures or {})
-        self.commands = 0
 
     def command(self, action: Term, obj: str | None, within: Term | None = None) -> bool:
         """Execute one learned action (the first one of merged behaviour `within`, if given);
         whether it succeeded. A failure asked for the merged behaviour is spent first."""
-        self.commands += 1
         for label in (within, action):
             left = self.failures.get(label, 0) if label is not None else 0
             if left is None or left > 0:

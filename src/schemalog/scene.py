@@ -69,11 +69,6 @@ class Scene:
                  for name, pos in sorted(self.objects.items())}
         return replace(self, objects=moved, name=f"{self.name} (seed {seed}, jitter {jitter:g})")
 
-    def where(self, obj: str) -> str:
-        """Where the scene declares `obj`, for messages."""
-        mark = self.marks.get(obj)
-        return f" ({mark})" if mark else ""
-
 
 NO_SCENE = Scene()
 

@@ -456,7 +456,6 @@ class Verifier:
                 seen[after] = after
                 nexts.append(after)
                 queue.append(after)
-        self._original_succ = succ
         return _backward(order, succ, o.accomplished), len(order), exhaustive
 
     def _completion(self, initial, parent, order, stuck, good_o, good_c, exhaustive) -> Verdict:
