@@ -423,3 +423,39 @@ def test_verify_refuses_a_compressed_file_of_another_task(tmp_path):
     assert r.returncode == 0, r.stdout
     data = json.loads(run("verify", MIX, "--sample", "20", "--json").stdout)
     assert data["sound"] is None and data["complete"] is None       # nothing proved
+
+
+# --- generate -------------------------------------------------------------------
+
+def test_generate_writes_a_task_that_compresses_runs_and_verifies(tmp_path):
+    task, scene = tmp_path / "t.pl", tmp_path / "s.yaml"
+    done = run("generate", "--depth", 4, "--children", 2, "--rd", 0.5, "--seed", 1, "-o", task, "--scene", scene)
+    assert done.returncode == 0, done.stderr
+    assert "Bi = 15, D = 4; compressed: Bm = 9, RD = 0.55 (asked 0.50)" in done.stdout
+    assert "note:" not in done.stdout + done.stderr
+    compressed = json.loads(run("compress", task, "--json").stdout)
+    assert (compressed["nodes_before"], compressed["nodes_after"]) == (15, 9)
+    assert run("run", task, "--scene", scene, "--compressed").returncode == 0
+    assert run("verify", task).returncode == 0
+
+
+@pytest.mark.parametrize("d, b", [(4, 2), (5, 3), (6, 2)])
+def test_generate_hits_rd_07_where_sibling_links_alone_cannot(d, b, tmp_path):
+    done = run("generate", "--depth", d, "--children", b, "--rd", 0.7, "-o", tmp_path / "t.pl")
+    got = float(done.stdout.split("RD = ")[1].split()[0])
+    assert done.returncode == 0 and abs(got - 0.7) <= 0.05
+    strict = run("generate", "--depth", d, "--children", b, "--rd", 0.7, "--siblings-only", "-o", tmp_path / "s.pl")
+    assert strict.returncode == 0
+    if b == 2:   # binary trees: at most about 0.53-0.55 with sibling links, and the note says why
+        assert "note: RD 0.5" in strict.stdout and "allows RD at most" in strict.stdout
+
+
+def test_generate_to_stdout_yaml_and_bad_requests(tmp_path):
+    done = run("generate", "--depth", 3, "--children", 2, "--format", "yaml")
+    assert done.returncode == 0 and "- task: b1" in done.stdout and "- schema: b2(obj1)" in done.stdout
+    assert done.stderr.startswith("task b1, Bi = 7, D = 3; compressed: Bm = 7, RD = 0.00")
+    for bad in (["--depth", 3, "--children", 2, "--rd", "1.5"], ["--depth", 0, "--children", 2],
+                ["--depth", 3], ["--depth", 12, "--children", 4]):
+        refused = run("generate", *bad, "-o", tmp_path / "x.pl")
+        assert refused.returncode == 2 and "Traceback" not in refused.stderr, bad
+        assert not (tmp_path / "x.pl").exists()

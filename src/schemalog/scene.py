@@ -19,8 +19,10 @@ the robot-object distance (Sec. II-B), so the nearer the object, the higher the 
 
 from __future__ import annotations
 
+import json
 import math
 import random
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -71,6 +73,20 @@ class Scene:
 
 
 NO_SCENE = Scene()
+
+
+def scene_text(scene: Scene, comment: str = "") -> str:
+    """The scene as a scene file that read_scene accepts again."""
+    def xyz(p: Position) -> str:
+        return "[" + ", ".join(f"{c:g}" for c in p) + "]"
+    lines = [f"# {line}" for line in comment.splitlines()]
+    lines += [f"name: {json.dumps(scene.name)}", f"end_effector: {xyz(scene.end_effector)}"]
+    if scene.scale != DEFAULT_SCALE:
+        lines.append(f"scale: {scene.scale:g}")
+    lines.append("objects:" if scene.objects else "objects: {}")
+    lines += [f"  {name if re.fullmatch(r'[a-z][A-Za-z0-9_]*', name) else json.dumps(name)}: {xyz(pos)}"
+              for name, pos in scene.objects.items()]
+    return "\n".join(lines) + "\n"
 
 
 # ---------------------------------------------------------------------------
@@ -186,4 +202,4 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
     return Scene(file=file, marks=marks, **values)
 
 
-__all__ = ["Scene", "NO_SCENE", "Position", "read_scene", "scene_from_yaml", "object_name"]
+__all__ = ["Scene", "NO_SCENE", "Position", "read_scene", "scene_from_yaml", "scene_text", "object_name"]
