@@ -131,3 +131,14 @@ def test_simplify_keeps_meaning(c):
 def test_canonical_keeps_meaning_and_is_a_fixed_point(c):
     k = cond.canonical(c)
     assert cond.equivalent(k, c) and cond.canonical(k) == k
+
+
+@settings(max_examples=300, deadline=None)
+@given(conditions, st.sets(st.sampled_from([lit.atom for o in ["hand", "spoon", "cup", "a1"]
+                                            for lit in [Lit(parse_term(f"{o}.{p}"), True)
+                                                        for p in ["free", "taken", "done", "used"]]])),
+       st.sampled_from([1, 64]))
+def test_a_compiled_check_decides_like_holds(c, state, limit):
+    """The set-operation form the selectors use, and its fallback beyond `limit` clauses."""
+    for container in (set(state), frozenset(state)):
+        assert cond.compile_check(c, limit)(container) == cond.holds(c, container)

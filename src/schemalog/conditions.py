@@ -18,6 +18,8 @@ Conditions print in the paper's words: `hand.free or spoon.taken`, `not hand.fre
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 
 from .terms import CONS, NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, term_to_text
@@ -502,3 +504,33 @@ def holds(c: Condition, state: set | frozenset) -> bool:
     if isinstance(c, And):
         return all(holds(i, state) for i in c.items)
     return any(holds(i, state) for i in c.items)
+
+
+Check = Callable[[AbstractSet[Term]], bool]
+
+
+def compile_check(c: Condition, limit: int = 64) -> Check:
+    """A function deciding `holds(c, state)` with set operations: each DNF clause becomes
+    `positives <= state and negatives.isdisjoint(state)`, done in C, so the cost barely
+    grows with the number of literals. Falls back to `holds` beyond `limit` clauses."""
+    dnf = to_dnf(c, limit)
+    if dnf is None:
+        return lambda state: holds(c, state)
+    clauses = [(frozenset(l.atom for l in clause if l.positive), frozenset(l.atom for l in clause if not l.positive))
+               for clause in dnf]
+    if not clauses:
+        return lambda state: False
+    if len(clauses) > 1:
+        return lambda state: any(pos <= state and neg.isdisjoint(state) for pos, neg in clauses)
+    pos, neg = clauses[0]
+    if not pos and not neg:
+        return lambda state: True
+    if not neg:
+        if len(pos) == 1:
+            (atom,) = pos
+            return lambda state: atom in state
+        return lambda state: pos <= state
+    if not pos:
+        return neg.isdisjoint
+    return lambda state: pos <= state and neg.isdisjoint(state)
+

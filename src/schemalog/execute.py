@@ -139,6 +139,8 @@ class Plan:
     disjoint: list[bool]           # the children's keys never overlap: n is a plain sum
     steps: list[tuple[tuple[Term, Condition], ...]]   # a leaf's constituents, in order
     leaves: list[int]
+    pre_check: list[cond.Check] = field(default_factory=list)    # compiled pre and post (set tests)
+    post_check: list[cond.Check] = field(default_factory=list)
 
     @classmethod
     def of(cls, root: Behaviour) -> "Plan":
@@ -174,9 +176,18 @@ class Plan:
         obj: list[str | None] = []
         for i, n in enumerate(nodes):
             obj.append(object_name(n.objects[0]) if n.objects else obj[parent[i]] if parent[i] >= 0 else None)
+        compiled: dict[Condition, cond.Check] = {}   # siblings share conditions: compile each once
+
+        def check(c: Condition) -> cond.Check:
+            found = compiled.get(c)
+            if found is None:
+                found = compiled[c] = cond.compile_check(c)
+            return found
+
         return cls(nodes, parent, children, [n.pre for n in nodes], [n.post for n in nodes],
                    [n.importance for n in nodes], obj, keys, disjoint, steps,
-                   [i for i, n in enumerate(nodes) if not n.children])
+                   [i for i, n in enumerate(nodes) if not n.children],
+                   [check(n.pre) for n in nodes], [check(n.post) for n in nodes])
 
     def __len__(self) -> int:
         return len(self.nodes)
@@ -210,9 +221,8 @@ class ScanSelector:
         """The two best enabled leaves (best first) and how many are enabled."""
         p = self.plan
         atoms = self.world._atoms
-        holds = cond.holds
-        post_ok = [holds(c, atoms) for c in p.post]
-        pre_ok = [holds(c, atoms) for c in p.pre]
+        post_ok = [check(atoms) for check in p.post_check]
+        pre_ok = [check(atoms) for check in p.pre_check]
         n_total = len(p.nodes)
         mu = [0] * n_total
         live = [False] * n_total
@@ -290,8 +300,8 @@ class IncrementalSelector:
         dirty = {i for atom in change.atoms for i in self.reads.get(atom, ())}
         refresh = set()
         for i in dirty:
-            pre = cond.holds(p.pre[i], atoms)
-            post = cond.holds(p.post[i], atoms)
+            pre = p.pre_check[i](atoms)
+            post = p.post_check[i](atoms)
             if post != self.post_ok[i] and i > 0:
                 self._count(p.parent[i], i, +1 if post else -1)
                 refresh.add(p.parent[i])
