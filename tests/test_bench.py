@@ -7,6 +7,7 @@ runs complete and are proved, and that the tables and figures are written and re
 
 import csv
 import io
+import os
 import subprocess
 import sys
 
@@ -42,6 +43,9 @@ def test_bench_quick_writes_the_tables_and_the_figures(quick):
         assert "<svg" in (out / f"{name}.svg").read_text()[:2000]
     assert "digraph" in (out / "figure3.dot").read_text()
     assert not [p for p in out.iterdir() if p.name.startswith(".")]      # no temporary files left
+    mask = os.umask(0)
+    os.umask(mask)
+    assert {p.stat().st_mode & 0o777 for p in out.iterdir()} == {0o666 & ~mask}   # not mkstemp's 0600
     markdown = (out / "results.md").read_text()
     assert "## Headlines" in markdown and "| D | b | Bi |" in markdown and "0.23 -> 0.03 s" in markdown
     assert "- reduction degree: every cell within" in done.stdout
@@ -52,10 +56,12 @@ def test_bench_quick_every_generated_task_has_its_rd_and_is_proved(quick):
     rows = list(csv.DictReader((out / "results.csv").open()))
     generated = [r for r in rows if r["task"] == "generated"]
     cells = {(r["depth"], r["children"], r["rd_asked"]) for r in generated}
-    assert len(cells) >= 20
+    assert len(cells) == 36                              # the paper's 9 shapes x 4 RDs
     for r in generated:
         assert abs(float(r["rd_achieved"]) - float(r["rd_asked"])) <= TOLERANCE, r
-        assert r["verify_result"] == "proved", r
+        assert r["verify_result"] in ("proved", "limit"), r                 # never a counterexample
+        if int(r["behaviours"]) <= 121:
+            assert r["verify_result"] == "proved", r
         assert {"scan", "incremental", "py_trees"} >= {r["selector"]}
     selectors = {(r["depth"], r["children"], r["rd_asked"], r["tree"], r["selector"]) for r in generated}
     assert len(selectors) == len(cells) * 2 * 3          # original and compressed, three executives

@@ -89,3 +89,21 @@ def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
         write_atomically(target, "b.\n")
     assert target.read_text() == "a.\n"  # the old content survives
     assert [p.name for p in tmp_path.iterdir()] == ["out.pl"]  # and no temporary is left
+
+
+def test_written_files_follow_the_umask_or_keep_the_mode_they_replace(tmp_path):
+    import os
+    from schemalog.documents import write_atomically
+
+    mask = os.umask(0o022)
+    try:
+        fresh = tmp_path / "fresh.pl"
+        write_atomically(fresh, "task(a).\n")
+        assert fresh.stat().st_mode & 0o777 == 0o644          # not mkstemp's private 0600
+        kept = tmp_path / "kept.pl"
+        kept.write_text("old")
+        kept.chmod(0o640)
+        write_atomically(kept, "task(b).\n")
+        assert kept.stat().st_mode & 0o777 == 0o640 and kept.read_text() == "task(b).\n"
+    finally:
+        os.umask(mask)

@@ -260,6 +260,17 @@ def _entry_record(e: Entry, text) -> dict:
     return record
 
 
+def file_mode(target: Path) -> int:
+    """The mode a written file should get: the replaced file's, else what umask allows
+    (mkstemp's temporary files are private, 0600, and a rename would keep that)."""
+    try:
+        return target.stat().st_mode & 0o7777
+    except OSError:
+        mask = os.umask(0)
+        os.umask(mask)
+        return 0o666 & ~mask
+
+
 def write_atomically(path: str | Path, text: str) -> None:
     """Write `text` to `path` through a temporary file and a rename: never a partial file."""
     target = Path(path)
@@ -275,6 +286,7 @@ def write_atomically(path: str | Path, text: str) -> None:
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(text)
+        os.chmod(tmp, file_mode(target))
         os.replace(tmp, target)
     except BaseException as err:
         try:

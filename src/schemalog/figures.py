@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import ticker  # noqa: E402
 
 from .compress import compress  # noqa: E402
-from .documents import write_atomically  # noqa: E402
+from .documents import file_mode, write_atomically  # noqa: E402
 from .generate import generate  # noqa: E402
 from .render import compare_dot  # noqa: E402
 from .terms import term_to_text  # noqa: E402
@@ -41,6 +41,7 @@ def save(fig, out: Path, stem: str) -> list[Path]:
         os.close(fd)
         try:
             fig.savefig(temporary, format=fmt, dpi=150, bbox_inches="tight")
+            os.chmod(temporary, file_mode(target))
             os.replace(temporary, target)
         finally:
             if os.path.exists(temporary):
