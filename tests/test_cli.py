@@ -435,7 +435,9 @@ def test_generate_writes_a_task_that_compresses_runs_and_verifies(tmp_path):
     assert "note:" not in done.stdout + done.stderr
     compressed = json.loads(run("compress", task, "--json").stdout)
     assert (compressed["nodes_before"], compressed["nodes_after"]) == (15, 9)
-    assert run("run", task, "--scene", scene, "--compressed").returncode == 0
+    ran = run("run", task, "--scene", scene, "--compressed")
+    assert ran.returncode == 0 and "4 decisions, 8 actions" in ran.stdout
+    assert "note:" not in ran.stderr                     # initial(true): the start state is declared
     assert run("verify", task).returncode == 0
 
 
