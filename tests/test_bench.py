@@ -15,7 +15,7 @@ import py_trees
 import pytest
 
 from schemalog import conditions as cond
-from schemalog.bench import BenchPlan, py_trees_tree, run_bench, to_csv, to_markdown
+from schemalog.bench import BenchPlan, headlines, py_trees_tree, run_bench, to_csv, to_markdown
 from schemalog.compress import compress
 from schemalog.generate import TOLERANCE, generate
 from schemalog.tree import count_nodes, walk
@@ -83,6 +83,9 @@ def test_bench_refuses_a_file_as_out_and_needs_a_plan(tmp_path):
     refused = run("bench", "--quick", "--out", target)
     assert refused.returncode == 2 and "is a file" in refused.stderr and "Traceback" not in refused.stderr
     assert target.read_text() == "keep me"
+    nested = run("bench", "--quick", "--out", target / "sub")      # found before measuring, not after
+    assert nested.returncode == 2 and "cannot make the directory" in nested.stderr
+    assert "error: error" not in nested.stderr
     assert run("bench").returncode == 2
     assert run("bench", "--quick", "--paper").returncode == 2
 
@@ -105,6 +108,9 @@ def test_a_small_plan_measures_every_run_and_every_decision():
     assert table.count("\n| 3 | 2 |") == 2 and "| 5 | coffee | 63 |" in table
     rows = list(csv.DictReader(io.StringIO(to_csv(results))))
     assert len(rows) == 5 * 2 * 3
+    first = headlines(results)[0]          # two RD 0 cells tie on their distance from the request
+    assert first.startswith("reduction degree: 1 cell(s) beyond 0.05: depth 3, 2 children, RD 0.7")
+    assert "allows RD at most 0.50" in first                             # ... and the cell says why
 
 
 def test_the_py_trees_peer_has_the_same_shape_and_reads_the_same_state():

@@ -457,7 +457,20 @@ def test_generate_to_stdout_yaml_and_bad_requests(tmp_path):
     assert done.returncode == 0 and "- task: b1" in done.stdout and "- schema: b2(obj1)" in done.stdout
     assert done.stderr.startswith("task b1, Bi = 7, D = 3; compressed: Bm = 7, RD = 0.00")
     for bad in (["--depth", 3, "--children", 2, "--rd", "1.5"], ["--depth", 0, "--children", 2],
-                ["--depth", 3], ["--depth", 12, "--children", 4]):
+                ["--depth", 3], ["--depth", 12, "--children", 4], ["--depth", 20000, "--children", 2],
+                ["--depth", 50000, "--children", 1], ["--depth", 3, "--children", 2, "--rd", "nan"]):
         refused = run("generate", *bad, "-o", tmp_path / "x.pl")
         assert refused.returncode == 2 and "Traceback" not in refused.stderr, bad
+        assert len(refused.stderr) < 600 and "internal error" not in refused.stderr, bad
         assert not (tmp_path / "x.pl").exists()
+
+
+def test_generate_checks_every_destination_before_writing_any(tmp_path):
+    scene = tmp_path / "s.yaml"
+    missing = run("generate", "--depth", 3, "--children", 2, "-o", tmp_path / "nowhere" / "x.pl", "--scene", scene)
+    assert missing.returncode == 2 and "no such directory" in missing.stderr
+    assert not scene.exists()
+    same = run("generate", "--depth", 3, "--children", 2, "-o", scene, "--scene", scene)
+    assert same.returncode == 2 and "-o and --scene name the same file" in same.stderr and not scene.exists()
+    dash = run("generate", "--depth", 3, "--children", 2, "--scene", "-", cwd=tmp_path)
+    assert dash.returncode == 2 and not (tmp_path / "-").exists()
