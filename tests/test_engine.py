@@ -282,3 +282,45 @@ def test_deep_terms_compare_and_evaluate_without_recursion():
     assert ask("", "numlist(1, 5000, L), msort([L, L], [A, B]), A == B", 1) != []
     deep = "+".join(["1"] * 5000)
     assert ask("", f"X is {deep}")[0].startswith("5000 is ")
+
+
+# --- bagof/3 and setof/3: answers recorded from SWI-Prolog 9.0.4 ------------------
+
+BAGS = """
+p(1,a). p(2,b). p(3,a). p(1,c). p(2,a).
+age(peter, 7). age(ann, 11). age(pat, 8). age(tom, 5). age(mike, 11).
+q(X, Y) :- member(X-Y, [f(_)-1, f(_)-2, g(A)-3, g(A)-4]).
+"""
+
+
+@pytest.mark.parametrize("query, swipl", [
+    # one bag per witness (the free variable Y), in the standard order of the witness
+    ("bagof(X, p(X,Y), L)", ["bagof(X,p(X,a),[1,3,2])", "bagof(X,p(X,b),[2])", "bagof(X,p(X,c),[1])"]),
+    ("setof(X, p(X,Y), L)", ["setof(X,p(X,a),[1,2,3])", "setof(X,p(X,b),[2])", "setof(X,p(X,c),[1])"]),
+    # Y^ binds Y: one bag of everything
+    ("bagof(X, Y^p(X,Y), L)", ["bagof(X,Y^p(X,Y),[1,2,3,1,2])"]),
+    ("setof(X, Y^p(X,Y), L)", ["setof(X,Y^p(X,Y),[1,2,3])"]),
+    ("setof(A-N, age(N,A), L)", ["setof(A-N,age(N,A),[5-tom,7-peter,8-pat,11-ann,11-mike])"]),
+    ("bagof(N, age(N,A), L)", ["bagof(N,age(N,5),[tom])", "bagof(N,age(N,7),[peter])",
+                               "bagof(N,age(N,8),[pat])", "bagof(N,age(N,11),[ann,mike])"]),
+    # no answer: bagof and setof fail, unlike findall
+    ("bagof(X, p(X,z), L)", []),
+    ("setof(X, member(X,[c,b,a,b]), L)", ["setof(X,member(X,[c,b,a,b]),[a,b,c])"]),
+    ("bagof(X, (member(X,[1,2]) ; member(X,[3])), L)", ["bagof(X,(member(X,[1,2]);member(X,[3])),[1,2,3])"]),
+])
+def test_bagof_and_setof_answer_like_swi_prolog(query, swipl):
+    assert ask(BAGS, query) == swipl
+
+
+def test_bagof_groups_variant_witnesses_like_swi_prolog():
+    """SWI: X = f(_A), L = [1,2] ; X = g(_B), L = [3,4]."""
+    kb = KnowledgeBase()
+    kb.consult_text(BAGS)
+    answers = Engine(kb).answers(parse_term("bagof(Y, q(X,Y), L)"))
+    assert [term_to_text(a.args[2]) for a in answers] == ["[1,2]", "[3,4]"]
+    assert [a.args[1].args[0].name for a in answers] == ["f", "g"]
+
+
+def test_bagof_of_an_unbound_goal_is_an_instantiation_error():
+    with pytest.raises(PrologError, match="instantiation_error"):
+        ask(BAGS, "bagof(X, G, L)")

@@ -867,6 +867,97 @@ def _findall(e: Engine, a: tuple, b: Bindings) -> bool:
     return b.unify(a[2], make_list(results))
 
 
+def _variables(t: Term, b: Bindings, out: list[Var], seen: set[Var]) -> None:
+    """The variables of `t` left to right, each once (term_variables/2), without recursion."""
+    stack = [t]
+    while stack:
+        t = b.walk(stack.pop())
+        if isinstance(t, Var):
+            if t not in seen:
+                seen.add(t)
+                out.append(t)
+        elif isinstance(t, Struct):
+            stack.extend(reversed(t.args))
+
+
+def _variant(x: Term, y: Term) -> bool:
+    """Whether two resolved terms are equal up to a one-to-one renaming of variables (=@=)."""
+    forward: dict[Var, Var] = {}
+    backward: dict[Var, Var] = {}
+    stack = [(x, y)]
+    while stack:
+        s, t = stack.pop()
+        if isinstance(s, Var) or isinstance(t, Var):
+            if not (isinstance(s, Var) and isinstance(t, Var)):
+                return False
+            if forward.setdefault(s, t) is not t or backward.setdefault(t, s) is not s:
+                return False
+        elif isinstance(s, Struct):
+            if not (isinstance(t, Struct) and s.name == t.name and len(s.args) == len(t.args)):
+                return False
+            stack.extend(zip(s.args, t.args))
+        elif type(s) is not type(t) or s != t:
+            return False
+    return True
+
+
+def _bag(to_set: bool) -> NondetBuiltin:
+    """bagof/3 and setof/3 as SWI-Prolog's boot/bags.pl defines them: the goal's free
+    variables (those neither in the template nor bound by `V^`) are the witness; answers are
+    key-sorted on it and each run of equal (or variant) witnesses is one bag, in that order."""
+
+    def solve(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+        template, goal, bag = a
+        goal = b.walk(goal)
+        excluded: list[Var] = []
+        seen: set[Var] = set()
+        _variables(template, b, excluded, seen)
+        while isinstance(goal, Struct) and goal.name == "^" and len(goal.args) == 2:
+            _variables(goal.args[0], b, excluded, seen)       # Goal = V^G: V is not free
+            goal = b.walk(goal.args[1])
+        witness: list[Var] = []
+        _variables(goal, b, witness, seen)
+        if not witness:
+            results = [rename(b.resolve(template)) for _ in e._sub_solve(goal, b)]
+            if not results:
+                return
+            mark = b.mark()
+            if b.unify(bag, make_list(_sorted_set(results) if to_set else results)):
+                yield
+            b.undo(mark)
+            return
+        key = Struct("v", tuple(witness))
+        pairs = [rename(b.resolve(Struct("-", (key, template)))) for _ in e._sub_solve(goal, b)]
+        if to_set:
+            pairs = _sorted_set(pairs)
+        else:
+            pairs.sort(key=lambda pair: standard_order_key(pair.args[0]))   # keysort: stable
+        while pairs:
+            first = pairs[0].args[0]
+            group, rest = [pairs[0]], []
+            for pair in pairs[1:]:
+                (group if not rest and (compare_terms(pair.args[0], first) == 0
+                                        or _variant(pair.args[0], first)) else rest).append(pair)
+            pairs = rest
+            mark = b.mark()
+            ok = all(b.unify(pair.args[0], first) for pair in group[1:]) and b.unify(key, first)
+            items = [pair.args[1] for pair in group]
+            if ok and b.unify(bag, make_list(_sorted_set([b.resolve(i) for i in items]) if to_set else items)):
+                yield
+            b.undo(mark)
+
+    return solve
+
+
+def _sorted_set(items: list[Term]) -> list[Term]:
+    """sort/2: standard order, duplicates removed."""
+    result: list[Term] = []
+    for item in sorted(items, key=standard_order_key):
+        if not result or compare_terms(result[-1], item) != 0:
+            result.append(item)
+    return result
+
+
 def _throw(e: Engine, a: tuple, b: Bindings) -> bool:
     ball = b.resolve(a[0])
     if isinstance(ball, Var):
@@ -885,11 +976,7 @@ def _sort(e, a, b):
     items, tail = list_items(b.resolve(a[0]))
     if tail != NIL:
         raise instantiation_error()
-    result: list[Term] = []
-    for item in sorted(items, key=standard_order_key):
-        if not result or compare_terms(result[-1], item) != 0:
-            result.append(item)
-    return b.unify(a[1], make_list(result))
+    return b.unify(a[1], make_list(_sorted_set(items)))
 
 
 BUILTINS: dict[tuple[str, int], Builtin] = {
@@ -964,6 +1051,8 @@ NONDET_BUILTINS: dict[tuple[str, int], NondetBuiltin] = {
     ("between", 3): _between,
     ("length", 2): _length,
     ("retract", 1): _retract,
+    ("bagof", 3): _bag(to_set=False),
+    ("setof", 3): _bag(to_set=True),
 }
 
 # Control constructs the machine handles itself (so `is_builtin` knows them).
