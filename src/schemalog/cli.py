@@ -16,7 +16,8 @@ from pathlib import Path
 
 from . import __version__
 from . import conditions as cond
-from .documents import YAML_SUFFIXES, Document, read_document, to_pl, to_yaml, write_atomically
+from .documents import (YAML_SUFFIXES, Document, check_writable, read_document, to_pl, to_yaml,
+                        write_atomically)
 from .engine import PrologError
 from .errors import SchemalogError, UsageError
 from .kb import KnowledgeBase
@@ -107,15 +108,11 @@ def _emit(text: str, output: str | None, inputs: list[str]) -> None:
 
 
 def _writable(output: str) -> None:
-    """Refuse, before any work is written, an output whose directory is missing or that is a directory."""
-    target = Path(output)
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise UsageError(f"{output}: no such directory {directory}")
-    if target.is_dir():
-        raise UsageError(f"{output} is a directory; name a file")
-    if not os.access(directory, os.W_OK):
-        raise UsageError(f"{output}: the directory {directory} is not writable")
+    """Refuse, before any work is written, an output that could not be written."""
+    try:
+        check_writable(output)
+    except SchemalogError as err:
+        raise UsageError(err.message) from None
 
 
 def _emit_check(output: str, inputs: list[str]) -> None:

@@ -271,14 +271,24 @@ def file_mode(target: Path) -> int:
         return 0o666 & ~mask
 
 
-def write_atomically(path: str | Path, text: str) -> None:
-    """Write `text` to `path` through a temporary file and a rename: never a partial file."""
+def check_writable(path: str | Path) -> Path:
+    """The directory `path` would be written in; an error if it is missing or not writable,
+    or if `path` is a directory."""
     target = Path(path)
     directory = target.parent if str(target.parent) else Path(".")
     if not directory.is_dir():
         raise SchemalogError(f"{path}: no such directory {directory}")
     if target.is_dir():
-        raise SchemalogError(f"-o {path} is a directory; name a file")
+        raise SchemalogError(f"{path} is a directory; name a file")
+    if not os.access(directory, os.W_OK):
+        raise SchemalogError(f"{path}: the directory {directory} is not writable")
+    return directory
+
+
+def write_atomically(path: str | Path, text: str) -> None:
+    """Write `text` to `path` through a temporary file and a rename: never a partial file."""
+    target = Path(path)
+    directory = check_writable(path)
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
     except OSError as err:

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Callable, Iterator
 from .errors import SchemalogError
 from .terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
                     is_ground, list_items, make_list, term_to_text)
-from .unify import Bindings, rename
+from .unify import Bindings, rename, variant
 
 if TYPE_CHECKING:  # pragma: no cover
     from .kb import KnowledgeBase
@@ -880,27 +880,6 @@ def _variables(t: Term, b: Bindings, out: list[Var], seen: set[Var]) -> None:
             stack.extend(reversed(t.args))
 
 
-def _variant(x: Term, y: Term) -> bool:
-    """Whether two resolved terms are equal up to a one-to-one renaming of variables (=@=)."""
-    forward: dict[Var, Var] = {}
-    backward: dict[Var, Var] = {}
-    stack = [(x, y)]
-    while stack:
-        s, t = stack.pop()
-        if isinstance(s, Var) or isinstance(t, Var):
-            if not (isinstance(s, Var) and isinstance(t, Var)):
-                return False
-            if forward.setdefault(s, t) is not t or backward.setdefault(t, s) is not s:
-                return False
-        elif isinstance(s, Struct):
-            if not (isinstance(t, Struct) and s.name == t.name and len(s.args) == len(t.args)):
-                return False
-            stack.extend(zip(s.args, t.args))
-        elif type(s) is not type(t) or s != t:
-            return False
-    return True
-
-
 def _bag(to_set: bool) -> NondetBuiltin:
     """bagof/3 and setof/3 as SWI-Prolog's boot/bags.pl defines them: the goal's free
     variables (those neither in the template nor bound by `V^`) are the witness; answers are
@@ -937,7 +916,7 @@ def _bag(to_set: bool) -> NondetBuiltin:
             group, rest = [pairs[0]], []
             for pair in pairs[1:]:
                 (group if not rest and (compare_terms(pair.args[0], first) == 0
-                                        or _variant(pair.args[0], first)) else rest).append(pair)
+                                        or variant(pair.args[0], first)) else rest).append(pair)
             pairs = rest
             mark = b.mark()
             ok = all(b.unify(pair.args[0], first) for pair in group[1:]) and b.unify(key, first)
