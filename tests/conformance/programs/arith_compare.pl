@@ -1,0 +1,2 @@
+% Arithmetic comparison.
+positive(X) :- X > 0.

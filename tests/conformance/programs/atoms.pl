@@ -1,0 +1,2 @@
+% Atom builtins.
+greeting(hello).

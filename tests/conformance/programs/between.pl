@@ -1,0 +1,2 @@
+% between/3.
+small(X) :- between(1, 3, X).

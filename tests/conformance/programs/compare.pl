@@ -1,0 +1,2 @@
+% Standard order of terms, compare/3, ==, @<.
+older(X, Y) :- compare(>, X, Y).

@@ -1,0 +1,2 @@
+% functor/3 and arg/3.
+mk(N, T) :- functor(T, point, N).

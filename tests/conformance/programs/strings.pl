@@ -1,0 +1,2 @@
+% String builtins.
+name_of(X, S) :- atom_string(X, S).
