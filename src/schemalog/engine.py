@@ -1052,3 +1052,9 @@ def _unifiable(x: Term, y: Term, b: Bindings) -> bool:
     b.undo(mark)
     return ok
 
+
+# Built-ins beyond the core (text, sorting, the database), defined in library.py.
+from .library import EXTRA, EXTRA_NONDET  # noqa: E402  (library.py imports this module's helpers)
+
+BUILTINS.update(EXTRA)
+NONDET_BUILTINS.update(EXTRA_NONDET)

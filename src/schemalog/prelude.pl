@@ -76,3 +76,56 @@ list_to_set(L, S) :- '$lts'(L, [], S).
 '$lts'([], _, []).
 '$lts'([H|T], Seen, R) :- ( '$memberchk_eq'(H, Seen) -> R = R1 ; R = [H|R1] ), '$lts'(T, [H|Seen], R1).
 '$memberchk_eq'(X, [Y|Ys]) :- ( X == Y -> true ; '$memberchk_eq'(X, Ys) ).
+
+% SWI-Prolog's library(lists), library(aggregate) and boot/init.pl definitions, in the same
+% clause order, so answers come in the same order.
+repeat.
+repeat :- repeat.
+
+findall(T, G, L, Tail) :- findall(T, G, L0), append(L0, Tail, L).
+
+nth0(I, L, E, R) :- integer(I), !, I >= 0, '$nth_del'(I, L, E, R).
+nth0(I, L, E, R) :- var(I), '$nth_gen'(L, E, R, 0, I).
+nth1(I, L, E, R) :- integer(I), !, I0 is I - 1, nth0(I0, L, E, R).
+nth1(I, L, E, R) :- var(I), nth0(I0, L, E, R), I is I0 + 1.
+'$nth_del'(0, [E|R], E, R) :- !.
+'$nth_del'(N, [H|T], E, [H|R]) :- N1 is N - 1, '$nth_del'(N1, T, E, R).
+'$nth_gen'([E|R], E, R, B, B).
+'$nth_gen'([H|T], E, [H|R], B0, B) :- B1 is B0 + 1, '$nth_gen'(T, E, R, B1, B).
+
+permutation(Xs, Ys) :-
+    ( is_list(Xs) -> length(Xs, N), length(Ys, N)
+    ; is_list(Ys) -> length(Ys, N), length(Xs, N)
+    ; true ),
+    '$perm'(Xs, Ys).
+'$perm'([], []).
+'$perm'(L, [H|T]) :- select(H, L, R), '$perm'(R, T).
+
+predsort(P, L, Sorted) :-
+    length(L, N), '$predsort'(P, N, L, _, Sorted1), !, Sorted = Sorted1.
+'$predsort'(P, 2, [X1,X2|L], L, R) :- !, call(P, Delta, X1, X2), '$sort2'(Delta, X1, X2, R).
+'$predsort'(_, 1, [X|L], L, [X]) :- !.
+'$predsort'(_, 0, L, L, []) :- !.
+'$predsort'(P, N, L1, L3, R) :-
+    N1 is N // 2, N2 is N - N1,
+    '$predsort'(P, N1, L1, L2, R1), '$predsort'(P, N2, L2, L3, R2),
+    '$predmerge'(P, R1, R2, R).
+'$sort2'(<, X1, X2, [X1,X2]).
+'$sort2'(=, X1, _, [X1]).
+'$sort2'(>, X1, X2, [X2,X1]).
+'$predmerge'(_, [], R, R) :- !.
+'$predmerge'(_, R, [], R) :- !.
+'$predmerge'(P, [H1|T1], [H2|T2], Result) :-
+    call(P, Delta, H1, H2), !, '$predmerge_'(Delta, P, H1, H2, T1, T2, Result).
+'$predmerge_'(<, P, H1, H2, T1, T2, [H1|R]) :- '$predmerge'(P, T1, [H2|T2], R).
+'$predmerge_'(=, P, H1, _, T1, T2, [H1|R]) :- '$predmerge'(P, T1, T2, R).
+'$predmerge_'(>, P, H1, H2, T1, T2, [H2|R]) :- '$predmerge'(P, [H1|T1], T2, R).
+
+aggregate_all(count, G, C) :- !, findall(x, G, L), length(L, C).
+aggregate_all(count(T), G, C) :- !, findall(T, G, L), length(L, C).
+aggregate_all(sum(E), G, S) :- !, findall(E, G, L), sum_list(L, S).
+aggregate_all(max(E), G, M) :- !, findall(E, G, L), L = [_|_], max_list(L, M).
+aggregate_all(min(E), G, M) :- !, findall(E, G, L), L = [_|_], min_list(L, M).
+aggregate_all(bag(E), G, L) :- !, findall(E, G, L).
+aggregate_all(set(E), G, S) :- !, findall(E, G, L), sort(L, S).
+

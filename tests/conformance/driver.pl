@@ -6,7 +6,7 @@
     swipl -q -g cf_driver:batch -t halt driver.pl -- Program Dir Cap Seconds
 
 The batch form loads Program once, reads one query a line from Dir/queries.txt
-and runs query N in a forked child (so its asserts and retracts cannot leak
+and runs query N inside snapshot/1 (so its asserts and retracts cannot leak
 into the next query) writing Dir/N.res and the query's output to Dir/N.out.
 
     ResultFile gets one line per answer, "A<TAB>[X=...,Y=...]", then one
@@ -50,28 +50,24 @@ batch :-
     read_file_to_string(QFile, All, [encoding(utf8)]),
     split_string(All, "\n", "", Lines0),
     exclude(==(""), Lines0, Lines),
-    forall(nth1(N, Lines, QText), run_forked(N, Dir, QText, Cap, Time)).
+    forall(nth1(N, Lines, QText), run_isolated(N, Dir, QText, Cap, Time)).
 
-run_forked(N, Dir, QText, Cap, Time) :-
+run_isolated(N, Dir, QText, Cap, Time) :-
     format(atom(ResName), '~d.res', [N]),
     format(atom(OutName), '~d.out', [N]),
     directory_file_path(Dir, ResName, ResFile),
     directory_file_path(Dir, OutName, OutFile),
-    flush_output(user_output),
-    fork(Pid),
-    (   Pid == child
-    ->  open(OutFile, write, OutS, [encoding(utf8)]),
-        set_stream(OutS, alias(user_output)),
-        set_output(OutS),
-        catch(setup_call_cleanup(
-                  open(ResFile, write, Res, [encoding(utf8)]),
-                  run_query(QText, Cap, Time, Res),
-                  close(Res)),
-              _, true),
-        flush_output(OutS),
-        halt(0)
-    ;   wait(Pid, _)
-    ).
+    % snapshot/1 discards the query's asserts and retracts afterwards, so queries cannot
+    % leak into each other; it replaces fork/1, which can deadlock the child of a process
+    % with threads (the alarm and gc threads).
+    setup_call_cleanup(
+        open(ResFile, write, Res, [encoding(utf8)]),
+        with_output_to(string(Printed),
+                       catch(snapshot(run_query(QText, Cap, Time, Res)), _, true)),
+        close(Res)),
+    setup_call_cleanup(open(OutFile, write, OutS, [encoding(utf8)]),
+                       write(OutS, Printed),
+                       close(OutS)).
 
 run_file(Prog, QText, Cap, Time, Out) :-
     load_files(user:Prog, [silent(true)]),

@@ -5,7 +5,7 @@
 
 Every query in queries/<program>.txt (one a line; blank lines and lines starting
 with `#` are skipped) is run against programs/<program>.pl by driver.pl: one
-`swipl` per program loads it once and forks a child per query, so that
+`swipl` per program loads it once and runs each query inside snapshot/1, so that
 assert/retract in one query cannot leak into another. A case's id is
 `<program>-<NN>`, NN its 1-based position among the file's queries.
 
@@ -74,7 +74,7 @@ def swipl_version(swipl: str) -> str:
 
 
 def run_program(program: str, cases: list[Case], swipl: str) -> list[dict]:
-    """Run the cases of one program in one swipl (driver.pl forks a child per query)."""
+    """Run the cases of one program in one swipl (driver.pl runs each query inside snapshot/1)."""
     with tempfile.TemporaryDirectory(prefix="conformance-") as tmp:
         work = Path(tmp)
         (work / "queries.txt").write_text("".join(c.query + "\n" for c in cases), encoding="utf-8")

@@ -1,0 +1,305 @@
+"""Built-in predicates beyond the core machine, in Python: SWI-Prolog's behaviour, mode by mode.
+
+    Builtin       = (engine, args, bindings) -> bool              (deterministic)
+    NondetBuiltin = (engine, args, bindings) -> Iterator[None]    (one yield per solution)
+
+engine.py merges EXTRA and EXTRA_NONDET into its tables. Library predicates that read best in
+Prolog (permutation/2, predsort/3, nth0/4, aggregate_all/3...) are in prelude.pl instead.
+"""
+
+from __future__ import annotations
+
+from typing import Iterator
+
+from .engine import (Bindings, Engine, _text_of, compare_terms, evaluate, instantiation_error,
+                     iso_error, standard_order_key, type_error)
+from .terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
+from .unify import rename
+
+
+def _domain_error(domain: str, culprit: Term):
+    return iso_error(Struct("domain_error", (Atom(domain), culprit)))
+
+
+def _integer(t: Term, allow_var: bool = True) -> int | None:
+    """The value of an integer argument, None for an unbound one; ISO errors otherwise."""
+    if isinstance(t, Var):
+        if allow_var:
+            return None
+        raise instantiation_error()
+    if not isinstance(t, Int):
+        raise type_error("integer", t)
+    return t.value
+
+
+def _natural(t: Term) -> int | None:
+    value = _integer(t)
+    if value is not None and value < 0:
+        raise type_error("not_less_than_zero", t)
+    return value
+
+
+# -- arithmetic relations --------------------------------------------------------
+
+def _succ(e: Engine, a: tuple, b: Bindings) -> bool:
+    """succ(?X, ?Y): Y = X + 1, both natural numbers."""
+    x, y = _natural(b.walk(a[0])), _natural(b.walk(a[1]))
+    if x is not None:
+        return b.unify(a[1], Int(x + 1))
+    if y is None:
+        raise instantiation_error()
+    return y > 0 and b.unify(a[0], Int(y - 1))
+
+
+def _plus(e: Engine, a: tuple, b: Bindings) -> bool:
+    """plus(?X, ?Y, ?Z): Z = X + Y, any two known."""
+    x, y, z = (_integer(b.walk(t)) for t in a)
+    if x is not None and y is not None:
+        return b.unify(a[2], Int(x + y))
+    if x is not None and z is not None:
+        return b.unify(a[1], Int(z - x))
+    if y is not None and z is not None:
+        return b.unify(a[0], Int(z - y))
+    raise instantiation_error()
+
+
+# -- text ------------------------------------------------------------------------
+
+def _char_code(e: Engine, a: tuple, b: Bindings) -> bool:
+    char, code = b.walk(a[0]), b.walk(a[1])
+    if isinstance(char, Atom):
+        if len(char.name) != 1:
+            raise type_error("character", char)
+        return b.unify(code, Int(ord(char.name)))
+    if not isinstance(char, Var):
+        raise type_error("character", char)
+    value = _integer(code)
+    if value is None:
+        raise instantiation_error()
+    if not 0 <= value <= 0x10FFFF:
+        raise iso_error(Struct("representation_error", (Atom("character_code"),)))
+    return b.unify(char, Atom(chr(value)))
+
+
+def _convert(make, fn) -> callable:
+    """A text-to-text relation such as upcase_atom/2: the first argument must be text."""
+    def run(e: Engine, a: tuple, b: Bindings) -> bool:
+        return b.unify(a[1], make(fn(_text_of(b.walk(a[0])))))
+    return run
+
+
+def _string_to_atom(e: Engine, a: tuple, b: Bindings) -> bool:
+    s = b.walk(a[0])
+    if not isinstance(s, Var):
+        return b.unify(a[1], Atom(_text_of(s)))
+    return b.unify(s, Str(_text_of(b.walk(a[1]))))
+
+
+def _number_string(e: Engine, a: tuple, b: Bindings) -> bool:
+    """number_string(?N, +S): S read as a number (white space around it allowed)."""
+    s = b.walk(a[1])
+    if isinstance(s, Var):
+        n = b.walk(a[0])
+        if isinstance(n, Var):
+            raise instantiation_error()
+        return b.unify(s, Str(term_to_text(n)))
+    from .parse import parse_term
+
+    text = _text_of(s).strip()
+    try:
+        value = parse_term(text)
+    except Exception:
+        value = None
+    if not isinstance(value, (Int, Float)):
+        raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
+    return b.unify(a[0], value)
+
+
+def _string_code(e: Engine, a: tuple, b: Bindings) -> bool:
+    """string_code(+I, +S, -C): the I-th (from 1) code of S; fails out of range."""
+    index = _integer(b.walk(a[0]), allow_var=False)
+    text = _text_of(b.walk(a[1]))
+    if index < 0:
+        raise type_error("not_less_than_zero", Int(index))
+    return 1 <= index <= len(text) and b.unify(a[2], Int(ord(text[index - 1])))
+
+
+def _sub_text(make) -> callable:
+    """sub_atom/5 and sub_string/5: Sub is the text of length L after B characters, A after it."""
+    def run(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+        text = _text_of(b.walk(a[0]))
+        n = len(text)
+        before, length, after = (_natural(b.walk(t)) for t in a[1:4])
+        sub = b.walk(a[4])
+        if not isinstance(sub, Var):                     # known Sub: each place it occurs
+            part = _text_of(sub)
+            starts = [i for i in range(n - len(part) + 1) if text.startswith(part, i)]
+            triples = [(i, len(part), n - i - len(part)) for i in starts]
+        elif before is not None and length is not None:
+            triples = [(before, length, n - before - length)]
+        elif before is not None and after is not None:
+            triples = [(before, n - before - after, after)]
+        elif length is not None and after is not None:
+            triples = [(n - length - after, length, after)]
+        elif before is not None:
+            triples = [(before, k, n - before - k) for k in range(n - before + 1)]
+        elif length is not None:
+            triples = [(i, length, n - i - length) for i in range(n - length + 1)]
+        elif after is not None:
+            triples = [(i, n - after - i, after) for i in range(n - after + 1)]
+        else:
+            triples = [(i, k, n - i - k) for i in range(n + 1) for k in range(n - i + 1)]
+        for i, k, rest in triples:
+            if i < 0 or k < 0 or rest < 0:
+                continue
+            mark = b.mark()
+            if (b.unify(a[1], Int(i)) and b.unify(a[2], Int(k)) and b.unify(a[3], Int(rest))
+                    and b.unify(a[4], make(text[i:i + k]))):
+                yield
+            b.undo(mark)
+    return run
+
+
+def _atom_to_term(e: Engine, a: tuple, b: Bindings) -> bool:
+    """atom_to_term(+Atom, -Term, -Bindings): Bindings = ['X'=_A, ...] in order of appearance."""
+    from .parse import parse_term
+
+    text = _text_of(b.walk(a[0]))
+    term = parse_term(text)
+    names: dict[str, Var] = {}
+    order: list[str] = []
+
+    def collect(t: Term) -> None:
+        stack = [t]
+        while stack:
+            t = stack.pop()
+            if isinstance(t, Var) and not t.name.startswith("_") and t.name not in names:
+                names[t.name] = t
+                order.append(t.name)
+            elif isinstance(t, Struct):
+                stack.extend(reversed(t.args))
+
+    collect(term)
+    mapping = {v: Var(f"_{v.name}") for v in names.values()}
+    fresh = rename(term, mapping)
+    pairs = make_list([Struct("=", (Atom(name), mapping[names[name]])) for name in order])
+    return b.unify(a[1], fresh) and b.unify(a[2], pairs)
+
+
+# -- terms and lists -----------------------------------------------------------
+
+def _term_variables(e: Engine, a: tuple, b: Bindings) -> bool:
+    from .engine import _variables
+
+    out: list[Var] = []
+    _variables(a[0], b, out, set())
+    return b.unify(a[1], make_list(out))
+
+
+def _keysort(e: Engine, a: tuple, b: Bindings) -> bool:
+    items, tail = list_items(b.resolve(a[0]))
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", b.resolve(a[0]))
+    for item in items:
+        if isinstance(item, Var):
+            raise instantiation_error()
+        if not (isinstance(item, Struct) and item.name == "-" and len(item.args) == 2):
+            raise type_error("pair", item)
+    return b.unify(a[1], make_list(sorted(items, key=lambda p: standard_order_key(p.args[0]))))
+
+
+def _sort4(e: Engine, a: tuple, b: Bindings) -> bool:
+    """sort(+Key, +Order, +List, -Sorted): on the Key-th argument (0: the whole term);
+    @< and @> drop elements whose key equals an earlier one's; the sort is stable."""
+    key = _natural(b.walk(a[0]))
+    if key is None:
+        raise instantiation_error()
+    order = b.walk(a[1])
+    if isinstance(order, Var):
+        raise instantiation_error()
+    if not (isinstance(order, Atom) and order.name in ("@<", "@=<", "@>", "@>=")):
+        raise _domain_error("order", order)
+    items, tail = list_items(b.resolve(a[2]))
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", b.resolve(a[2]))
+
+    def key_of(t: Term) -> Term:
+        if key == 0:
+            return t
+        if not isinstance(t, Struct):
+            raise type_error("compound", t)
+        if key > len(t.args):
+            raise type_error("compound", t)     # SWI: too few arguments
+        return t.args[key - 1]
+
+    keyed = [(key_of(t), t) for t in items]
+    descending = order.name in ("@>", "@>=")
+    keyed.sort(key=lambda kt: standard_order_key(kt[0]), reverse=descending)   # stable both ways
+    if order.name in ("@<", "@>"):
+        unique = []
+        for k, t in keyed:
+            if not unique or compare_terms(unique[-1][0], k) != 0:
+                unique.append((k, t))
+        keyed = unique
+    return b.unify(a[3], make_list([t for _, t in keyed]))
+
+
+# -- the database and output -----------------------------------------------------
+
+def _retractall(e: Engine, a: tuple, b: Bindings) -> bool:
+    """retractall(+Head): remove every clause whose head unifies; always succeeds."""
+    head = b.walk(a[0])
+    if isinstance(head, Var):
+        raise instantiation_error()
+    if not isinstance(head, (Atom, Struct)):
+        raise type_error("callable", head)
+    name, arity = head.name, len(head.args) if isinstance(head, Struct) else 0
+    if not e.kb.clauses(name, arity):
+        e.kb.declare_dynamic(name, arity)     # as in SWI: the predicate now exists, dynamic
+    for clause in list(e.kb.clauses(name, arity)):
+        mark = b.mark()
+        h, _ = clause.renamed()
+        if b.unify(head, h):
+            e.kb.remove(clause)
+        b.undo(mark)
+    return True
+
+
+def _tab(e: Engine, a: tuple, b: Bindings) -> bool:
+    count = evaluate(a[0], b)
+    if not isinstance(count, int):
+        raise type_error("integer", Float(count))
+    e.write(" " * max(0, count))
+    return True
+
+
+EXTRA = {
+    ("succ", 2): _succ,
+    ("plus", 3): _plus,
+    ("char_code", 2): _char_code,
+    ("upcase_atom", 2): _convert(Atom, str.upper),
+    ("downcase_atom", 2): _convert(Atom, str.lower),
+    ("string_upper", 2): _convert(Str, str.upper),
+    ("string_lower", 2): _convert(Str, str.lower),
+    ("string_length", 2): lambda e, a, b: b.unify(a[1], Int(len(_text_of(b.walk(a[0]))))),
+    ("string_to_atom", 2): _string_to_atom,
+    ("number_string", 2): _number_string,
+    ("string_code", 3): _string_code,
+    ("atom_to_term", 3): _atom_to_term,
+    ("term_variables", 2): _term_variables,
+    ("keysort", 2): _keysort,
+    ("sort", 4): _sort4,
+    ("retractall", 1): _retractall,
+    ("tab", 1): _tab,
+}
+
+EXTRA_NONDET = {
+    ("sub_atom", 5): _sub_text(Atom),
+    ("sub_string", 5): _sub_text(Str),
+}
+
+__all__ = ["EXTRA", "EXTRA_NONDET"]
