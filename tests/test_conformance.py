@@ -64,15 +64,10 @@ def _missing(pi: str) -> str:
     return f"swipl has {pi}; schemalog raises existence_error(procedure,{pi})"
 
 
-def _mode(what: str) -> str:
-    return f"swipl solves {what}; schemalog raises instantiation_error"
-
-
 _TEXT = "swipl raises type_error(text,T) for a compound; schemalog raises type_error(atomic,T)"
 _LENGTH_ERR = "swipl raises an error for a bad list or length; schemalog fails"
 _INT_BOUNDS = "swipl requires integer bounds (type_error(integer,_)); schemalog evaluates them"
 _NTH_TYPE = "swipl raises type_error(integer,_) for a non-integer index; schemalog fails"
-_ARG_ENUM = "swipl enumerates N in arg(N,T,A); schemalog raises instantiation_error"
 _EMPTY_ATOM = "swipl: [] is a reserved symbol, not an atom (atom([]) fails); schemalog reads [] as an atom (docs/syntax.md)"
 
 KNOWN_DIFFERENCES: dict[str, str] = {
@@ -81,18 +76,6 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     "ite-19": _missing("the soft cut *->/2"),
     "maplist-10": _missing("yall lambdas >>/N"),
     "strings-17": _missing("number_string/2"),
-    # Modes of text builtins schemalog runs only one way.
-    "atoms-12": _mode("atom_concat(-,+,+)"),
-    "atoms-13": _mode("atom_concat(+,-,+)"),
-    "atoms-14": _mode("atom_concat(-,-,+) nondeterministically"),
-    "atoms-16": "swipl fails atom_concat(X,b,c); schemalog raises instantiation_error",
-    "atoms-31": "swipl splits with atomic_list_concat(-L,+Sep,+Atom); schemalog fails",
-    "strings-03": _mode("string_concat(-,+,+)"),
-    "strings-30": _mode("string_concat(-,-,+) nondeterministically"),
-    "strings-06": _mode("string_chars(-S,+Chars)"),
-    "strings-07": _mode("string_codes(-S,+Codes)"),
-    "functor_arg-23": _ARG_ENUM,
-    "functor_arg-29": _ARG_ENUM,
     # Text builtins: other results and error terms.
     "atoms-04": "swipl reads the \\uXXXX escape in quoted atoms (5 chars); schemalog's reader does not (9)",
     "atoms-07": "atom_chars(X,[]): swipl gives X='' ; schemalog gives X=[] (the empty list text)",
@@ -130,8 +113,6 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     "nth-18": _NTH_TYPE,
     "sort-15": "sort(a,L): swipl raises type_error(list,a); schemalog instantiation_error",
     # Terms, control and the database.
-    "functor_arg-27": "arg(-1,f(a),X): swipl raises domain_error(not_less_than_zero,-1); schemalog fails",
-    "functor_arg-30": "arg(1,T,a) with T unbound: swipl raises instantiation_error; schemalog type_error(compound,_)",
     "univ_copy-10": "X =.. []: swipl raises domain_error(non_empty_list,[]); schemalog instantiation_error",
     "compare-26": "compare(foo,1,2): swipl raises domain_error(order,foo); schemalog fails",
     "calln-12": "call((fail,1)): swipl type-checks the whole body first, type_error(callable,(fail,1)); schemalog fails",

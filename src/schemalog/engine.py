@@ -578,15 +578,6 @@ def _functor(e: Engine, a: tuple, b: Bindings) -> bool:
     return b.unify(a[1], term) and b.unify(a[2], Int(0))
 
 
-def _arg(e: Engine, a: tuple, b: Bindings) -> bool:
-    n, term = b.walk(a[0]), b.walk(a[1])
-    if not isinstance(term, Struct):
-        raise type_error("compound", term)
-    if not isinstance(n, Int):
-        raise instantiation_error() if isinstance(n, Var) else type_error("integer", n)
-    return 1 <= n.value <= len(term.args) and b.unify(a[2], term.args[n.value - 1])
-
-
 def _univ(e: Engine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
     if isinstance(term, Struct):
@@ -714,12 +705,6 @@ def _term_text(e, a, b, make):
         return b.unify(t, parse_term(_text_of(b.walk(a[1]))))
     except _Err as err:
         raise iso_error(Struct("syntax_error", (Atom(err.message),))) from None
-
-
-def _atomic_list_concat(e, a, b):
-    items, _ = list_items(b.resolve(a[0]))
-    sep = _text_of(b.walk(a[1])) if len(a) == 3 else ""
-    return b.unify(a[-1], Atom(sep.join(_text_of(i) for i in items)))
 
 
 def _read_number(text: str) -> Term | None:
@@ -989,7 +974,6 @@ BUILTINS: dict[tuple[str, int], Builtin] = {
     ("string", 1): _type_check(lambda t: isinstance(t, Str)),
     ("ground", 1): lambda e, a, b: is_ground(b.resolve(a[0])),
     ("functor", 3): _functor,
-    ("arg", 3): _arg,
     ("=..", 2): _univ,
     ("copy_term", 2): _copy_term,
     ("atom_length", 2): _atom_length,
@@ -1001,12 +985,6 @@ BUILTINS: dict[tuple[str, int], Builtin] = {
     ("term_to_atom", 2): lambda e, a, b: _term_text(e, a, b, Atom),
     ("term_string", 2): lambda e, a, b: _term_text(e, a, b, Str),
     ("split_string", 4): _split_string,
-    ("atomic_list_concat", 2): _atomic_list_concat,
-    ("atomic_list_concat", 3): _atomic_list_concat,
-    ("string_concat", 3): lambda e, a, b: b.unify(a[2], Str(_text_of(b.walk(a[0])) + _text_of(b.walk(a[1])))),
-    ("atom_concat", 3): lambda e, a, b: b.unify(a[2], Atom(_text_of(b.walk(a[0])) + _text_of(b.walk(a[1])))),
-    ("string_chars", 2): lambda e, a, b: b.unify(a[1], make_list([Atom(c) for c in _text_of(b.walk(a[0]))])),
-    ("string_codes", 2): lambda e, a, b: b.unify(a[1], make_list([Int(ord(c)) for c in _text_of(b.walk(a[0]))])),
     ("number_codes", 2): _number_codes,
     ("assert", 1): _assert(front=False),
     ("assertz", 1): _assert(front=False),
@@ -1058,3 +1036,5 @@ from .library import EXTRA, EXTRA_NONDET  # noqa: E402  (library.py imports this
 
 BUILTINS.update(EXTRA)
 NONDET_BUILTINS.update(EXTRA_NONDET)
+for _key in EXTRA_NONDET:       # a nondeterministic version replaces a one-mode one
+    BUILTINS.pop(_key, None)

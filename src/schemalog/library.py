@@ -186,6 +186,79 @@ def _atom_to_term(e: Engine, a: tuple, b: Bindings) -> bool:
     return b.unify(a[1], fresh) and b.unify(a[2], pairs)
 
 
+def _concat(make) -> callable:
+    """atom_concat/3 and string_concat/3 in every mode: with the whole known and a part
+    unknown, each split of the whole that fits the known part, in order."""
+    def run(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+        left, right, whole = (b.walk(t) for t in a)
+        if not isinstance(left, Var) and not isinstance(right, Var):
+            mark = b.mark()
+            if b.unify(whole, make(_text_of(left) + _text_of(right))):
+                yield
+            b.undo(mark)
+            return
+        if isinstance(whole, Var):
+            raise instantiation_error()
+        text = _text_of(whole)
+        for i in range(len(text) + 1):
+            mark = b.mark()
+            if b.unify(left, make(text[:i])) and b.unify(right, make(text[i:])):
+                yield
+            b.undo(mark)
+    return run
+
+
+def _text_list(element) -> callable:
+    """string_chars/2 and string_codes/2 both ways: the list of a string, or the string of a list."""
+    def run(e: Engine, a: tuple, b: Bindings) -> bool:
+        s = b.walk(a[0])
+        if not isinstance(s, Var):
+            return b.unify(a[1], make_list([element(c) for c in _text_of(s)]))
+        items, tail = list_items(b.resolve(a[1]))
+        if tail != NIL or any(isinstance(i, Var) for i in items):
+            raise instantiation_error()
+        return b.unify(s, Str(_text_of(make_list(items)) if items else ""))
+    return run
+
+
+def _atomic_list_concat(e: Engine, a: tuple, b: Bindings) -> bool:
+    """atomic_list_concat(+List, +Sep, -Atom), or with a non-empty Sep and a known Atom,
+    split it: atomic_list_concat(L, '-', 'a-b') gives L = [a, b]."""
+    items, tail = list_items(b.resolve(a[0]))
+    sep = _text_of(b.walk(a[1])) if len(a) == 3 else ""
+    if tail == NIL and not any(isinstance(i, Var) for i in items):
+        return b.unify(a[-1], Atom(sep.join(_text_of(i) for i in items)))
+    whole = b.walk(a[-1])
+    if len(a) == 3 and sep and not isinstance(whole, Var):
+        return b.unify(a[0], make_list([Atom(part) for part in _text_of(whole).split(sep)]))
+    raise instantiation_error()
+
+
+def _arg(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+    """arg(?N, +Term, ?Arg): with N unbound, each argument in turn."""
+    n, term = b.walk(a[0]), b.walk(a[1])
+    if isinstance(term, Var):
+        raise instantiation_error()
+    if not isinstance(term, Struct):
+        raise type_error("compound", term)
+    if isinstance(n, Int):
+        if n.value < 0:
+            raise _domain_error("not_less_than_zero", n)
+        if 1 <= n.value <= len(term.args):
+            mark = b.mark()
+            if b.unify(a[2], term.args[n.value - 1]):
+                yield
+            b.undo(mark)
+        return
+    if not isinstance(n, Var):
+        raise type_error("integer", n)
+    for i, arg in enumerate(term.args, 1):
+        mark = b.mark()
+        if b.unify(n, Int(i)) and b.unify(a[2], arg):
+            yield
+        b.undo(mark)
+
+
 # -- terms and lists -----------------------------------------------------------
 
 def _term_variables(e: Engine, a: tuple, b: Bindings) -> bool:
@@ -295,11 +368,18 @@ EXTRA = {
     ("sort", 4): _sort4,
     ("retractall", 1): _retractall,
     ("tab", 1): _tab,
+    ("string_chars", 2): _text_list(lambda c: Atom(c)),
+    ("string_codes", 2): _text_list(lambda c: Int(ord(c))),
+    ("atomic_list_concat", 2): _atomic_list_concat,
+    ("atomic_list_concat", 3): _atomic_list_concat,
 }
 
 EXTRA_NONDET = {
     ("sub_atom", 5): _sub_text(Atom),
     ("sub_string", 5): _sub_text(Str),
+    ("atom_concat", 3): _concat(Atom),
+    ("string_concat", 3): _concat(Str),
+    ("arg", 3): _arg,
 }
 
 __all__ = ["EXTRA", "EXTRA_NONDET"]
