@@ -585,6 +585,8 @@ def _univ(e: Engine, a: tuple, b: Bindings) -> bool:
     if not isinstance(term, Var):
         return b.unify(a[1], make_list([term]))
     items, tail = list_items(b.resolve(a[1]))
+    if tail == NIL and not items:
+        raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
     if tail != NIL or not items:
         raise instantiation_error()
     head = items[0]
@@ -602,11 +604,13 @@ def _copy_term(e: Engine, a: tuple, b: Bindings) -> bool:
 def _length(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
     items, tail = list_items(b.resolve(a[0]))
     n = b.walk(a[1])
+    if not isinstance(tail, Var) and tail != NIL:
+        raise type_error("list", b.resolve(a[0]))
+    if isinstance(n, Int) and n.value < 0:
+        raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), n)))
     if tail == NIL:
         if b.unify(n, Int(len(items))):
             yield
-        return
-    if not isinstance(tail, Var):
         return
     if isinstance(n, Int):
         if n.value >= len(items) and b.unify(tail, make_list([Var("_") for _ in range(n.value - len(items))])):
@@ -624,8 +628,18 @@ def _length(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
 
 
 def _between(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
-    low, high, x = evaluate(a[0], b), b.walk(a[1]), b.walk(a[2])
-    top = math.inf if isinstance(high, Atom) and high.name in ("inf", "infinite") else evaluate(high, b)
+    """between(+Low, +High, ?X): integers only, as in SWI-Prolog (no evaluation); High may be inf."""
+    def integer(t: Term) -> int:
+        if isinstance(t, Var):
+            raise instantiation_error()
+        if not isinstance(t, Int):
+            raise type_error("integer", t)
+        return t.value
+
+    low, high, x = integer(b.walk(a[0])), b.walk(a[1]), b.walk(a[2])
+    top = math.inf if isinstance(high, Atom) and high.name in ("inf", "infinite") else integer(high)
+    if not isinstance(x, (Var, Int)):
+        raise type_error("integer", x)
     if isinstance(x, Int):
         if low <= x.value <= top:
             yield
@@ -929,17 +943,35 @@ def _throw(e: Engine, a: tuple, b: Bindings) -> bool:
     raise PrologError(ball)
 
 
-def _msort(e, a, b):
-    items, tail = list_items(b.resolve(a[0]))
-    if tail != NIL:
+def _compare(e, a, b):
+    """compare(?Order, +X, +Y): Order must be unbound or one of <, =, >."""
+    order = b.walk(a[0])
+    if not isinstance(order, Var):
+        if not isinstance(order, Atom):
+            raise type_error("atom", order)
+        if order.name not in ("<", "=", ">"):
+            raise iso_error(Struct("domain_error", (Atom("order"), order)))
+    return b.unify(order, Atom("<=>"[compare_terms(a[1], a[2], b) + 1]))
+
+
+def _proper_list(t: Term, b: Bindings) -> list[Term]:
+    """The items of a proper list; instantiation_error for a partial list, type_error(list) otherwise."""
+    whole = b.resolve(t)
+    items, tail = list_items(whole)
+    if isinstance(tail, Var):
         raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", whole)
+    return items
+
+
+def _msort(e, a, b):
+    items = _proper_list(a[0], b)
     return b.unify(a[1], make_list(sorted(items, key=standard_order_key)))
 
 
 def _sort(e, a, b):
-    items, tail = list_items(b.resolve(a[0]))
-    if tail != NIL:
-        raise instantiation_error()
+    items = _proper_list(a[0], b)
     return b.unify(a[1], make_list(_sorted_set(items)))
 
 
@@ -953,7 +985,7 @@ BUILTINS: dict[tuple[str, int], Builtin] = {
     ("@>", 2): lambda e, a, b: compare_terms(a[0], a[1], b) > 0,
     ("@=<", 2): lambda e, a, b: compare_terms(a[0], a[1], b) <= 0,
     ("@>=", 2): lambda e, a, b: compare_terms(a[0], a[1], b) >= 0,
-    ("compare", 3): lambda e, a, b: b.unify(a[0], Atom("<=>"[compare_terms(a[1], a[2], b) + 1])),
+    ("compare", 3): _compare,
     ("is", 2): lambda e, a, b: b.unify(a[0], _num(evaluate(a[1], b))),
     ("=:=", 2): _compare_numbers(lambda x, y: x == y),
     ("=\\=", 2): _compare_numbers(lambda x, y: x != y),

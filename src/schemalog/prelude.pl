@@ -20,7 +20,8 @@ reverse(L, R) :- '$reverse'(L, [], R).
 nth0(I, L, E) :- '$nth'(L, 0, I, E).
 nth1(I, L, E) :- '$nth'(L, 1, I, E).
 '$nth'(L, Base, I, E) :- integer(I), !, Skip is I - Base, Skip >= 0, '$nth_fixed'(Skip, L, E).
-'$nth'([H|T], Base, I, E) :- var(I), '$nth_var'(T, H, Base, I, E).
+'$nth'([H|T], Base, I, E) :- var(I), !, '$nth_var'(T, H, Base, I, E).
+'$nth'(_, _, I, _) :- nonvar(I), throw(error(type_error(integer, I), _)).
 '$nth_fixed'(0, [E|_], E) :- !.
 '$nth_fixed'(N, [_|T], E) :- N > 0, N1 is N - 1, '$nth_fixed'(N1, T, E).
 '$nth_var'(_, H, Base, Base, H).
