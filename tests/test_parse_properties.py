@@ -651,3 +651,21 @@ def test_known_bug_atom_with_nul(term):
 def test_a_full_stop_before_a_block_comment_ends_the_clause():
     clauses = parse_text("a(1)./* note */b(2).\n", "t.pl")
     assert [str(c.head) for c in clauses] == ["a(1)", "b(2)"]
+
+
+# ---------------------------------------------------------------------------
+# Clause copies: the compiled copier the engine renames clauses with
+
+@SETTINGS
+@given(terms, st.sampled_from([2_000, 3]))
+def test_a_compiled_copy_is_a_variant_with_fresh_variables(term, max_nodes):
+    """kb.compile_copy (and its fallback to rename beyond max_nodes): same shape, new variables."""
+    from schemalog.kb import compile_copy
+    from schemalog.terms import iter_vars
+    from schemalog.unify import variant
+
+    copy = compile_copy(term, max_nodes=max_nodes)
+    first, second = copy(), copy()
+    assert variant(first, term) and variant(second, term)
+    old = set(iter_vars(term))
+    assert not old & set(iter_vars(first)) and not set(iter_vars(first)) & set(iter_vars(second))

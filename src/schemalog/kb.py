@@ -21,7 +21,7 @@ from pathlib import Path
 
 from .errors import SchemalogError, SourcePos
 from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
-from .terms import TRUE, Atom, Int, Str, Struct, Term, Var, indicator, list_items, term_to_text
+from .terms import TRUE, Atom, Int, Str, Struct, Term, Var, indicator, is_ground, list_items, term_to_text
 from .unify import rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
@@ -47,15 +47,17 @@ class StoredClause:
     pos: SourcePos | None = None
     library: bool = False
     key: Key | None = field(init=False)
+    _copier: object = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
 
     def renamed(self) -> tuple[Term, Term]:
         """A copy of (head, body) with fresh variables."""
-        if self.body is TRUE:
-            return rename(self.head), TRUE
-        pair = rename(Struct(":-", (self.head, self.body)))
+        copy = self._copier
+        if copy is None:
+            copy = self._copier = compile_copy(Struct(":-", (self.head, self.body)))
+        pair = copy()
         return pair.args[0], pair.args[1]
 
     def text(self) -> str:
@@ -63,6 +65,42 @@ class StoredClause:
         if self.body is TRUE:
             return term_to_text(self.head) + "."
         return term_to_text(Struct(":-", (self.head, self.body))) + "."
+
+
+def compile_copy(term: Term, max_nodes: int = 2_000, max_depth: int = 60):
+    """A function returning a copy of `term` with fresh variables, compiled to one Python
+    expression: `rename` walks the term on every call, this builds it directly, sharing
+    ground sub-terms. Very large or deep terms fall back to `rename`."""
+    variables: dict[Var, str] = {}
+    constants: list[Term] = []
+    nodes = 0
+
+    def expr(t: Term, depth: int) -> str:
+        nonlocal nodes
+        nodes += 1
+        if nodes > max_nodes or depth > max_depth:
+            raise OverflowError
+        if isinstance(t, Var):
+            name = variables.get(t)
+            if name is None:
+                name = variables[t] = f"v{len(variables)}"
+            return name
+        if isinstance(t, Struct) and not is_ground(t):
+            args = ", ".join(expr(a, depth + 1) for a in t.args)
+            constants.append(t.name)
+            return f"S(c[{len(constants) - 1}], ({args},))"
+        constants.append(t)
+        return f"c[{len(constants) - 1}]"
+
+    try:
+        body = expr(term, 0)
+    except OverflowError:
+        return lambda: rename(term)
+    fresh = "".join(f"    {name} = V('_')\n" for name in variables.values())
+    source = f"def copy():\n{fresh}    return {body}\n"
+    scope = {"S": Struct, "V": Var, "c": tuple(constants)}
+    exec(source, scope)
+    return scope["copy"]
 
 
 class Predicate:

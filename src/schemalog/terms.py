@@ -89,11 +89,13 @@ class Struct:
     args: tuple
     _hash: int = field(default=0, init=False, repr=False, compare=False)
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "_hash", hash((self.name, self.args)))
-
     def __hash__(self) -> int:
-        return self._hash
+        # Computed on first use: the engine builds many terms (clause copies) never hashed.
+        h = self._hash
+        if not h:
+            h = hash((self.name, self.args))
+            object.__setattr__(self, "_hash", h)
+        return h
 
     @property
     def arity(self) -> int:
