@@ -79,6 +79,44 @@ class Bindings:
 
     def unify(self, x: Term, y: Term, occurs_check: bool = False) -> bool:
         """Unify `x` and `y`, extending the bindings; on failure the caller undoes."""
+        if occurs_check:
+            return self._unify_checked(x, y)
+        # The engine's innermost loop: walk inlined, exact type tests (Var and Struct have
+        # no subclasses), locals for attribute look-ups.
+        values, trail = self.values, self.trail
+        get = values.get
+        pairs = [(x, y)]
+        pop, push = pairs.pop, pairs.extend
+        while pairs:
+            a, b = pop()
+            while type(a) is Var:
+                bound = get(a)
+                if bound is None:
+                    break
+                a = bound
+            while type(b) is Var:
+                bound = get(b)
+                if bound is None:
+                    break
+                b = bound
+            if a is b:
+                continue
+            if type(a) is Var:
+                values[a] = b
+                trail.append(a)
+            elif type(b) is Var:
+                values[b] = a
+                trail.append(b)
+            elif type(a) is Struct:
+                if type(b) is not Struct or a.name != b.name or len(a.args) != len(b.args):
+                    return False
+                push(zip(a.args, b.args))
+            elif type(a) is not type(b) or a != b:
+                return False
+        return True
+
+    def _unify_checked(self, x: Term, y: Term) -> bool:
+        """Unification with the occurs check (unify_with_occurs_check/2)."""
         pairs = [(x, y)]
         walk = self.walk
         while pairs:
@@ -87,11 +125,11 @@ class Bindings:
             if a is b:
                 continue
             if isinstance(a, Var):
-                if occurs_check and self.occurs(a, b):
+                if self.occurs(a, b):
                     return False
                 self.bind(a, b)
             elif isinstance(b, Var):
-                if occurs_check and self.occurs(b, a):
+                if self.occurs(b, a):
                     return False
                 self.bind(b, a)
             elif isinstance(a, Struct):
