@@ -1,0 +1,144 @@
+"""The Prolog engine beside SWI-Prolog, in one run: naive reverse, and a join over a task tree.
+
+    python benchmarks/bench_engine.py [--repeat 3] [--sizes 250 500 1000 2000]
+
+1. Naive reverse of a 30-element list (496 logical inferences each), repeated; logical
+   inferences per second (LIPS) for schemalog's engine and for `swipl` on the same program,
+   and the ratio. swipl (Debian: swi-prolog-nox) must be on PATH.
+2. `sequential(X, Y)` (kb/compression.pl, Definition 1 as a rule) over the facts of a
+   generated tree (RD 0.5), answered by both engines from the same facts: how the cost of a
+   join grows with the tree, where first-argument indexing does not cover the join on the
+   parent (the second argument of parent/2).
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from schemalog.cli import tune_gc
+from schemalog.documents import document_from_text
+from schemalog.engine import Engine
+from schemalog.facts import tree_facts
+from schemalog.generate import generate
+from schemalog.parse import parse_term
+from schemalog.shipped import shipped_text
+from schemalog.terms import Struct, term_to_text
+
+NREV = """
+app([], L, L).
+app([H|T], L, [H|R]) :- app(T, L, R).
+nrev([], []).
+nrev([H|T], R) :- nrev(T, RT), app(RT, [H], R).
+range(N, N, [N]) :- !.
+range(I, N, [I|T]) :- I < N, I1 is I + 1, range(I1, N, T).
+bench(0, _) :- !.
+bench(K, L) :- nrev(L, _), K1 is K - 1, bench(K1, L).
+"""
+INFERENCES = 496   # per naive reverse of 30 elements: 31 nrev calls + 465 app calls
+
+
+def ours_nrev(repeat: int, times: int) -> float:
+    kb = document_from_text(NREV, "nrev.pl").to_kb()
+    best = float("inf")
+    for _ in range(repeat):
+        engine = Engine(kb, max_steps=10**10)
+        started = time.perf_counter()
+        engine.first(parse_term(f"range(1, 30, L), bench({times}, L)"))
+        best = min(best, time.perf_counter() - started)
+    return times * INFERENCES / best
+
+
+def swipl_nrev(swipl: str, repeat: int, times: int) -> float:
+    with tempfile.TemporaryDirectory() as tmp:
+        program = Path(tmp) / "nrev.pl"
+        program.write_text(NREV)
+        goal = (f"range(1, 30, L), findall(T, (between(1, {repeat}, _), statistics(cputime, T0), "
+                f"bench({times}, L), statistics(cputime, T1), T is T1 - T0), Ts), min_list(Ts, B), "
+                f"format('~w~n', [B]), halt")
+        out = subprocess.run([swipl, "-q", "-O", "-g", goal, str(program)], capture_output=True, text=True,
+                             check=True, timeout=600)
+    return times * INFERENCES / max(float(out.stdout.strip()), 1e-9)
+
+
+def join_program(size: int) -> tuple[str, int]:
+    """kb/compression.pl and the facts of a generated tree of about `size` behaviours."""
+    depth, branching = 4, 2
+    while sum(branching ** level for level in range(depth)) < size:
+        depth += 1
+    tree = generate(depth, branching, 0.5, seed=1)
+    # `b3.done` is '.'(b3, done), which SWI-Prolog 7 reads as a dict access: both engines get
+    # the same facts with at(b3, done) instead.
+    facts = [_no_dots(f) for f in tree_facts(tree)]
+    text = shipped_text("kb/compression.pl") + "\n" + "\n".join(term_to_text(f, quoted=True) + "." for f in facts)
+    return text, sum(1 for f in facts if f.name == "node")
+
+
+def _no_dots(t):
+    if isinstance(t, Struct):
+        return Struct("at" if t.name == "." and len(t.args) == 2 else t.name, tuple(_no_dots(a) for a in t.args))
+    return t
+
+
+def ours_join(text: str) -> tuple[int, float]:
+    kb = document_from_text(text, "join.pl").to_kb()
+    started = time.perf_counter()
+    answers = len(Engine(kb, max_steps=10**11).answers(parse_term("sequential(X, Y)")))
+    return answers, time.perf_counter() - started
+
+
+def swipl_join(swipl: str, text: str) -> tuple[int, float]:
+    with tempfile.TemporaryDirectory() as tmp:
+        program = Path(tmp) / "join.pl"
+        program.write_text(text)
+        goal = ("statistics(cputime, T0), findall(X-Y, sequential(X, Y), L), statistics(cputime, T1), "
+                "length(L, N), T is T1 - T0, format('~w ~w~n', [N, T]), halt")
+        out = subprocess.run([swipl, "-q", "-g", goal, str(program)], capture_output=True, text=True,
+                             check=True, timeout=600)
+    n, seconds = out.stdout.split()
+    return int(n), float(seconds)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--times", type=int, default=300, help="naive reverses per timing (ours)")
+    parser.add_argument("--sizes", type=int, nargs="+", default=[250, 500, 1000, 2000])
+    args = parser.parse_args()
+    swipl = shutil.which("swipl")
+    if swipl is None:
+        raise SystemExit("swipl is not on PATH (Debian: apt-get install swi-prolog-nox)")
+    version = subprocess.run([swipl, "--version"], capture_output=True, text=True).stdout.strip()
+    tune_gc()
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
+    print(f"python {sys.version.split()[0]}; {version}\n")
+    ours = ours_nrev(args.repeat, args.times)
+    theirs = swipl_nrev(swipl, args.repeat, args.times * 200)
+    print("## Naive reverse, 30 elements (496 inferences each), best of", args.repeat, "\n")
+    print("| engine | LIPS | ratio |\n|---|---:|---:|")
+    print(f"| schemalog | {ours:,.0f} | {theirs / ours:,.0f}x slower |")
+    print(f"| swipl -O | {theirs:,.0f} | 1 |\n")
+    print("## sequential(X, Y) over a generated tree's facts (kb/compression.pl)\n")
+    print("| behaviours | answers | schemalog s | swipl s | ratio | schemalog growth |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    previous = None
+    for size in args.sizes:
+        text, nodes = join_program(size)
+        n_ours, t_ours = ours_join(text)
+        n_swipl, t_swipl = swipl_join(swipl, text)
+        if n_ours != n_swipl:
+            raise SystemExit(f"answers differ at {nodes} behaviours: schemalog {n_ours}, swipl {n_swipl}")
+        growth = f"x{t_ours / previous[1]:.1f} for x{nodes / previous[0]:.1f} behaviours" if previous else ""
+        print(f"| {nodes:,} | {n_ours:,} | {t_ours:.3f} | {t_swipl:.4f} | {t_ours / max(t_swipl, 1e-6):,.0f}x "
+              f"| {growth} |")
+        sys.stdout.flush()
+        previous = (nodes, t_ours)
+
+
+if __name__ == "__main__":
+    main()
