@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Iterator
 
-from .engine import (Bindings, Engine, _text_of, compare_terms, evaluate, instantiation_error,
+from .engine import (Bindings, Engine, _read_number, _text_of, compare_terms, evaluate, instantiation_error,
                      iso_error, standard_order_key, type_error)
 from .terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
 from .unify import rename
@@ -103,14 +103,8 @@ def _number_string(e: Engine, a: tuple, b: Bindings) -> bool:
         if isinstance(n, Var):
             raise instantiation_error()
         return b.unify(s, Str(term_to_text(n)))
-    from .parse import parse_term
-
-    text = _text_of(s).strip()
-    try:
-        value = parse_term(text)
-    except Exception:
-        value = None
-    if not isinstance(value, (Int, Float)):
+    value = _read_number(_text_of(s).strip())
+    if value is None:
         raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
     return b.unify(a[0], value)
 
