@@ -69,8 +69,6 @@ _EMPTY_ATOM = "swipl: [] is a reserved symbol, not an atom (atom([]) fails); sch
 
 KNOWN_DIFFERENCES: dict[str, str] = {
     # Builtins and library predicates swipl has and schemalog does not.
-    "ite-18": _missing("the soft cut *->/2"),
-    "ite-19": _missing("the soft cut *->/2"),
     "maplist-10": _missing("yall lambdas >>/N"),
     "strings-17": _missing("number_string/2"),
     # Text builtins: other results and error terms.

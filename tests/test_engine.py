@@ -324,3 +324,18 @@ def test_bagof_groups_variant_witnesses_like_swi_prolog():
 def test_bagof_of_an_unbound_goal_is_an_instantiation_error():
     with pytest.raises(PrologError, match="instantiation_error"):
         ask(BAGS, "bagof(X, G, L)")
+
+
+@pytest.mark.parametrize("goal, swipl", [
+    # the soft cut keeps every solution of the condition; the else branch runs only without one
+    ("(member(X,[1,2]) *-> Y = X ; Y = none)", "[1-1,2-2]"),
+    ("(fail *-> Y = yes ; Y = no)", "[_-no]"),
+    ("((member(X,[a,b]), !) *-> Y = X ; Y = none)", "[a-a]"),        # a cut in C is local to C
+    ("(member(X,[1,2,3]) *-> Y = X)", "[1-1,2-2,3-3]"),
+])
+def test_soft_cut_answers_like_swi_prolog(goal, swipl):
+    import re
+
+    (answer,) = ask("", f"findall(X-Y, {goal}, L)")
+    printed = answer[answer.rindex(",[") + 1:-1]          # the list L; fresh variables print as _G123
+    assert re.sub(r"_G\d+", "_", printed) == swipl

@@ -74,6 +74,15 @@ class _FailAfterCut(_CutTo):
     """`\\+ G` succeeded in proving G: cut G's alternatives, then fail."""
 
 
+class _SoftCut:
+    """`C *-> T ; E`: C has succeeded, so E is no longer an alternative (C's own stay)."""
+
+    __slots__ = ("height",)
+
+    def __init__(self, height: int) -> None:
+        self.height = height
+
+
 class _ExitCatch:
     """The goal of catch/3 exited: its catcher no longer applies."""
 
@@ -83,8 +92,8 @@ class _ExitCatch:
         self.height = height
 
 
-# Choicepoint kinds
-_CLAUSES, _ALT, _NONDET, _CATCH = range(4)
+# Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
+_CLAUSES, _ALT, _NONDET, _CATCH, _DEAD = range(5)
 
 Builtin = Callable[["Engine", tuple, Bindings], bool]
 NondetBuiltin = Callable[["Engine", tuple, Bindings], Iterator[None]]
@@ -160,6 +169,10 @@ class Engine:
                             continue
                         goals = rest
                         continue
+                    if isinstance(term, _SoftCut):
+                        cps[term.height] = (_DEAD, cps[term.height][1])
+                        goals = rest
+                        continue
                     if isinstance(term, _ExitCatch):
                         cp = cps[term.height] if term.height < len(cps) else None
                         if cp is not None and cp[0] == _CATCH:
@@ -199,6 +212,11 @@ class Engine:
                         continue
                 if arity == 2 and name == ";":
                     left = args[0]  # not walked: `(C ; B)` with C bound to (X -> Y) is call(C) ; B
+                    if isinstance(left, Struct) and left.name == "*->" and len(left.args) == 2:
+                        height = len(cps)
+                        cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
+                        goals = (left.args[0], height + 1, (_SoftCut(height), cutb, (left.args[1], cutb, rest)))
+                        continue
                     if isinstance(left, Struct) and left.name == "->" and len(left.args) == 2:
                         height = len(cps)
                         cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
@@ -206,6 +224,9 @@ class Engine:
                         continue
                     cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
                     goals = (left, cutb, rest)
+                    continue
+                if arity == 2 and name == "*->":  # (C *-> T) without else: (C, T), cut in C local
+                    goals = (args[0], len(cps), (args[1], cutb, rest))
                     continue
                 if arity == 2 and name == "->":  # (C -> T) without else: fails when C fails
                     height = len(cps)
@@ -1045,7 +1066,7 @@ NONDET_BUILTINS: dict[tuple[str, int], NondetBuiltin] = {
 }
 
 # Control constructs the machine handles itself (so `is_builtin` knows them).
-CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("\\+", 1), ("not", 1), ("!", 0),
+CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("not", 1), ("!", 0),
                      ("true", 0), ("fail", 0), ("false", 0), ("catch", 3)}
                     | {("call", n) for n in range(1, 9)})
 
