@@ -113,6 +113,7 @@ class Engine:
     def solve(self, goal: Term, bindings: Bindings | None = None) -> Iterator[Bindings]:
         """Yield once per proof of `goal`; the bindings hold that answer while yielded."""
         b = bindings if bindings is not None else Bindings()
+        _check_body(goal, b)
         return self._run(goal, b)
 
     def first(self, goal: Term, bindings: Bindings | None = None) -> Bindings | None:
@@ -184,6 +185,7 @@ class Engine:
                     term = b.walk(term)
                     if isinstance(term, Var):
                         raise instantiation_error()
+                    _check_body(term, b)
                     cutb = len(cps)
                 if isinstance(term, Atom):
                     name, args = term.name, ()
@@ -241,12 +243,14 @@ class Engine:
                     target = b.walk(args[0])
                     if arity > 1:
                         target = _add_args(target, args[1:])
+                    _check_body(target, b)
                     goals = (target, len(cps), rest)
                     continue
                 if arity == 3 and name == "catch":
                     height = len(cps)
                     cps.append((_CATCH, b.mark(), args[1], args[2], rest, cutb))
-                    goals = (args[0], height + 1, (_ExitCatch(height), cutb, rest))
+                    # the goal is meta-called, call/1 style, inside the frame: its errors are caught
+                    goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
                     continue
                 # Builtins ----------------------------------------------------
                 key = (name, arity)
@@ -346,6 +350,21 @@ class Engine:
                 yield b
         finally:
             b.undo(mark)
+
+
+_CONTROL_ARGS = {(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1)}
+
+
+def _check_body(goal: Term, b: Bindings) -> None:
+    """A meta-called goal is checked whole first, as SWI-Prolog compiles it: a number or
+    string where a goal should be (`call((fail, 1))`) is type_error(callable, Goal)."""
+    stack = [goal]
+    while stack:
+        t = b.walk(stack.pop())
+        if isinstance(t, (Int, Float, Str)):
+            raise type_error("callable", b.resolve(goal))
+        if isinstance(t, Struct) and (t.name, len(t.args)) in _CONTROL_ARGS:
+            stack.extend(t.args)
 
 
 def _add_args(goal: Term, extra: tuple) -> Term:
@@ -690,7 +709,11 @@ def _text_of(t: Term) -> str:
 
 
 def _atom_length(e, a, b):
-    return b.unify(a[1], Int(len(_text_of(b.walk(a[0])))))
+    length = b.walk(a[1])
+    text = _text_of(b.walk(a[0]))
+    if not isinstance(length, (Var, Int)):
+        raise type_error("integer", length)
+    return b.unify(length, Int(len(text)))
 
 
 def _atom_codes(e, a, b):
