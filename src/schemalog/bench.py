@@ -36,6 +36,7 @@ from .errors import SchemalogError
 from .execute import Executive
 from .generate import TOLERANCE, generate, node_count, scene_for, shortfall
 from .scene import Scene, scene_from_yaml
+from .parse import parse_term
 from .shipped import shipped_text
 from .tree import Behaviour, count_nodes, instantiate, walk
 from .verify import Verifier, verify_by_parts
@@ -311,7 +312,7 @@ KITCHEN_FILE = "kb/scenes/kitchen.yaml"
 def measure_coffee(plan: BenchPlan) -> Cell:
     """The paper's real task (Sec. IV-D): 10 runs in 10 object configurations of the kitchen."""
     kb = document_from_text(shipped_text(COFFEE_FILE), COFFEE_FILE).to_kb()
-    tree = instantiate(kb, _term("prepareboth"))
+    tree = instantiate(kb, parse_term("prepareboth"))
     result, seconds = timed_compress(tree)
     initial = frozenset(initial_state(kb))
     cell = Cell("coffee and tea", result.depth_before, 0, result.nodes_before, None, result.reduction_degree,
@@ -321,11 +322,6 @@ def measure_coffee(plan: BenchPlan) -> Cell:
     time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, initial, plan.ticks)
     verify_cell(tree, result.tree, initial, plan.max_states, cell)
     return cell
-
-
-def _term(text: str):
-    from .parse import parse_term
-    return parse_term(text)
 
 
 def measure_size(depth: int, children: int, plan: BenchPlan, sample: int = 20) -> SizeRow:

@@ -29,7 +29,7 @@ from .schema import check_schemas
 from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
 from .execute import DEFAULT_RETRIES, SELECTORS, Decision, Executive, RobotManager
-from .generate import TOLERANCE, generate, node_count, scene_for, shortfall
+from .generate import TOLERANCE, generate, scene_for, shortfall
 from .scene import NO_SCENE, Scene, object_name, read_scene, scene_text
 from .verify import (DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms, state_text,
                      verify_by_parts)
