@@ -1,13 +1,14 @@
-"""KnowledgeBase: clauses by predicate, a first-argument index, and consult.
+"""KnowledgeBase: clauses by predicate, argument indexes, and consult.
 
     KnowledgeBase.predicates : dict[(name, arity), Predicate]
     Predicate.clauses        : list[StoredClause]            in source order
-    Predicate.index          : dict[key, list[StoredClause]]  key = first argument's
+    Predicate index          : dict[key, list[StoredClause]]  key = an argument's
                                                               principal functor
 
 A call whose first argument is bound only tries the clauses with the same key or
-a variable there; the lists are rebuilt (not mutated) on assert and retract, so a
-running call keeps its snapshot (the logical update view).
+a variable there; a call whose first argument is unbound uses the first other bound
+argument, indexed just in time. The lists are rebuilt (not mutated) on assert and
+retract, so a running call keeps its snapshot (the logical update view).
 """
 
 from __future__ import annotations
@@ -104,37 +105,85 @@ def compile_copy(term: Term, max_nodes: int = 2_000, max_depth: int = 60):
 
 
 class Predicate:
-    """The clauses of one predicate and their first-argument index."""
+    """The clauses of one predicate and their argument indexes.
 
-    __slots__ = ("clauses", "_index", "_unindexed", "dynamic")
+    The first argument is indexed as clauses are called; another argument is indexed
+    just in time, the first time a call leaves the first argument unbound but binds that
+    one (SWI-Prolog's JIT indexing), so `parent(B2, P)` with P bound is a lookup, not a
+    scan. Indexes are dropped on assert and retract and rebuilt on demand.
+    """
+
+    __slots__ = ("clauses", "_index", "_unindexed", "_jit", "dynamic")
+
+    MIN_CLAUSES = 8  # below this a scan is cheaper than a lookup
 
     def __init__(self) -> None:
         self.clauses: list[StoredClause] = []
         self._index: dict[Key, list[StoredClause]] | None = None
         self._unindexed: list[StoredClause] = []
+        self._jit: dict[int, tuple[dict[Key, list[StoredClause]], list[StoredClause]] | None] = {}
         self.dynamic = False
 
     def changed(self) -> None:
         self._index = None
+        self._jit = {}
 
     def candidates(self, first: Term | None) -> list[StoredClause]:
-        if first is None or isinstance(first, Var) or len(self.clauses) < 8:
+        if first is None or isinstance(first, Var) or len(self.clauses) < self.MIN_CLAUSES:
             return self.clauses
         if self._index is None:
-            index: dict[Key, list[StoredClause]] = {}
-            unindexed: list[StoredClause] = []
-            for clause in self.clauses:
-                if clause.key is None:
-                    unindexed.append(clause)
-                    for bucket in index.values():
-                        bucket.append(clause)
-                else:
-                    bucket = index.get(clause.key)
-                    if bucket is None:
-                        bucket = index[clause.key] = list(unindexed)
-                    bucket.append(clause)
-            self._index, self._unindexed = index, unindexed
+            self._index, self._unindexed = _build_index(self.clauses, lambda c: c.key)
         return self._index.get(first_arg_key(first), self._unindexed)
+
+    def candidates_by(self, args: tuple, walk) -> list[StoredClause]:
+        """The candidates of a call whose first argument is unbound: the bucket of the
+        first other bound argument worth indexing on, else every clause."""
+        if len(self.clauses) < self.MIN_CLAUSES:
+            return self.clauses
+        for position in range(1, len(args)):
+            value = walk(args[position])
+            if isinstance(value, Var):
+                continue
+            if position not in self._jit:
+                self._jit[position] = _useful_index(self.clauses, position)
+            built = self._jit[position]
+            if built is not None:
+                index, unindexed = built
+                return index.get(first_arg_key(value), unindexed)
+        return self.clauses
+
+
+def _arg_key(clause: StoredClause, position: int) -> Key | None:
+    head = clause.head
+    return first_arg_key(head.args[position]) if isinstance(head, Struct) else None
+
+
+def _build_index(clauses: list[StoredClause], key_of) -> tuple[dict[Key, list[StoredClause]],
+                                                             list[StoredClause]]:
+    """Buckets by key, in clause order; a clause with a variable there is in every bucket."""
+    index: dict[Key, list[StoredClause]] = {}
+    unindexed: list[StoredClause] = []
+    for clause in clauses:
+        key = key_of(clause)
+        if key is None:
+            unindexed.append(clause)
+            for bucket in index.values():
+                bucket.append(clause)
+        else:
+            bucket = index.get(key)
+            if bucket is None:
+                bucket = index[key] = list(unindexed)
+            bucket.append(clause)
+    return index, unindexed
+
+
+def _useful_index(clauses: list[StoredClause], position: int):
+    """An index on argument `position`, or None where it would not narrow calls down
+    (fewer than two keys, or most clauses with a variable there)."""
+    index, unindexed = _build_index(clauses, lambda c: _arg_key(c, position))
+    if len(index) < 2 or 2 * len(unindexed) > len(clauses):
+        return None
+    return index, unindexed
 
 
 @functools.lru_cache(maxsize=1)
@@ -161,6 +210,20 @@ class KnowledgeBase:
         pred = self.predicates.get((name, arity))
         if pred is None:
             return None
+        return pred.candidates(first)
+
+    def call_candidates(self, name: str, arity: int, args: tuple, walk) -> list[StoredClause] | None:
+        """The clauses that may match the call `name(args...)` (walk dereferences an
+        argument), by the first argument or, when it is unbound, another; None if the
+        predicate is unknown."""
+        pred = self.predicates.get((name, arity))
+        if pred is None:
+            return None
+        if arity == 0:
+            return pred.clauses
+        first = walk(args[0])
+        if isinstance(first, Var) and arity > 1:
+            return pred.candidates_by(args, walk)
         return pred.candidates(first)
 
     def clauses(self, name: str, arity: int) -> list[StoredClause]:
@@ -209,6 +272,26 @@ class KnowledgeBase:
         if is_builtin(name, arity) or (name, arity) in ((",", 2), (";", 2), ("->", 2)):
             raise SchemalogError(f"no permission to modify the built-in predicate {name}/{arity}", pos)
         self._store(StoredClause(head, body, pos), front=front)
+
+    def add_facts(self, facts: list[Term]) -> None:
+        """Add many ground facts at once (a task tree's relations): one list per predicate
+        instead of a copy per clause, so loading n facts costs O(n)."""
+        from .engine import is_builtin
+
+        grouped: dict[tuple[str, int], list[StoredClause]] = {}
+        for fact in facts:
+            key = indicator(fact)
+            if is_builtin(*key):
+                raise SchemalogError(f"no permission to modify the built-in predicate {key[0]}/{key[1]}")
+            grouped.setdefault(key, []).append(StoredClause(fact, TRUE))
+        for key, clauses in grouped.items():
+            pred = self.predicates.get(key)
+            if pred is None:
+                pred = self.predicates[key] = Predicate()
+            elif pred.clauses and all(c.library for c in pred.clauses):
+                pred.clauses = []
+            pred.clauses = [*pred.clauses, *clauses]
+            pred.changed()
 
     def add_term(self, term: Term, front: bool = False) -> None:
         """Add a clause given as one term (`H :- B` or a fact), as assertz/asserta do."""

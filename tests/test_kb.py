@@ -1,0 +1,58 @@
+"""The knowledge base's indexes: whatever argument a call binds, the answers and their
+order are those of trying every clause in turn."""
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from schemalog.engine import Engine
+from schemalog.kb import KnowledgeBase
+from schemalog.parse import parse_term
+from schemalog.terms import Atom, Int, Struct, Var, term_to_text
+from schemalog.unify import Bindings
+
+from conftest import ask
+
+# An argument of a fact or of a call: a few atoms, integers, compound terms, or a variable.
+ARGUMENTS = st.sampled_from(["a", "b", "c", "1", "2", "f(a)", "f(b)", "g(a, b)", "_"])
+
+
+def _facts(rows: list[tuple[str, str, str]]) -> str:
+    return ":- dynamic p/3.\n" + "\n".join(f"p({x}, {y}, {z})." for x, y, z in rows)
+
+
+def _by_scanning(kb: KnowledgeBase, call) -> list[str]:
+    """The instances of `call`, by unifying it with every clause in order (no index)."""
+    out = []
+    for clause in kb.clauses("p", 3):
+        b = Bindings()
+        head, _ = clause.renamed()
+        if b.unify(head, call):
+            out.append(term_to_text(b.resolve(call)))
+    return out
+
+
+@settings(max_examples=150, deadline=None)
+@given(rows=st.lists(st.tuples(ARGUMENTS, ARGUMENTS, ARGUMENTS), min_size=0, max_size=30),
+       pattern=st.tuples(ARGUMENTS, ARGUMENTS, ARGUMENTS))
+def test_any_bound_argument_answers_as_a_full_scan(rows, pattern):
+    kb = KnowledgeBase()
+    kb.consult_text(_facts(rows))
+    call = parse_term("p({}, {}, {})".format(*(("X" + str(i)) if a == "_" else a for i, a in enumerate(pattern))))
+    expected = _by_scanning(kb, call)
+    got = [term_to_text(t) for t in Engine(kb).answers(call)]
+    assert got == expected
+
+
+def test_second_argument_index_follows_assert_and_retract():
+    program = ":- dynamic parent/2.\n" + "\n".join(f"parent({c}, {c // 2})." for c in range(2, 40))
+    assert ask(program, "parent(C, 5)") == ["parent(10,5)", "parent(11,5)"]
+    assert ask(program, "assertz(parent(99, 5)), retract(parent(10, 5)), findall(C, parent(C, 5), L)")[0] \
+        .endswith("[11,99])")
+
+
+def test_add_facts_loads_in_order_after_existing_clauses():
+    kb = KnowledgeBase()
+    kb.consult_text("q(0).")
+    kb.add_facts([Struct("q", (Int(i),)) for i in range(1, 20)] + [Struct("r", (Atom("x"), Var("_")))])
+    assert [term_to_text(t) for t in Engine(kb).answers(parse_term("q(X)"))] == [f"q({i})" for i in range(20)]
+    assert Engine(kb).succeeds(parse_term("r(x, anything)"))
