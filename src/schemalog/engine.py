@@ -103,11 +103,18 @@ class Engine:
     """Answers goals against one knowledge base."""
 
     def __init__(self, kb: "KnowledgeBase", max_steps: int = DEFAULT_MAX_STEPS,
-                 output: Callable[[str], None] | None = None) -> None:
+                 output: Callable[[str], None] | None = None, *,
+                 builtins: dict[tuple[str, int], "Builtin"] | None = None,
+                 nondet: dict[tuple[str, int], "NondetBuiltin"] | None = None) -> None:
+        """`builtins` and `nondet` add predicates written in Python for this engine only
+        (schemalog's relations over a workspace, relations.py)."""
         self.kb = kb
         self.max_steps = max_steps
         self.write = output or (lambda text: print(text, end=""))
         self.interrupted = False  # set from another thread (Ctrl-C in the REPL)
+        self.deterministic = False  # while an answer is yielded: no alternative is left
+        self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
+        self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
 
     # -- public API -----------------------------------------------------------
     def solve(self, goal: Term, bindings: Bindings | None = None) -> Iterator[Bindings]:
@@ -140,13 +147,14 @@ class Engine:
         cps: list[tuple] = []
         goals = (goal, 0, None)
         kb = self.kb
-        builtins = BUILTINS
-        nondet = NONDET_BUILTINS
+        builtins = self.builtins
+        nondet = self.nondet
         max_steps = self.max_steps
         steps = 0  # per query: each solve (and each findall inside it) has the whole budget
         while True:
             try:
                 if goals is None:
+                    self.deterministic = not cps
                     yield b
                     goals = self._backtrack(cps, b)
                     if goals is False:
@@ -276,7 +284,7 @@ class Engine:
                     continue
 
                 # User predicates ---------------------------------------------
-                candidates = kb.candidates(name, arity, b.walk(args[0]) if arity else None)
+                candidates = kb.call_candidates(name, arity, args, b.walk)
                 if candidates is None:
                     if kb.unknown_fails(name, arity):
                         goals = self._backtrack(cps, b)
@@ -658,6 +666,8 @@ def _length(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
         return
     if not isinstance(n, Var):
         raise type_error("integer", n)
+    if n is tail:           # length(L, L): L would have to be a list and its own length
+        return
     extra = 0
     while True:  # enumerate longer and longer open lists, as SWI-Prolog does
         mark = b.mark()
