@@ -18,7 +18,7 @@ from . import __version__
 from . import conditions as cond
 from .documents import (YAML_SUFFIXES, Document, check_writable, read_document, to_pl, to_yaml,
                         write_atomically)
-from .engine import PrologError
+from .engine import DEFAULT_MAX_STEPS, PrologError
 from .errors import SchemalogError, UsageError
 from .kb import KnowledgeBase
 from .parse import MAX_BYTES, Clause, parse_term
@@ -722,6 +722,59 @@ def cmd_bench(args: argparse.Namespace) -> int:
 # ---------------------------------------------------------------------------
 # Argument parsing
 
+def _workspace(args: argparse.Namespace, files: list[str]):
+    """The files as a query workspace (relations.py), focused as --task/--compressed/--state ask."""
+    from .relations import COMPRESSED, ORIGINAL, Options, Workspace
+
+    options = Options(propagate=args.propagate, max_bytes=args.max_bytes, max_depth=args.max_depth,
+                      max_nodes=args.max_nodes, max_steps=args.max_steps, sympy_budget=args.sympy_budget,
+                      scene=NO_SCENE)
+    workspace = Workspace(files, options)
+    if args.scene is not None:
+        if workspace.focus is None:
+            raise UsageError("--scene positions the objects of a task, and these files have none")
+        options = Options(**{**vars(options), "scene": _scene(args, workspace.focus.original)})
+        workspace.options = options
+    if args.task is not None:
+        workspace.set_focus(workspace.view_of(_task_term(args.task)), ORIGINAL)
+    if args.compressed:
+        if workspace.focus is None:
+            raise UsageError("--compressed needs a task: these files have none")
+        workspace.set_focus(workspace.focus, COMPRESSED)
+    if args.state is not None:
+        try:
+            atoms = state_atoms(_term_option(args.state, "--state"), "--state")
+        except UsageError:
+            raise
+        except SchemalogError as err:
+            raise UsageError(err.message) from None
+        workspace.set_state(atoms)
+    return workspace
+
+
+def cmd_query(args: argparse.Namespace) -> int:
+    """Answer one query over knowledge files: every answer (or the first), as text or JSON."""
+    from .toplevel import run_query
+
+    try:
+        workspace = _workspace(args, args.files)
+    except SchemalogError as err:
+        print(str(err), file=sys.stderr)
+        return 2
+    for note in workspace.notes:
+        print(note, file=sys.stderr)
+    return run_query(workspace, args.query, first=args.first, as_json=args.json)
+
+
+def cmd_repl(args: argparse.Namespace) -> int:
+    """The interactive top level (prompt_toolkit) over knowledge files."""
+    from .toplevel import Repl
+
+    workspace = _workspace(args, args.files)
+    interactive = sys.stdin.isatty() and sys.stdout.isatty() and not args.plain
+    return Repl(workspace).loop(interactive)
+
+
 def _whole(minimum: int):
     """An argparse type: a whole number at least `minimum`."""
     def read(text: str) -> int:
@@ -905,6 +958,35 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-states", type=_positive, metavar="N",
                    help="verification stops (no proof) beyond N states (default 20,000, --quick 5,000)")
     p.set_defaults(run=cmd_bench)
+
+    ask = argparse.ArgumentParser(add_help=False)
+    ask.add_argument("--task", help="the task enabled/1, emphasis/2 and next_action/1 look at (default: the first)")
+    ask.add_argument("--compressed", action="store_true",
+                     help="look at the task's compressed tree instead of the original")
+    ask.add_argument("--state", metavar="ATOMS", help="the current state, e.g. 'hand.free, a1.done' "
+                     "(default: the files' initial/1)")
+    ask.add_argument("--scene", metavar="FILE", help="object positions for emphasis/2 (lambda)")
+    ask.add_argument("--propagate", choices=list(PROPAGATE_MODES), default="full",
+                     help="how compressed/2 and merged/3 propagate conditions (default full)")
+    ask.add_argument("--sympy-budget", type=_budget, default=DEFAULT_SYMPY_BUDGET, metavar="N",
+                     help=argparse.SUPPRESS)
+    ask.add_argument("--max-steps", type=_positive, default=DEFAULT_MAX_STEPS, metavar="N",
+                     help=f"resolution steps one query may take (default {DEFAULT_MAX_STEPS:,})")
+    ask.set_defaults(seed=None, jitter=None)
+
+    p = sub.add_parser("query", parents=[limits, ask],
+                       help="answer a Prolog query over knowledge files (docs/queries.md)")
+    p.add_argument("files", nargs="*", metavar="FILE")
+    p.add_argument("query", metavar="QUERY", help="a goal, e.g. 'sequential(X, Y)' (the final '.' is optional)")
+    p.add_argument("--first", action="store_true", help="stop after the first answer")
+    p.add_argument("--json", action="store_true", help="print a JSON list of bindings")
+    p.set_defaults(run=cmd_query)
+
+    p = sub.add_parser("repl", parents=[limits, ask], help="the interactive query top level")
+    p.add_argument("files", nargs="*", metavar="FILE")
+    p.add_argument("--plain", action="store_true",
+                   help="read queries line by line without prompt_toolkit (as when piped)")
+    p.set_defaults(run=cmd_repl)
 
     p = sub.add_parser("convert", parents=[limits],
                        help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")

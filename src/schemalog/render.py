@@ -9,6 +9,8 @@ Colours follow the paper's figures: pre-conditions green, post-conditions blue.
 
 from __future__ import annotations
 
+import itertools
+
 from rich.text import Text
 from rich.tree import Tree
 
@@ -60,15 +62,25 @@ def show_json(task: Term, root: Behaviour) -> dict:
             "tree": tree_json(root)}
 
 
-def rich_tree(root: Behaviour, title: str | None = None) -> Tree:
-    """A rich Tree with each behaviour's agent, objects and conditions."""
-    top = Tree(Text(title, style="bold") if title else _node_text(root))
-    start = top if not title else top.add(_node_text(root))
-    stack = [(root, start)]
-    while stack:
-        node, branch = stack.pop()
-        added = [(child, branch.add(_node_text(child))) for child in node.children]
-        stack.extend(reversed(added))
+def rich_tree(root: Behaviour, title: str | None = None, first_id: int | None = None) -> Tree:
+    """A rich Tree with each behaviour's agent, objects and conditions (and, given
+    `first_id`, its id as the query relations number it: pre-order from `first_id`)."""
+    number = itertools.count(first_id) if first_id is not None else None
+
+    def text(node: Behaviour) -> Text:
+        shown = _node_text(node)
+        return Text.assemble((f"{next(number)} ", "cyan"), shown) if number is not None else shown
+
+    if title:
+        top = Tree(Text(title, style="bold"))
+        stack = [(root, top)]
+    else:
+        top = Tree(text(root))
+        stack = [(child, top) for child in reversed(root.children)]
+    while stack:                      # pre-order, so the ids count as tree_facts numbers them
+        node, parent = stack.pop()
+        branch = parent.add(text(node))
+        stack.extend((child, branch) for child in reversed(node.children))
     return top
 
 

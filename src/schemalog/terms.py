@@ -234,23 +234,25 @@ Names = dict  # dict[Var, str]: print names for variables (see `variable_names`)
 
 
 def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = None,
-                 quoted: bool = True, spaced: bool = False) -> str:
+                 quoted: bool = True, spaced: bool = False, next_argument: bool = False) -> str:
     """Write `term` as SWI-Prolog's writeq would (write/1 with quoted=False).
 
     `spaced` puts spaces around word operators everywhere, `(a or b) and c`, where
-    writeq writes `(a or b)and c`; both read back the same."""
-    return "".join(_write(term, max_priority, _Style(names or {}, quoted, spaced)))
+    writeq writes `(a or b)and c`; both read back the same. `next_argument` puts a space
+    after each argument's comma, `f(a, [b, c])`, as SWI-Prolog's top level prints answers."""
+    return "".join(_write(term, max_priority, _Style(names or {}, quoted, spaced, next_argument)))
 
 
 class _Style:
     """How to write: variable print names, and whether to quote atoms and strings."""
 
-    __slots__ = ("names", "quoted", "spaced")
+    __slots__ = ("names", "quoted", "spaced", "comma")
 
-    def __init__(self, names: Names, quoted: bool, spaced: bool = False) -> None:
+    def __init__(self, names: Names, quoted: bool, spaced: bool = False, next_argument: bool = False) -> None:
         self.names = names
         self.quoted = quoted
         self.spaced = spaced
+        self.comma = ", " if next_argument else ","
 
 
 def variable_names(terms: Iterable[Term]) -> Names:
@@ -287,7 +289,7 @@ def _write(term: Term, max_priority: int, style: _Style) -> Iterator[str]:
         if isinstance(task, str):
             out.append(task)
         elif isinstance(task, _InfixOp):
-            out.append(task.text(out, style.spaced))
+            out.append(task.text(out, style))
         else:
             _expand(task[0], task[1], style, out, stack)
     yield "".join(out)
@@ -301,13 +303,13 @@ class _InfixOp:
     def __init__(self, name: str, right_first: str) -> None:
         self.name, self.right_first = name, right_first
 
-    def text(self, out: list[str], spaced: bool = False) -> str:
+    def text(self, out: list[str], style: "_Style") -> str:
         name = self.name
         if name == ",":
-            return ","
+            return style.comma
         last = next((chunk[-1] for chunk in reversed(out) if chunk), "")
         if name[0].isalpha():  # a word operator: apart from names, not after a bracket
-            return f"{'' if last in ')]}' and not spaced else ' '}{name} "
+            return f"{'' if last in ')]}' and not style.spaced else ' '}{name} "
         op = name
         # Keep symbol runs apart so they do not read as one token: `1- -1`, `a= \\+b`.
         if last and _SYMBOL.match(last):
@@ -340,7 +342,7 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
         raise TypeError(f"not a term: {term!r}")
 
 
-def _push_args(items: list[Term], priority: int, stack: list, sep: str = ",") -> None:
+def _push_args(items: list[Term], priority: int, stack: list, sep: str) -> None:
     for i in range(len(items) - 1, -1, -1):
         stack.append((items[i], priority))
         if i:
@@ -356,7 +358,7 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         if tail != NIL:
             stack.append((tail, 999))
             stack.append("|")
-        _push_args(items, 999, stack)
+        _push_args(items, 999, stack, style.comma)
         return
     if name == "{}" and len(args) == 1:
         out.append("{")
@@ -399,7 +401,7 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         out.append(quote_atom(name) if name not in _QUOTED_FUNCTORS else f"'{name}'")
     out.append("(")
     stack.append(")")
-    _push_args(list(args), 999, stack)
+    _push_args(list(args), 999, stack, style.comma)
 
 
 # Atoms that read bare but not as functors: '[]'(a), '!'(a), ';'(a,b,c).

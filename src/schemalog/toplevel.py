@@ -1,0 +1,611 @@
+"""The Prolog top level: answers as SWI-Prolog prints them, `schemalog query`, and the REPL.
+
+    Query  = (goal: Term, names: list[(name, Var)])   the variables the user wrote, in order
+    Answer = list[(name, Term)]                        resolved bindings, `X = Y` for aliases
+
+An answer prints `X = f(Y), Z = 1`, or `true` when it binds nothing; no answer prints
+`false`. Variables the user wrote with a leading `_` are not shown, as in SWI-Prolog.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import signal
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterator, TextIO
+
+from .engine import PrologError, StepLimitExceeded
+from .errors import SchemalogError
+from .parse import parse_term
+from .relations import COMPRESSED, ORIGINAL, RELATIONS, Workspace
+from .terms import Atom, Float, Int, Struct, Term, Var, iter_vars, term_to_text, variable_names
+from .unify import Bindings
+
+
+
+@dataclass(frozen=True)
+class Query:
+    """A parsed query and the variables to report."""
+
+    goal: Term
+    names: tuple[tuple[str, Var], ...]
+
+
+def read_query(text: str, file: str = "<query>") -> Query:
+    """Parse a query (the final '.' is optional); syntax errors carry a caret."""
+    goal = parse_term(text, file)
+    seen: dict[Var, None] = {}
+    for v in iter_vars(goal):
+        seen.setdefault(v, None)
+    return Query(goal, tuple((v.name, v) for v in seen if v.name and not v.name.startswith("_")))
+
+
+@dataclass(frozen=True)
+class Answer:
+    """One answer: each query variable's value, and the print names of the free variables
+    in them (a free variable shared by query variables is named after the last of them)."""
+
+    values: tuple[tuple[str, Term], ...]
+    names: dict
+
+    def groups(self) -> list[tuple[list[str], Term]]:
+        """The query variables grouped by equal (==) values, in order of first appearance."""
+        groups: list[tuple[list[str], Term]] = []
+        for name, value in self.values:
+            for members, shared in groups:
+                if shared == value:
+                    members.append(name)
+                    break
+            else:
+                groups.append(([name], value))
+        return groups
+
+
+def answer_of(query: Query, b: Bindings) -> Answer:
+    """The bindings of one answer, resolved."""
+    values = tuple((name, b.resolve(v)) for name, v in query.names)
+    answer = Answer(values, {})
+    names = variable_names([value for _, value in values])
+    for v in iter_vars(query.goal):             # `_Z` in the query keeps its name, as in SWI
+        if v.name:
+            names[v] = v.name
+    for members, value in answer.groups():
+        if isinstance(value, Var):
+            names[value] = members[-1]
+    return Answer(values, names)
+
+
+def answer_text(answer: Answer) -> str:
+    """`X = Y, Y = a, Z = [1, 2]` as SWI-Prolog prints it, or `true`."""
+    parts = []
+    for members, value in answer.groups():
+        parts.extend(f"{a} = {b}" for a, b in zip(members, members[1:]))
+        if not isinstance(value, Var):
+            parts.append(f"{members[-1]} = {term_to_text(value, 699, answer.names, next_argument=True)}")
+    return ", ".join(parts) or "true"
+
+
+def answer_json(answer: Answer) -> dict:
+    """{"X": 1, "Y": "[a, b]"}: integers and floats as JSON numbers, other terms as Prolog
+    text, a free variable as its name."""
+    out: dict = {}
+    for name, value in answer.values:
+        if isinstance(value, Int):
+            out[name] = value.value
+        elif isinstance(value, Float) and math.isfinite(value.value):
+            out[name] = value.value
+        else:
+            out[name] = term_to_text(value, 699, answer.names, next_argument=True)
+    return out
+
+
+def error_text(err: BaseException, raise_limit: str = "--max-steps N") -> str:
+    """An uncaught exception as the user should read it."""
+    if isinstance(err, PrologError):
+        return f"error: uncaught exception: {_explain(err.ball)}"
+    if isinstance(err, StepLimitExceeded):
+        return f"error: {err.message}; raise it with {raise_limit}"
+    return str(err)
+
+
+def _explain(ball: Term) -> str:
+    """`error(type_error(integer, a), _)` with a plain-words gloss for the ISO errors."""
+    text = term_to_text(ball, names=variable_names([ball]))
+    if isinstance(ball, Struct) and ball.name == "error" and len(ball.args) == 2:
+        formal = ball.args[0]
+        name = formal.name if isinstance(formal, (Atom, Struct)) else ""
+        args = formal.args if isinstance(formal, Struct) else ()
+        if name == "existence_error" and len(args) == 2 and args[0] == Atom("procedure"):
+            return f"{text}\n  unknown procedure {term_to_text(args[1])}"
+        if name == "instantiation_error":
+            return f"{text}\n  arguments are not sufficiently instantiated"
+        if name == "type_error" and len(args) == 2:
+            return f"{text}\n  {term_to_text(args[0])} expected, found {term_to_text(args[1])}"
+        if name == "evaluation_error" and len(args) == 1:
+            return f"{text}\n  arithmetic: {term_to_text(args[0])}"
+    return text
+
+
+def answers(workspace: Workspace, query: Query, output: Callable[[str], None] | None = None,
+            max_steps: int | None = None) -> Iterator[tuple[Answer, bool]]:
+    """Every answer of `query`, lazily, each with whether it is the last (no choicepoint
+    left, so the REPL does not ask for more); errors propagate."""
+    engine = workspace.engine(output, max_steps)
+    for b in engine.solve(query.goal):
+        yield answer_of(query, b), engine.deterministic
+
+
+# ---------------------------------------------------------------------------
+# schemalog query
+
+def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: bool = False,
+              out: TextIO = sys.stdout, err: TextIO = sys.stderr, max_steps: int | None = None) -> int:
+    """Print the answers of `text`: 0 with an answer, 1 without, 2 on an error."""
+    try:
+        query = read_query(text)
+    except SchemalogError as e:
+        print(str(e), file=err)
+        return 2
+    found: list[dict] = []
+    count = 0
+    status = 0
+    # In JSON mode what the query writes (write/1, format/2) goes to stderr: stdout is the list.
+    output = (lambda s: err.write(s)) if as_json else (lambda s: out.write(s))
+    try:
+        for answer, _ in answers(workspace, query, output, max_steps):
+            count += 1
+            if as_json:
+                found.append(answer_json(answer))
+            else:
+                out.write(answer_text(answer) + "\n")
+                out.flush()
+            if first:
+                break
+    except (PrologError, SchemalogError) as e:
+        print(error_text(e), file=err)
+        status = 2
+    if as_json:
+        out.write(json.dumps(found, indent=2) + "\n")
+    elif count == 0 and status == 0:
+        out.write("false\n")
+    if status:
+        return status
+    return 0 if count else 1
+
+
+# ---------------------------------------------------------------------------
+# The REPL
+
+HELP = """\
+Enter a query, ending with '.'; it may span lines. After an answer, ';' asks for the
+next one and Enter stops. Ctrl-C stops a running query, Ctrl-D leaves.
+
+  :load FILE       add a knowledge file (the workspace is rebuilt from all files)
+  :tree [T]        print the focus tree, each behaviour with its id
+  :compress [T]    focus on T's compressed tree and print it with its figures
+  :original [T]    focus on T's original tree
+  :run [T]         run the focus tree from the current state; the state is kept
+  :reset           back to the initial state (the files' initial/1)
+  :verify [T]      prove T's compressed tree against its original
+  :state           the atoms true now
+  :limit [N]       show or set the step limit of a query
+  :help            this text        :quit   leave
+
+Relations over the workspace (docs/queries.md):
+"""
+
+
+def complete_input(text: str) -> bool:
+    """Whether `text` ends a query or command: a ':' command line, or a final '.' outside
+    quotes and comments followed by only layout."""
+    stripped = text.strip()
+    if not stripped:
+        return True
+    if stripped.startswith(":") and not stripped.startswith(":-"):
+        return True
+    return _ends_with_full_stop(text)
+
+
+def _ends_with_full_stop(text: str) -> bool:
+    i, n, last_stop = 0, len(text), -1
+    while i < n:
+        c = text[i]
+        if c in "'\"`":
+            j = i + 1
+            while j < n:
+                if text[j] == "\\":
+                    j += 2
+                    continue
+                if text[j] == c:
+                    if j + 1 < n and text[j + 1] == c:   # 'it''s'
+                        j += 2
+                        continue
+                    break
+                j += 1
+            else:
+                return False                             # an open quote
+            i = j + 1
+            continue
+        if c == "%":
+            while i < n and text[i] != "\n":
+                i += 1
+            continue
+        if c == "/" and i + 1 < n and text[i + 1] == "*":
+            end = text.find("*/", i + 2)
+            if end < 0:
+                return False
+            i = end + 2
+            continue
+        if c == "0" and text[i + 1:i + 2] == "'":        # 0'c character codes
+            i += 3
+            continue
+        if c == "." and (i + 1 == n or text[i + 1].isspace() or text[i + 1] == "%") \
+                and not (i > 0 and text[i - 1] in "#$&*+-./:<=>?@^~\\"):
+            last_stop = i
+        elif not c.isspace():
+            last_stop = -1
+        i += 1
+    return last_stop >= 0
+
+
+class Repl:
+    """The interactive top level over a workspace; `input_line` and `more` do the I/O."""
+
+    def __init__(self, workspace: Workspace, out: TextIO = sys.stdout, max_steps: int | None = None) -> None:
+        self.workspace = workspace
+        self.out = out
+        self.max_steps = max_steps or workspace.options.max_steps
+
+    # -- one input ------------------------------------------------------------------
+    def handle(self, text: str, more: Callable[[], bool]) -> bool:
+        """Run one query or command; False when the user asked to leave."""
+        stripped = text.strip()
+        if not stripped:
+            return True
+        if stripped.startswith(":") and not stripped.startswith(":-"):
+            return self.command(stripped[1:].strip())
+        # prompt_toolkit's event loop may leave its own SIGINT handling behind: a running
+        # query gets Python's, so Ctrl-C raises KeyboardInterrupt in it.
+        previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+        try:
+            return self._answer(stripped, more)
+        finally:
+            signal.signal(signal.SIGINT, previous)
+
+    def _answer(self, stripped: str, more: Callable[[], bool]) -> bool:
+        try:
+            query = read_query(stripped)
+        except SchemalogError as e:
+            self.say(str(e))
+            return True
+        try:
+            stream = answers(self.workspace, query, self._write, self.max_steps)
+            for answer, last in stream:
+                self.out.write(answer_text(answer))
+                self.out.flush()
+                if last or not more():
+                    self.out.write(".\n")
+                    break
+                self.out.write(" ;\n")
+            else:
+                self.say("false.")
+        except (PrologError, SchemalogError) as e:
+            self.say(error_text(e, ":limit N"))
+        except KeyboardInterrupt:
+            self.say("% interrupted")
+        return True
+
+    def _write(self, text: str) -> None:
+        self.out.write(text)
+        self.out.flush()
+
+    def say(self, text: str) -> None:
+        self.out.write(text + "\n")
+        self.out.flush()
+
+    # -- commands -------------------------------------------------------------------
+    def command(self, line: str) -> bool:
+        name, _, rest = line.partition(" ")
+        rest = rest.strip()
+        try:
+            if name in ("quit", "q", "exit"):
+                return False
+            if name in ("help", "h", "?"):
+                self.help()
+            elif name == "load":
+                if not rest:
+                    raise SchemalogError(":load needs a file")
+                self.workspace.load(rest)
+                for note in self.workspace.notes:
+                    self.say(note)
+                self.say(f"% loaded {rest}: {self._tasks_line()}")
+            elif name in ("tree", "compress", "original"):
+                view = self._view(rest)
+                kind = COMPRESSED if name == "compress" else ORIGINAL if name == "original" else \
+                    (self.workspace.kind if view is self.workspace.focus else ORIGINAL)
+                self.workspace.set_focus(view, kind)
+                self.show_tree(view, kind, figures=name == "compress")
+            elif name == "run":
+                self.run(self._view(rest))
+            elif name == "reset":
+                self.workspace.reset()
+                self.say(f"% state: {self._state_text()}")
+            elif name == "state":
+                self.say(f"% state: {self._state_text()}")
+            elif name == "verify":
+                self.verify(self._view(rest))
+            elif name == "limit":
+                if rest:
+                    if not rest.isdigit() or int(rest) < 1:
+                        raise SchemalogError(f":limit needs a positive number of steps, not {rest!r}")
+                    self.max_steps = int(rest)
+                self.say(f"% step limit: {self.max_steps:,} resolution steps per query")
+            else:
+                self.say(f"unknown command :{name} (:help lists them)")
+        except SchemalogError as e:
+            self.say(str(e))
+        return True
+
+    def help(self) -> None:
+        self.out.write(HELP)
+        for text in RELATIONS.values():
+            self.out.write(f"  {text}\n")
+        self.out.flush()
+
+    def _view(self, text: str):
+        ws = self.workspace
+        if not text:
+            if ws.focus is None:
+                raise SchemalogError("no task here: :load a task file first")
+            return ws.focus
+        try:
+            term = parse_term(text, "<task>")
+        except SchemalogError as e:
+            raise SchemalogError(f"not a task: {e}") from None
+        return ws.view_of(term)
+
+    def _tasks_line(self) -> str:
+        views = self.workspace.views
+        if not views:
+            return "no tasks"
+        return "tasks " + ", ".join(term_to_text(v.task) for v in views)
+
+    def _state_text(self) -> str:
+        return ", ".join(sorted(term_to_text(a) for a in self.workspace.state)) or "(nothing true)"
+
+    def show_tree(self, view, kind: str, figures: bool = False) -> None:
+        from rich.console import Console
+
+        from .render import rich_tree
+
+        tree = view.tree(kind)
+        console = Console(file=self.out, width=120, highlight=False,
+                          force_terminal=self.out.isatty() if hasattr(self.out, "isatty") else False)
+        console.print(f"% {term_to_text(view.task)}, {kind} tree (focus); ids as the relations number them")
+        console.print(rich_tree(tree, first_id=view.first(kind)))
+        if figures:
+            from .tree import count_nodes, depth
+
+            before, after = count_nodes(view.original), count_nodes(view.compressed)
+            self.say(f"% Bi = {before}, Bm = {after}, D = {depth(view.original)}, "
+                     f"RD = {view.reduction_degree:.2f}")
+
+    def run(self, view) -> None:
+        ws = self.workspace
+        kind = ws.kind if view is ws.focus else ORIGINAL
+        ws.set_focus(view, kind)
+        executive = ws.execute(view, kind, ws.state)
+        for d in executive.decisions:
+            done = ", ".join(term_to_text(a) for a in d.executed) or "-"
+            failed = f"  FAILED {term_to_text(d.failed)}" if d.failed is not None else ""
+            self.say(f"{d.index:>4}  {term_to_text(d.behaviour)}  (e = {d.emphasis:.3g}; {done}){failed}")
+        ws.state = executive.world.atoms
+        self.say(f"% {executive.outcome.status.name.lower()}: {executive.outcome.reason}")
+
+    def verify(self, view) -> None:
+        from .relations import verdict_term
+
+        report = self.workspace.verify(view)
+        self.say(f"% {term_to_text(view.task)}: {term_to_text(verdict_term(report))} "
+                 f"({report.compressed_states:,} + {report.original_states:,} states, {report.seconds:.2f} s)")
+        for verdict in report.properties.values():
+            self.say(f"%   {verdict.name}: {verdict.summary}")
+
+    # -- the loop -------------------------------------------------------------------
+    def loop(self, interactive: bool, stdin: TextIO = sys.stdin) -> int:
+        """Read queries until the end of input or :quit."""
+        self.say(f"% schemalog {_version()}: {len(self.workspace.files)} file(s), {self._tasks_line()}. "
+                 f":help for help")
+        for note in [*self.workspace.notes, self.workspace.clashes]:
+            if note:
+                self.say(note)
+        if interactive:
+            return self._interactive()
+        return self._piped(stdin)
+
+    def _piped(self, stdin: TextIO) -> int:
+        """Line-based: a query may span lines; after an answer, a line ';' asks for the next
+        one, an empty line stops, and any other line stops and is read as the next input."""
+        pending: list[str] = []
+
+        def read() -> str:
+            return pending.pop() if pending else stdin.readline()
+
+        def more() -> bool:
+            reply = read()
+            if reply.strip() in (";", "n", "r"):
+                return True
+            if reply.strip():
+                pending.append(reply)
+            return False
+
+        buffer = ""
+        while True:
+            line = read()
+            if not line:
+                break
+            buffer += line
+            if complete_input(buffer):
+                text, buffer = buffer, ""
+                if text.strip():
+                    self.out.write(f"?- {text.strip()}\n")
+                if not self.handle(text, more):
+                    return 0
+        if buffer.strip():
+            self.say("error: the input ended inside a query (missing the final '.'?)")
+            return 2
+        return 0
+
+    def _interactive(self) -> int:
+        from prompt_toolkit import PromptSession
+        from prompt_toolkit.history import FileHistory, InMemoryHistory
+        from prompt_toolkit.key_binding import KeyBindings
+
+        history_path = history_file()
+        try:
+            history_path.parent.mkdir(parents=True, exist_ok=True)
+            history = FileHistory(str(history_path))
+        except OSError:
+            history = InMemoryHistory()
+        keys = KeyBindings()
+
+        @keys.add("enter")
+        def _(event) -> None:
+            buffer = event.current_buffer
+            if complete_input(buffer.text):
+                buffer.validate_and_handle()
+            else:
+                buffer.insert_text("\n")
+
+        @keys.add("tab")
+        def _(event) -> None:
+            buffer = event.current_buffer
+            word = _WORD.search(buffer.document.text_before_cursor)
+            words = sorted(completion_words(self.workspace, word.group())) if word else []
+            if len(words) == 1:                  # one way to go on: take it
+                buffer.insert_text(words[0][len(word.group()):])
+            elif words:
+                buffer.start_completion(select_first=False)
+
+        session = PromptSession(history=history, multiline=True, key_bindings=keys,
+                                completer=_Completer(self.workspace),
+                                prompt_continuation=lambda width, line, soft: "|    ")
+        more_keys = KeyBindings()
+        for key in (";", "n", "r", " ", "tab"):
+            more_keys.add(key)(lambda event: event.app.exit(result=True))
+        for key in ("enter", ".", "c", "a", "escape"):
+            more_keys.add(key)(lambda event: event.app.exit(result=False))
+        more_keys.add("c-c")(lambda event: event.app.exit(result=False))
+        answer_session = PromptSession(key_bindings=more_keys)
+
+        def more() -> bool:
+            try:
+                return bool(answer_session.prompt(""))
+            except (KeyboardInterrupt, EOFError):
+                return False
+
+        while True:
+            try:
+                text = session.prompt("?- ")
+            except KeyboardInterrupt:
+                continue
+            except EOFError:
+                self.say("")
+                return 0
+            with _signals_from_keyboard():
+                if not self.handle(text, more):
+                    return 0
+
+
+class _signals_from_keyboard:
+    """While a query runs, Ctrl-C must reach it as SIGINT: the terminal can still be in the
+    raw mode prompt_toolkit read the query in (no ISIG), where Ctrl-C is only a byte."""
+
+    def __enter__(self) -> None:
+        self.saved = None
+        try:
+            import termios
+
+            fd = sys.stdin.fileno()
+            self.saved = termios.tcgetattr(fd)
+            attrs = termios.tcgetattr(fd)
+            attrs[3] |= termios.ISIG
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
+        except (ImportError, OSError, ValueError):
+            self.saved = None
+
+    def __exit__(self, *exc) -> None:
+        if self.saved is not None:
+            import termios
+
+            termios.tcsetattr(sys.stdin.fileno(), termios.TCSANOW, self.saved)
+
+
+class _Completer:
+    """Tab completion of predicate names, relations, atoms and REPL commands."""
+
+    def __new__(cls, workspace: Workspace):
+        from prompt_toolkit.completion import Completer, Completion
+
+        class Words(Completer):
+            def get_completions(self, document, complete_event):
+                word = document.get_word_before_cursor(pattern=_WORD)
+                if not word:
+                    return
+                for candidate in sorted(completion_words(workspace, word)):
+                    yield Completion(candidate, start_position=-len(word))
+
+        return Words()
+
+
+_WORD = re.compile(r"[:a-z][A-Za-z0-9_]*$")
+
+
+def completion_words(workspace: Workspace, prefix: str) -> set[str]:
+    """The words that complete `prefix`: commands after ':', else predicates and atoms."""
+    if prefix.startswith(":"):
+        return {c for c in (":load", ":tree", ":compress", ":original", ":run", ":reset", ":verify",
+                            ":state", ":limit", ":help", ":quit") if c.startswith(prefix)}
+    from .engine import BUILTINS, NONDET_BUILTINS
+
+    words = {name for name, _ in workspace.kb.predicates} | {name for name, _ in BUILTINS} | \
+        {name for name, _ in NONDET_BUILTINS} | {name for name, _ in RELATIONS}
+    for pred in workspace.kb.predicates.values():
+        for clause in pred.clauses[:2000]:      # atoms of the files' clauses, not of huge fact sets
+            _atoms_of(clause.head, words)
+    return {w for w in words if w.startswith(prefix) and re.fullmatch(r"[a-z][A-Za-z0-9_]*", w)}
+
+
+def _atoms_of(term: Term, out: set[str]) -> None:
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Atom):
+            out.add(t.name)
+        elif isinstance(t, Struct):
+            out.add(t.name)
+            stack.extend(t.args)
+
+
+def history_file() -> Path:
+    """Where the REPL keeps its history: $SCHEMALOG_HISTORY, else the XDG state directory."""
+    explicit = os.environ.get("SCHEMALOG_HISTORY")
+    if explicit:
+        return Path(explicit)
+    state = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
+    return Path(state) / "schemalog" / "history"
+
+
+def _version() -> str:
+    from . import __version__
+
+    return __version__
+
+
+__all__ = ["Query", "read_query", "answer_of", "answer_text", "answer_json", "run_query", "Repl",
+           "complete_input", "completion_words", "history_file"]
