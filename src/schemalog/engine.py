@@ -4,7 +4,7 @@
     ChoicePoint = (kind, trail_mark, ...)                                        (a stack)
 
 The machine pops a goal, rewrites control constructs into goals and choicepoints,
-resolves user predicates against the knowledge base's first-argument index, and
+resolves user predicates against the knowledge base's argument indexes, and
 calls builtins. Prolog recursion therefore never becomes Python recursion. A cut
 removes the choicepoints above its barrier (the height when its clause was
 called); `catch/3` leaves a choicepoint that an exception unwinds to.

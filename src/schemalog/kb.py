@@ -115,7 +115,7 @@ class Predicate:
 
     __slots__ = ("clauses", "_index", "_unindexed", "_jit", "dynamic")
 
-    MIN_CLAUSES = 8  # below this a scan is cheaper than a lookup
+    MIN_CLAUSES = 2  # one clause needs no index
 
     def __init__(self) -> None:
         self.clauses: list[StoredClause] = []
