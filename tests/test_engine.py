@@ -352,3 +352,13 @@ def test_two_clause_predicates_leave_no_choicepoint_when_indexed():
 
 def test_length_of_a_list_that_is_its_own_length_fails_as_in_swi():
     assert ask("", "length(L, L)") == []
+
+
+def test_consult_loads_and_reloads_a_file_as_swi_does(tmp_path):
+    source = tmp_path / "colours.pl"
+    source.write_text("colour(red).\ncolour(green).\n")
+    stem = str(source)[:-3]
+    assert ask("", f"consult('{source}'), ['{stem}'], findall(C, colour(C), L)")[0].endswith("[red,green])")
+    assert ask("", f"catch(consult('{stem}.nope'), error(E, _), true), E = existence_error(source_sink, _)")
+    with pytest.raises(PrologError, match="instantiation_error"):
+        ask("", "consult(_)")

@@ -307,6 +307,14 @@ class KnowledgeBase:
             pred.clauses = [c for c in pred.clauses if c is not clause]
             pred.changed()
 
+    def forget_file(self, file: str) -> None:
+        """Remove the clauses read from `file` (before it is consulted again)."""
+        for pred in self.predicates.values():
+            kept = [c for c in pred.clauses if c.pos is None or c.pos.file != file]
+            if len(kept) != len(pred.clauses):
+                pred.clauses = kept
+                pred.changed()
+
     def declare_dynamic(self, name: str, arity: int) -> None:
         """Make `name/arity` known, so calling it without clauses fails instead of raising."""
         pred = self.predicates.setdefault((name, arity), Predicate())

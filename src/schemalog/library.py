@@ -9,6 +9,7 @@ Prolog (permutation/2, predsort/3, nth0/4, aggregate_all/3...) are in prelude.pl
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Iterator
 
 from .engine import (Bindings, Engine, _read_number, _text_of, compare_terms, evaluate, instantiation_error,
@@ -344,7 +345,31 @@ def _tab(e: Engine, a: tuple, b: Bindings) -> bool:
     return True
 
 
+def _consult(e: Engine, a: tuple, b: Bindings) -> bool:
+    """consult(+File) and [File, ...]: load Prolog files; loading a file again replaces the
+    clauses it defined before, as in SWI-Prolog."""
+    target = b.resolve(a[0]) if len(a) == 1 else Struct("[|]", (b.resolve(a[0]), b.resolve(a[1])))
+    items, tail = list_items(target) if isinstance(target, Struct) and target.name == "[|]" else ([target], NIL)
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    for item in items:
+        if isinstance(item, Var):
+            raise instantiation_error()
+        if not isinstance(item, (Atom, Str)):
+            raise type_error("atom", item)
+        path = Path(item.value if isinstance(item, Str) else item.name)
+        if not path.exists() and path.suffix == "":
+            path = path.with_suffix(".pl")
+        if not path.is_file():
+            raise iso_error(Struct("existence_error", (Atom("source_sink"), item)))
+        e.kb.forget_file(str(path))
+        e.kb.consult(path)
+    return True
+
+
 EXTRA = {
+    ("consult", 1): _consult,
+    ("[|]", 2): _consult,
     ("succ", 2): _succ,
     ("plus", 3): _plus,
     ("char_code", 2): _char_code,
