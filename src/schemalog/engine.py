@@ -311,8 +311,8 @@ class Engine:
                 while index < len(candidates):
                     clause = candidates[index]
                     index += 1
-                    head, body = clause.renamed()
-                    if b.unify(head, term):
+                    body = clause.match(term, b)
+                    if body is not None:
                         if index < len(candidates):
                             cps[-1] = (_CLAUSES, mark, term, candidates, index, rest, height)
                         else:

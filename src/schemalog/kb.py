@@ -22,7 +22,7 @@ from pathlib import Path
 
 from .errors import SchemalogError, SourcePos
 from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
-from .terms import TRUE, Atom, Int, Str, Struct, Term, Var, indicator, is_ground, list_items, term_to_text
+from .terms import TRUE, Atom, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
@@ -49,6 +49,7 @@ class StoredClause:
     library: bool = False
     key: Key | None = field(init=False)
     _copier: object = field(default=None, init=False, repr=False, compare=False)
+    _matcher: object = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
@@ -60,6 +61,14 @@ class StoredClause:
             copy = self._copier = compile_copy(Struct(":-", (self.head, self.body)))
         pair = copy()
         return pair.args[0], pair.args[1]
+
+    def match(self, goal: Term, b) -> Term | None:
+        """Unify a fresh copy of the head with `goal`; return the body's copy, or None
+        (the caller undoes a failed match's bindings)."""
+        match = self._matcher
+        if match is None:
+            match = self._matcher = compile_match(self)
+        return match(goal, b)
 
     def text(self) -> str:
         """The clause as Prolog text."""
@@ -102,6 +111,115 @@ def compile_copy(term: Term, max_nodes: int = 2_000, max_depth: int = 60):
     scope = {"S": Struct, "V": Var, "c": tuple(constants)}
     exec(source, scope)
     return scope["copy"]
+
+
+def compile_match(clause: StoredClause, max_nodes: int = 300, max_depth: int = 12):
+    """A function `match(goal, bindings)` that unifies the clause's head with `goal` and
+    returns the body's instance, compiled to Python (the WAM's get instructions, in effect).
+
+    No head is built: a head variable's first occurrence simply names the goal's argument,
+    a constant is compared or bound, a compound is taken apart when the goal has one there
+    and built only when the goal has an unbound variable there. Large or deep heads fall
+    back to copying the clause and unifying."""
+    head, body = clause.head, clause.body
+    if not isinstance(head, Struct):
+        copy = compile_copy(body) if body is not TRUE else None
+        return (lambda goal, b: copy()) if copy else (lambda goal, b: TRUE)
+    names: dict[Var, str] = {}          # every variable of the clause, named up front
+    for v in (*iter_vars(head), *iter_vars(body)):
+        names.setdefault(v, f"v{len(names)}")
+    seen: set[Var] = set()              # the variables the code so far has given a value
+    constants: list = []
+    lines: list[str] = []
+    counter = iter(range(1 << 30))
+    nodes = 0
+
+    def const(t) -> str:
+        constants.append(t)
+        return f"c[{len(constants) - 1}]"
+
+    def build(t: Term) -> str:
+        """An expression building `t` from the named variables."""
+        if isinstance(t, Var):
+            return names[t]
+        if isinstance(t, Struct) and not is_ground(t):
+            return f"S({const(t.name)}, ({', '.join(build(a) for a in t.args)},))"
+        return const(t)
+
+    def create(t: Term, pad: str, known: set[Var]) -> None:
+        """Fresh variables for those of `t` with no value yet."""
+        for v in dict.fromkeys(iter_vars(t)):
+            if v not in known:
+                known.add(v)
+                lines.append(f"{pad}{names[v]} = V('_')")
+
+    def walk(x: str, pad: str) -> None:
+        lines.append(f"{pad}while type({x}) is V:")
+        lines.append(f"{pad}    y = get({x})")
+        lines.append(f"{pad}    if y is None: break")
+        lines.append(f"{pad}    {x} = y")
+
+    def unify_with(p: Term, x: str, pad: str, depth: int) -> None:
+        """Code unifying the head pattern `p` with the term named `x` (walked unless `p` is
+        a variable's first occurrence, which just names it)."""
+        nonlocal nodes
+        nodes += 1
+        if nodes > max_nodes or depth > max_depth:
+            raise OverflowError
+        if isinstance(p, Var):
+            if p in seen:
+                lines.append(f"{pad}if not unify({names[p]}, {x}): return None")
+            else:
+                seen.add(p)
+                lines.append(f"{pad}{names[p]} = {x}")
+            return
+        walk(x, pad)
+        if not isinstance(p, Struct) or is_ground(p):
+            c = const(p)
+            lines.append(f"{pad}if type({x}) is V: values[{x}] = {c}; trail.append({x})")
+            test = f"not unify({x}, {c})" if isinstance(p, Struct) else f"type({x}) is not type({c}) or {x} != {c}"
+            lines.append(f"{pad}elif {test}: return None")
+            return
+        # A compound with variables: built for an unbound goal variable, else taken apart;
+        # both branches leave the same variables named.
+        lines.append(f"{pad}if type({x}) is V:")
+        create(p, pad + "    ", set(seen))
+        lines.append(f"{pad}    values[{x}] = {build(p)}; trail.append({x})")
+        lines.append(f"{pad}elif type({x}) is S and {x}.name == {const(p.name)} and len({x}.args) == {len(p.args)}:")
+        args = f"a{next(counter)}"
+        lines.append(f"{pad}    {args} = {x}.args")
+        for i, sub in enumerate(p.args):
+            item = f"x{next(counter)}"
+            lines.append(f"{pad}    {item} = {args}[{i}]")
+            unify_with(sub, item, pad + "    ", depth + 1)
+        lines.append(f"{pad}else: return None")
+        seen.update(iter_vars(p))
+
+    try:
+        lines.append("    goal_args = goal.args")
+        for i, p in enumerate(head.args):
+            x = f"x{next(counter)}"
+            lines.append(f"    {x} = goal_args[{i}]")
+            unify_with(p, x, "    ", 0)
+        if body is TRUE:
+            result = "T"
+        else:
+            create(body, "    ", seen)
+            result = build(body)
+    except (OverflowError, RecursionError):
+        return _match_by_copy(clause)
+    source = ("def match(goal, b):\n    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
+              + "\n".join(lines) + f"\n    return {result}\n")
+    scope = {"S": Struct, "V": Var, "T": TRUE, "c": tuple(constants)}
+    exec(source, scope)
+    return scope["match"]
+
+
+def _match_by_copy(clause: StoredClause):
+    def match(goal: Term, b) -> Term | None:
+        head, body = clause.renamed()
+        return body if b.unify(head, goal) else None
+    return match
 
 
 class Predicate:
