@@ -68,7 +68,7 @@ class Answer:
 
 def answer_of(query: Query, b: Bindings) -> Answer:
     """The bindings of one answer, resolved."""
-    values = tuple((name, b.resolve(v)) for name, v in query.names)
+    values = tuple((name, b.resolve_finite(v)) for name, v in query.names)
     answer = Answer(values, {})
     names = variable_names([value for _, value in values])
     for v in iter_vars(query.goal):             # `_Z` in the query keeps its name, as in SWI

@@ -77,6 +77,51 @@ class Bindings:
                 done.append(arg)
         return result
 
+    def resolve_finite(self, term: Term) -> Term:
+        """Like `resolve`, but where a variable's value contains the variable itself
+        (X = f(X), made without the occurs check) the variable is left in place, so the
+        result is finite: X resolves to f(X), as SWI-Prolog's top level prints it."""
+        active: set[Var] = set()
+        values = self.values
+
+        def deref(t: Term) -> tuple[Term, list[Var] | None]:
+            chain: list[Var] = []
+            while type(t) is Var:
+                if t in active:
+                    return t, None
+                bound = values.get(t)
+                if bound is None:
+                    break
+                chain.append(t)
+                t = bound
+            return t, chain
+
+        root, chain = deref(term)
+        if not isinstance(root, Struct) or chain is None:
+            return root
+        active.update(chain)
+        stack: list[tuple[Struct, list[Term], list[Var]]] = [(root, [], chain)]
+        result: Term = root
+        while stack:
+            node, done, entered = stack[-1]
+            if len(done) == len(node.args):
+                stack.pop()
+                active.difference_update(entered)
+                rebuilt = node if all(a is b for a, b in zip(done, node.args)) \
+                    else Struct(node.name, tuple(done))
+                if stack:
+                    stack[-1][1].append(rebuilt)
+                else:
+                    result = rebuilt
+                continue
+            arg, chain = deref(node.args[len(done)])
+            if isinstance(arg, Struct) and chain is not None:
+                active.update(chain)
+                stack.append((arg, [], chain))
+            else:
+                done.append(arg)
+        return result
+
     def unify(self, x: Term, y: Term, occurs_check: bool = False) -> bool:
         """Unify `x` and `y`, extending the bindings; on failure the caller undoes."""
         if occurs_check:
