@@ -327,6 +327,10 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
         # bracketed anywhere else, X=(:-) and (+), where it would read as an operator.
         if max_priority != 999 and (text == ";" or _SYMBOL.match(text)):
             text = f"({text})"
+        # A word operator or ',' '|' as an operand reads back only bracketed: X = (is).
+        elif max_priority < 999 and (term.name in INFIX_OPS or term.name in PREFIX_OPS
+                                     or term.name in (",", "|")):
+            text = f"({text})"
         out.append(text)
     elif isinstance(term, Var):
         out.append(style.names.get(term) or str(term))
@@ -395,7 +399,7 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         return
     # Functional notation: `-(a,b)` and `not(a,b)` read back as compounds, unquoted;
     # `'[]'(a)` and `'{}'(a)` keep their quotes.
-    if not style.quoted or _SYMBOL.match(name) or name in RESERVED_WORDS:
+    if not style.quoted or _SYMBOL.match(name) and not name.startswith("/*") or name in RESERVED_WORDS:
         out.append(name)
     else:
         out.append(quote_atom(name) if name not in _QUOTED_FUNCTORS else f"'{name}'")
