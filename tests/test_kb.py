@@ -103,3 +103,10 @@ def _canonical(text):
         return text
     order: dict[str, str] = {}
     return re.sub(r"\b[A-Z_][A-Za-z0-9_]*", lambda m: order.setdefault(m.group(), f"V{len(order)}"), text)
+
+
+def test_nan_is_found_by_every_index():
+    # More than one clause: the index is used; NaN equals itself as a term (SWI-Prolog).
+    program = "p(a, 1.0). p(b, 2.0). p(c, 1.5NaN). q(1.5NaN, x). q(1.0, y)."
+    assert ask(program, "X is nan, p(A, X)") == ["1.5NaN is nan,p(c,1.5NaN)"]     # swipl: A = c
+    assert ask(program, "X is nan, q(X, B)") == ["1.5NaN is nan,q(1.5NaN,x)"]

@@ -724,7 +724,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def _workspace(args: argparse.Namespace, files: list[str]):
     """The files as a query workspace (relations.py), focused as --task/--compressed/--state ask."""
-    from .relations import COMPRESSED, ORIGINAL, Options, Workspace
+    from .relations import COMPRESSED, Options, Workspace
 
     options = Options(propagate=args.propagate, max_bytes=args.max_bytes, max_depth=args.max_depth,
                       max_nodes=args.max_nodes, max_steps=args.max_steps, sympy_budget=args.sympy_budget,
@@ -736,7 +736,7 @@ def _workspace(args: argparse.Namespace, files: list[str]):
         options = Options(**{**vars(options), "scene": _scene(args, workspace.focus.original)})
         workspace.options = options
     if args.task is not None:
-        workspace.set_focus(workspace.view_of(_task_term(args.task)), ORIGINAL)
+        workspace.set_focus(*workspace.find_tree(_task_term(args.task)))
     if args.compressed:
         if workspace.focus is None:
             raise UsageError("--compressed needs a task: these files have none")
@@ -1001,7 +1001,14 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        # `schemalog query FILE --first QUERY`: argparse gives FILE to QUERY and leaves the
+        # real query over; options may stand anywhere, as for every other command.
+        if getattr(args, "command", None) == "query" and not any(e.startswith("-") for e in extra):
+            args.files, args.query = [*args.files, args.query, *extra[:-1]], extra[-1]
+        else:
+            parser.error(f"unrecognized arguments: {' '.join(extra)}")
     if not getattr(args, "run", None):
         parser.print_help(sys.stderr)
         return 2

@@ -156,6 +156,10 @@ class Engine:
                 if goals is None:
                     self.deterministic = not cps
                     yield b
+                    steps += 1  # an answer counts: between(1, inf, X) alone stops at the limit
+                    if steps > max_steps:
+                        raise StepLimitExceeded(
+                            f"step limit of {max_steps:,} resolution steps exceeded (runaway recursion?)")
                     goals = self._backtrack(cps, b)
                     if goals is False:
                         return

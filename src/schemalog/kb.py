@@ -22,7 +22,7 @@ from pathlib import Path
 
 from .errors import SchemalogError, SourcePos
 from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
-from .terms import TRUE, Atom, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
+from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
@@ -36,7 +36,9 @@ def first_arg_key(term: Term) -> Key | None:
         return ("s", term.name, len(term.args))
     if isinstance(term, Atom):
         return ("a", term.name)
-    return (type(term).__name__, term.value)  # Int, Float, Str
+    if isinstance(term, Float):
+        return ("Float", term.value.hex())      # NaN equals itself, as Float compares
+    return (type(term).__name__, term.value)  # Int, Str
 
 
 @dataclass(eq=False)

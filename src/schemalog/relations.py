@@ -145,10 +145,16 @@ class Workspace:
         for view in views:
             facts.extend(_view_facts(view, declare_task=("task", 1) not in user_defined))
         clashes = sorted(f"{name}/{arity}" for name, arity in user_defined
-                         if (name, arity) in RELATIONS and (name, arity) != ("task", 1) and views)
+                         if (name, arity) in RELATIONS and (name, arity) not in _COMPUTED
+                         and (name, arity) != ("task", 1) and views)
+        hidden = sorted(f"{name}/{arity}" for name, arity in user_defined
+                        if (name, arity) in _COMPUTED and (name, arity) != ("sequential", 2) and views)
         # Said once at the REPL's start; `schemalog query` stays quiet (docs/queries.md says it).
-        self.clashes = (f"note: {', '.join(clashes)}: the files' clauses come first, then "
-                        f"schemalog's facts about behaviours (docs/queries.md)") if clashes else ""
+        self.clashes = "\n".join(
+            ([f"note: {', '.join(clashes)}: the files' clauses come first, then schemalog's facts "
+              f"about behaviours (docs/queries.md)"] if clashes else []) +
+            ([f"note: {', '.join(hidden)}: schemalog's built-in relations; the files' clauses for "
+              f"them are not called (docs/queries.md)"] if hidden else []))
         kb.add_facts(facts)
         if views:      # a relation without facts (no merge: merged/3) fails rather than raising
             for name, arity in RELATIONS:
@@ -189,13 +195,24 @@ class Workspace:
         self.state = self.focus.world.atoms
 
     # -- focus --------------------------------------------------------------------
-    def view_of(self, task: Term) -> TaskView:
-        """The view of `task` (a label, or a root id)."""
+    def tree_of(self, term: Term) -> tuple[TaskView, str] | None:
+        """The tree `term` names: a task (its original tree) or the root id of a tree."""
         for view in self.views:
-            if view.task == task or task in (Int(view.original_first), Int(view.compressed_first)):
-                return view
-        known = ", ".join(term_to_text(v.task) for v in self.views) or "none"
-        raise SchemalogError(f"no task {term_to_text(task)} here (tasks: {known})")
+            if term == view.task or term == Int(view.original_first):
+                return view, ORIGINAL
+            if term == Int(view.compressed_first):
+                return view, COMPRESSED
+        return None
+
+    def find_tree(self, term: Term) -> tuple[TaskView, str]:
+        """`tree_of`, or a message naming the tasks there are."""
+        if isinstance(term, Var):
+            raise SchemalogError("name a task or a root id, not a variable")
+        found = self.tree_of(term)
+        if found is None:
+            known = ", ".join(term_to_text(v.task) for v in self.views) or "none"
+            raise SchemalogError(f"no task {term_to_text(term)} here (tasks: {known})")
+        return found
 
     def set_focus(self, view: TaskView, kind: str) -> None:
         if view is not self.focus:
@@ -211,7 +228,10 @@ class Workspace:
 
     # -- asking -------------------------------------------------------------------
     def engine(self, output: Callable[[str], None] | None = None, max_steps: int | None = None) -> Engine:
-        """An engine over the workspace, with its relations built in."""
+        """An engine over the workspace, with its relations built in (when it has tasks: a
+        plain Prolog program keeps its own run/2 or holds/1)."""
+        if not self.views:
+            return Engine(self.kb, max_steps or self.options.max_steps, output)
         return Engine(self.kb, max_steps or self.options.max_steps, output,
                       builtins={("holds", 1): self._holds, ("next_action", 1): self._next_action,
                                 ("run", 2): self._run, ("verify", 2): self._verify},
@@ -259,12 +279,10 @@ class Workspace:
     def _tree_arg(self, t: Term) -> tuple[TaskView, str]:
         if isinstance(t, Var):
             raise instantiation_error()
-        for view in self.views:
-            if t == view.task or t == Int(view.original_first):
-                return view, ORIGINAL
-            if t == Int(view.compressed_first):
-                return view, COMPRESSED
-        raise iso_error(Struct("existence_error", (Atom("task"), t)))
+        found = self.tree_of(t)
+        if found is None:
+            raise iso_error(Struct("existence_error", (Atom("task"), t)))
+        return found
 
     def _run(self, e: Engine, a: tuple, b: Bindings) -> bool:
         """run(+Task or +Root, ?Outcome): the executive from the current state; the state stays."""

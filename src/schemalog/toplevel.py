@@ -4,7 +4,8 @@
     Answer = list[(name, Term)]                        resolved bindings, `X = Y` for aliases
 
 An answer prints `X = f(Y), Z = 1`, or `true` when it binds nothing; no answer prints
-`false`. Variables the user wrote with a leading `_` are not shown, as in SWI-Prolog.
+`false`. Named variables with a leading `_` are shown too, as SWI-Prolog 9 does
+(its flag toplevel_print_anon is true); `_` alone is not.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator, TextIO
 
-from .engine import PrologError, StepLimitExceeded
+from .engine import PrologError, StepLimitExceeded, compare_terms
 from .errors import SchemalogError
 from .parse import parse_term
 from .relations import COMPRESSED, ORIGINAL, RELATIONS, Workspace
@@ -42,7 +43,7 @@ def read_query(text: str, file: str = "<query>") -> Query:
     seen: dict[Var, None] = {}
     for v in iter_vars(goal):
         seen.setdefault(v, None)
-    return Query(goal, tuple((v.name, v) for v in seen if v.name and not v.name.startswith("_")))
+    return Query(goal, tuple((v.name, v) for v in seen if v.name and v.name != "_"))
 
 
 @dataclass(frozen=True)
@@ -58,7 +59,7 @@ class Answer:
         groups: list[tuple[list[str], Term]] = []
         for name, value in self.values:
             for members, shared in groups:
-                if shared == value:
+                if compare_terms(shared, value) == 0:     # ==, without recursion on deep terms
                     members.append(name)
                     break
             else:
@@ -106,6 +107,8 @@ def answer_json(answer: Answer) -> dict:
 
 def error_text(err: BaseException, raise_limit: str = "--max-steps N") -> str:
     """An uncaught exception as the user should read it."""
+    if isinstance(err, RecursionError):
+        return "error: a term nests too deeply for schemalog to process (Python's recursion limit)"
     if isinstance(err, PrologError):
         return f"error: uncaught exception: {_explain(err.ball)}"
     if isinstance(err, StepLimitExceeded):
@@ -155,24 +158,27 @@ def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: 
     count = 0
     status = 0
     # In JSON mode what the query writes (write/1, format/2) goes to stderr: stdout is the list.
-    output = (lambda s: err.write(s)) if as_json else (lambda s: out.write(s))
+    shown = _Output(err.write if as_json else out.write)
     try:
-        for answer, _ in answers(workspace, query, output, max_steps):
+        for answer, _ in answers(workspace, query, shown.write, max_steps):
             count += 1
             if as_json:
                 found.append(answer_json(answer))
             else:
-                out.write(answer_text(answer) + "\n")
+                shown.new_line()
+                shown.write(answer_text(answer) + "\n")
                 out.flush()
             if first:
                 break
-    except (PrologError, SchemalogError) as e:
+    except (PrologError, SchemalogError, RecursionError) as e:
+        shown.new_line()
         print(error_text(e), file=err)
         status = 2
     if as_json:
         out.write(json.dumps(found, indent=2) + "\n")
     elif count == 0 and status == 0:
-        out.write("false\n")
+        shown.new_line()
+        shown.write("false\n")
     if status:
         return status
     return 0 if count else 1
@@ -201,18 +207,20 @@ Relations over the workspace (docs/queries.md):
 
 
 def complete_input(text: str) -> bool:
-    """Whether `text` ends a query or command: a ':' command line, or a final '.' outside
-    quotes and comments followed by only layout."""
+    """Whether `text` can be run: a ':' command line, or queries each ended by a full stop
+    (a '.' outside quotes and comments, followed by layout), comments and layout after."""
     stripped = text.strip()
-    if not stripped:
-        return True
     if stripped.startswith(":") and not stripped.startswith(":-"):
         return True
-    return _ends_with_full_stop(text)
+    return not split_queries(text)[2]
 
 
-def _ends_with_full_stop(text: str) -> bool:
-    i, n, last_stop = 0, len(text), -1
+def split_queries(text: str) -> tuple[list[str], str, bool]:
+    """(the complete queries of `text`, each up to its full stop; what follows the last one;
+    whether that is an unfinished query). Comments and layout alone are no query."""
+    chunks: list[str] = []
+    start, significant = 0, False
+    i, n = 0, len(text)
     while i < n:
         c = text[i]
         if c in "'\"`":
@@ -228,7 +236,8 @@ def _ends_with_full_stop(text: str) -> bool:
                     break
                 j += 1
             else:
-                return False                             # an open quote
+                return chunks, text[start:], True        # an open quote
+            significant = True
             i = j + 1
             continue
         if c == "%":
@@ -238,19 +247,40 @@ def _ends_with_full_stop(text: str) -> bool:
         if c == "/" and i + 1 < n and text[i + 1] == "*":
             end = text.find("*/", i + 2)
             if end < 0:
-                return False
+                return chunks, text[start:], True        # an open comment
             i = end + 2
             continue
-        if c == "0" and text[i + 1:i + 2] == "'":        # 0'c character codes
+        if c == "0" and text[i + 1:i + 2] == "'" and not (i > 0 and (text[i - 1].isalnum() or text[i - 1] == "_")):
+            significant = True                           # 0'c, a character code
             i += 3
             continue
         if c == "." and (i + 1 == n or text[i + 1].isspace() or text[i + 1] == "%") \
                 and not (i > 0 and text[i - 1] in "#$&*+-./:<=>?@^~\\"):
-            last_stop = i
+            if significant:
+                chunks.append(text[start:i + 1])
+            start, significant = i + 1, False
         elif not c.isspace():
-            last_stop = -1
+            significant = True
         i += 1
-    return last_stop >= 0
+    return chunks, text[start:], significant
+
+
+class _Output:
+    """Where a query's answers and its own output go; remembers whether the last thing
+    written ended its line, so an answer after `write(hello)` starts on a new one."""
+
+    def __init__(self, write: Callable[[str], object]) -> None:
+        self._write = write
+        self.at_line_start = True
+
+    def write(self, text: str) -> None:
+        if text:
+            self._write(text)
+            self.at_line_start = text.endswith("\n")
+
+    def new_line(self) -> None:
+        if not self.at_line_start:
+            self.write("\n")
 
 
 class Repl:
@@ -283,21 +313,27 @@ class Repl:
         except SchemalogError as e:
             self.say(str(e))
             return True
+        shown = _Output(self._write)
         try:
-            stream = answers(self.workspace, query, self._write, self.max_steps)
-            for answer, last in stream:
-                self.out.write(answer_text(answer))
-                self.out.flush()
+            for answer, last in answers(self.workspace, query, shown.write, self.max_steps):
+                shown.new_line()
+                shown.write(answer_text(answer))
                 if last or not more():
-                    self.out.write(".\n")
+                    shown.write(".\n")
                     break
-                self.out.write(" ;\n")
+                shown.write(" ;\n")
             else:
-                self.say("false.")
-        except (PrologError, SchemalogError) as e:
+                shown.new_line()
+                shown.write("false.\n")
+        except (PrologError, SchemalogError, RecursionError) as e:
+            shown.new_line()
             self.say(error_text(e, ":limit N"))
         except KeyboardInterrupt:
+            shown.new_line()
             self.say("% interrupted")
+        except Exception as e:        # the session outlives a bug: say it, keep going
+            shown.new_line()
+            self.say(f"internal error: {type(e).__name__}: {e} (please report it)")
         return True
 
     def _write(self, text: str) -> None:
@@ -313,6 +349,8 @@ class Repl:
         name, _, rest = line.partition(" ")
         rest = rest.strip()
         try:
+            if rest and name in ("quit", "q", "exit", "help", "h", "?", "reset", "state"):
+                raise SchemalogError(f":{name} takes no argument")
             if name in ("quit", "q", "exit"):
                 return False
             if name in ("help", "h", "?"):
@@ -325,23 +363,22 @@ class Repl:
                     self.say(note)
                 self.say(f"% loaded {rest}: {self._tasks_line()}")
             elif name in ("tree", "compress", "original"):
-                view = self._view(rest)
-                kind = COMPRESSED if name == "compress" else ORIGINAL if name == "original" else \
-                    (self.workspace.kind if view is self.workspace.focus else ORIGINAL)
+                view, kind = self._tree(rest)
+                kind = COMPRESSED if name == "compress" else ORIGINAL if name == "original" else kind
                 self.workspace.set_focus(view, kind)
                 self.show_tree(view, kind, figures=name == "compress")
             elif name == "run":
-                self.run(self._view(rest))
+                self.run(*self._tree(rest))
             elif name == "reset":
                 self.workspace.reset()
                 self.say(f"% state: {self._state_text()}")
             elif name == "state":
                 self.say(f"% state: {self._state_text()}")
             elif name == "verify":
-                self.verify(self._view(rest))
+                self.verify(self._tree(rest)[0])
             elif name == "limit":
                 if rest:
-                    if not rest.isdigit() or int(rest) < 1:
+                    if not re.fullmatch(r"[0-9]+", rest) or int(rest) < 1:
                         raise SchemalogError(f":limit needs a positive number of steps, not {rest!r}")
                     self.max_steps = int(rest)
                 self.say(f"% step limit: {self.max_steps:,} resolution steps per query")
@@ -357,17 +394,18 @@ class Repl:
             self.out.write(f"  {text}\n")
         self.out.flush()
 
-    def _view(self, text: str):
+    def _tree(self, text: str):
+        """(view, kind) of a command's argument: a task or a root id; none: the focus."""
         ws = self.workspace
         if not text:
             if ws.focus is None:
                 raise SchemalogError("no task here: :load a task file first")
-            return ws.focus
+            return ws.focus, ws.kind
         try:
             term = parse_term(text, "<task>")
         except SchemalogError as e:
             raise SchemalogError(f"not a task: {e}") from None
-        return ws.view_of(term)
+        return ws.find_tree(term)
 
     def _tasks_line(self) -> str:
         views = self.workspace.views
@@ -395,9 +433,8 @@ class Repl:
             self.say(f"% Bi = {before}, Bm = {after}, D = {depth(view.original)}, "
                      f"RD = {view.reduction_degree:.2f}")
 
-    def run(self, view) -> None:
+    def run(self, view, kind: str) -> None:
         ws = self.workspace
-        kind = ws.kind if view is ws.focus else ORIGINAL
         ws.set_focus(view, kind)
         executive = ws.execute(view, kind, ws.state)
         for d in executive.decisions:
@@ -449,12 +486,20 @@ class Repl:
             line = read()
             if not line:
                 break
+            stripped = line.strip()
+            if not buffer.strip() and stripped.startswith(":") and not stripped.startswith(":-"):
+                self.out.write(f"?- {stripped}\n")
+                if not self.handle(line, more):
+                    return 0
+                continue
+            if not buffer.strip() and stripped == ";":     # a spare ';' after the last answer
+                continue
             buffer += line
-            if complete_input(buffer):
-                text, buffer = buffer, ""
-                if text.strip():
-                    self.out.write(f"?- {text.strip()}\n")
-                if not self.handle(text, more):
+            chunks, rest, unfinished = split_queries(buffer)
+            buffer = rest if unfinished else ""
+            for chunk in chunks:
+                self.out.write(f"?- {chunk.strip()}\n")
+                if not self.handle(chunk, more):
                     return 0
         if buffer.strip():
             self.say("error: the input ended inside a query (missing the final '.'?)")
@@ -517,9 +562,13 @@ class Repl:
             except EOFError:
                 self.say("")
                 return 0
+            stripped = text.strip()
+            queries = [text] if stripped.startswith(":") and not stripped.startswith(":-") \
+                else split_queries(text)[0]
             with _signals_from_keyboard():
-                if not self.handle(text, more):
-                    return 0
+                for query in queries:
+                    if not self.handle(query, more):
+                        return 0
 
 
 class _signals_from_keyboard:
