@@ -52,6 +52,7 @@ class StoredClause:
     key: Key | None = field(init=False)
     _copier: object = field(default=None, init=False, repr=False, compare=False)
     _matcher: object = field(default=None, init=False, repr=False, compare=False)
+    _calls: int = field(default=0, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
@@ -69,7 +70,17 @@ class StoredClause:
         (the caller undoes a failed match's bindings)."""
         match = self._matcher
         if match is None:
-            match = self._matcher = compile_match(self)
+            # A ground clause (a fact of a task tree) needs no copy: unify it as it is.
+            # Compiling costs an exec, worth it only for a clause called again and again,
+            # so the first calls copy and unify.
+            if is_ground(self.head) and is_ground(self.body):
+                match = self._matcher = _match_ground(self)
+            else:
+                self._calls += 1
+                if self._calls <= COMPILE_AFTER:
+                    head, body = self.renamed()
+                    return body if b.unify(head, goal) else None
+                match = self._matcher = compile_match(self)
         return match(goal, b)
 
     def text(self) -> str:
@@ -215,6 +226,17 @@ def compile_match(clause: StoredClause, max_nodes: int = 300, max_depth: int = 1
     scope = {"S": Struct, "V": Var, "T": TRUE, "c": tuple(constants)}
     exec(source, scope)
     return scope["match"]
+
+
+COMPILE_AFTER = 2   # calls of a clause before its head unification is compiled
+
+
+def _match_ground(clause: StoredClause):
+    head, body = clause.head, clause.body
+
+    def match(goal: Term, b) -> Term | None:
+        return body if b.unify(head, goal) else None
+    return match
 
 
 def _match_by_copy(clause: StoredClause):
