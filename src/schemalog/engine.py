@@ -149,6 +149,7 @@ class Engine:
         kb = self.kb
         builtins = self.builtins
         nondet = self.nondet
+        predicates = kb.predicates
         max_steps = self.max_steps
         steps = 0  # per query: each solve (and each findall inside it) has the whole budget
         while True:
@@ -208,64 +209,65 @@ class Engine:
                 arity = len(args)
 
                 # Control constructs ------------------------------------------
-                if arity == 2 and name == ",":
-                    goals = (args[0], cutb, (args[1], cutb, rest))
-                    continue
-                if arity == 0:
-                    if name == "true":
-                        goals = rest
-                        continue
-                    if name in ("fail", "false"):
-                        goals = self._backtrack(cps, b)
-                        if goals is False:
-                            return
-                        continue
-                    if name == "!":
-                        del cps[cutb:]
-                        goals = rest
-                        continue
-                if arity == 2 and name == ";":
-                    left = args[0]  # not walked: `(C ; B)` with C bound to (X -> Y) is call(C) ; B
-                    if isinstance(left, Struct) and left.name == "*->" and len(left.args) == 2:
-                        height = len(cps)
-                        cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
-                        goals = (left.args[0], height + 1, (_SoftCut(height), cutb, (left.args[1], cutb, rest)))
-                        continue
-                    if isinstance(left, Struct) and left.name == "->" and len(left.args) == 2:
-                        height = len(cps)
-                        cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
-                        goals = (left.args[0], height + 1, (_CutTo(height), cutb, (left.args[1], cutb, rest)))
-                        continue
-                    cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
-                    goals = (left, cutb, rest)
-                    continue
-                if arity == 2 and name == "*->":  # (C *-> T) without else: (C, T), cut in C local
-                    goals = (args[0], len(cps), (args[1], cutb, rest))
-                    continue
-                if arity == 2 and name == "->":  # (C -> T) without else: fails when C fails
-                    height = len(cps)
-                    goals = (args[0], height, (_CutTo(height), cutb, (args[1], cutb, rest)))
-                    continue
-                if arity == 1 and name in ("\\+", "not"):
-                    height = len(cps)
-                    cps.append((_ALT, b.mark(), rest))
-                    goals = (args[0], height + 1, (_FailAfterCut(height), cutb, None))
-                    continue
-                if name == "call" and arity >= 1:
-                    target = b.walk(args[0])
-                    if arity > 1:
-                        target = _add_args(target, args[1:])
-                    _check_body(target, b)
-                    goals = (target, len(cps), rest)
-                    continue
-                if arity == 3 and name == "catch":
-                    height = len(cps)
-                    cps.append((_CATCH, b.mark(), args[1], args[2], rest, cutb))
-                    # the goal is meta-called, call/1 style, inside the frame: its errors are caught
-                    goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
-                    continue
-                # Builtins ----------------------------------------------------
                 key = (name, arity)
+                if key in CONTROL or name == "call":  # one test for the common case, a user predicate
+                    if arity == 2 and name == ",":
+                        goals = (args[0], cutb, (args[1], cutb, rest))
+                        continue
+                    if arity == 0:
+                        if name == "true":
+                            goals = rest
+                            continue
+                        if name in ("fail", "false"):
+                            goals = self._backtrack(cps, b)
+                            if goals is False:
+                                return
+                            continue
+                        if name == "!":
+                            del cps[cutb:]
+                            goals = rest
+                            continue
+                    if arity == 2 and name == ";":
+                        left = args[0]  # not walked: `(C ; B)` with C bound to (X -> Y) is call(C) ; B
+                        if isinstance(left, Struct) and left.name == "*->" and len(left.args) == 2:
+                            height = len(cps)
+                            cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
+                            goals = (left.args[0], height + 1, (_SoftCut(height), cutb, (left.args[1], cutb, rest)))
+                            continue
+                        if isinstance(left, Struct) and left.name == "->" and len(left.args) == 2:
+                            height = len(cps)
+                            cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
+                            goals = (left.args[0], height + 1, (_CutTo(height), cutb, (left.args[1], cutb, rest)))
+                            continue
+                        cps.append((_ALT, b.mark(), (args[1], cutb, rest)))
+                        goals = (left, cutb, rest)
+                        continue
+                    if arity == 2 and name == "*->":  # (C *-> T) without else: (C, T), cut in C local
+                        goals = (args[0], len(cps), (args[1], cutb, rest))
+                        continue
+                    if arity == 2 and name == "->":  # (C -> T) without else: fails when C fails
+                        height = len(cps)
+                        goals = (args[0], height, (_CutTo(height), cutb, (args[1], cutb, rest)))
+                        continue
+                    if arity == 1 and name in ("\\+", "not"):
+                        height = len(cps)
+                        cps.append((_ALT, b.mark(), rest))
+                        goals = (args[0], height + 1, (_FailAfterCut(height), cutb, None))
+                        continue
+                    if name == "call" and arity >= 1:
+                        target = b.walk(args[0])
+                        if arity > 1:
+                            target = _add_args(target, args[1:])
+                        _check_body(target, b)
+                        goals = (target, len(cps), rest)
+                        continue
+                    if arity == 3 and name == "catch":
+                        height = len(cps)
+                        cps.append((_CATCH, b.mark(), args[1], args[2], rest, cutb))
+                        # the goal is meta-called, call/1 style, inside the frame: its errors are caught
+                        goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
+                        continue
+                # Builtins ----------------------------------------------------
                 fn = builtins.get(key)
                 if fn is not None:
                     mark = b.mark()
@@ -288,14 +290,23 @@ class Engine:
                     continue
 
                 # User predicates ---------------------------------------------
-                candidates = kb.call_candidates(name, arity, args, b.walk)
-                if candidates is None:
-                    if kb.unknown_fails(name, arity):
+                pred = predicates.get(key)
+                if pred is None:
+                    raise existence_error(name, arity)
+                candidates = pred.select(args, b)
+                if len(candidates) == 1:  # one clause to try: no choicepoint to leave
+                    clause = candidates[0]
+                    mark = b.mark()
+                    match = clause._matcher
+                    body = match(term, b) if match is not None else clause.match(term, b)
+                    if body is None:
+                        b.undo(mark)
                         goals = self._backtrack(cps, b)
                         if goals is False:
                             return
-                        continue
-                    raise existence_error(name, arity)
+                    else:
+                        goals = rest if body is TRUE else (body, len(cps), rest)
+                    continue
                 height = len(cps)
                 cps.append((_CLAUSES, b.mark(), term, candidates, 0, rest, height))
                 goals = self._backtrack(cps, b)

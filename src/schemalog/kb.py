@@ -277,6 +277,32 @@ class Predicate:
             self._index, self._unindexed = _build_index(self.clauses, lambda c: c.key)
         return self._index.get(first_arg_key(first), self._unindexed)
 
+    def select(self, args: tuple, b) -> list[StoredClause]:
+        """The clauses that may match a call with these arguments (the engine's hot path:
+        the first argument dereferenced and keyed inline)."""
+        clauses = self.clauses
+        if len(clauses) < self.MIN_CLAUSES or not args:
+            return clauses
+        first = args[0]
+        values = b.values
+        while type(first) is Var:
+            bound = values.get(first)
+            if bound is None:
+                return self.candidates_by(args, b.walk) if len(args) > 1 else clauses
+            first = bound
+        index = self._index
+        if index is None:
+            index, self._unindexed = _build_index(clauses, lambda c: c.key)
+            self._index = index
+        kind = type(first)
+        if kind is Struct:
+            key = ("s", first.name, len(first.args))
+        elif kind is Atom:
+            key = ("a", first.name)
+        else:
+            key = first_arg_key(first)
+        return index.get(key, self._unindexed)
+
     def candidates_by(self, args: tuple, walk) -> list[StoredClause]:
         """The candidates of a call whose first argument is unbound: the bucket of the
         first other bound argument worth indexing on, else every clause."""
@@ -354,19 +380,11 @@ class KnowledgeBase:
             return None
         return pred.candidates(first)
 
-    def call_candidates(self, name: str, arity: int, args: tuple, walk) -> list[StoredClause] | None:
-        """The clauses that may match the call `name(args...)` (walk dereferences an
-        argument), by the first argument or, when it is unbound, another; None if the
-        predicate is unknown."""
+    def call_candidates(self, name: str, arity: int, args: tuple, b) -> list[StoredClause] | None:
+        """The clauses that may match the call `name(args...)` under bindings `b`, by the
+        first argument or, when it is unbound, another; None if the predicate is unknown."""
         pred = self.predicates.get((name, arity))
-        if pred is None:
-            return None
-        if arity == 0:
-            return pred.clauses
-        first = walk(args[0])
-        if isinstance(first, Var) and arity > 1:
-            return pred.candidates_by(args, walk)
-        return pred.candidates(first)
+        return None if pred is None else pred.select(args, b)
 
     def clauses(self, name: str, arity: int) -> list[StoredClause]:
         """All clauses of `name/arity`, in order."""
