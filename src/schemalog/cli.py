@@ -302,12 +302,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     scene = _scene(args, original)
     world = World(original)
     if args.state is not None:
-        try:
-            initial = state_atoms(_term_option(args.state, "--state"), "--state")
-        except UsageError:
-            raise
-        except SchemalogError as err:
-            raise UsageError(err.message) from None
+        initial = _atoms_option(args.state, "--state")
     else:
         initial = initial_state(kb)
         if not kb.clauses("initial", 1):
@@ -433,12 +428,7 @@ def _initial_states(args: argparse.Namespace, kb: KnowledgeBase, world: World, t
     if args.states == "default":
         atoms = initial_state(kb)
     else:
-        try:
-            atoms = state_atoms(_term_option(args.states, "--states"), "--states")
-        except UsageError:
-            raise
-        except SchemalogError as err:
-            raise UsageError(err.message) from None
+        atoms = _atoms_option(args.states, "--states")
     for atom in world.unknown(atoms):
         print(f"warning: {term_to_text(atom)} is read or set by no condition of {term_to_text(task)}",
               file=sys.stderr)
@@ -534,6 +524,16 @@ def _term_option(text: str, option: str) -> Term:
         return parse_term(text, option)
     except SchemalogError as err:
         raise UsageError(f"{option} {text!r} is not a term: {err.message}") from None
+
+
+def _atoms_option(text: str, option: str) -> list[Term]:
+    """A state given on the command line, 'hand.free, a1.done': its atoms, or a usage error."""
+    try:
+        return state_atoms(_term_option(text, option), option)
+    except UsageError:
+        raise
+    except SchemalogError as err:
+        raise UsageError(err.message) from None
 
 
 def _scene(args: argparse.Namespace, original: Behaviour) -> Scene:
@@ -742,13 +742,7 @@ def _workspace(args: argparse.Namespace, files: list[str]):
             raise UsageError("--compressed needs a task: these files have none")
         workspace.set_focus(workspace.focus, COMPRESSED)
     if args.state is not None:
-        try:
-            atoms = state_atoms(_term_option(args.state, "--state"), "--state")
-        except UsageError:
-            raise
-        except SchemalogError as err:
-            raise UsageError(err.message) from None
-        workspace.set_state(atoms)
+        workspace.set_state(_atoms_option(args.state, "--state"))
     return workspace
 
 

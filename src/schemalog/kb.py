@@ -380,21 +380,10 @@ class KnowledgeBase:
             return None
         return pred.candidates(first)
 
-    def call_candidates(self, name: str, arity: int, args: tuple, b) -> list[StoredClause] | None:
-        """The clauses that may match the call `name(args...)` under bindings `b`, by the
-        first argument or, when it is unbound, another; None if the predicate is unknown."""
-        pred = self.predicates.get((name, arity))
-        return None if pred is None else pred.select(args, b)
-
     def clauses(self, name: str, arity: int) -> list[StoredClause]:
         """All clauses of `name/arity`, in order."""
         pred = self.predicates.get((name, arity))
         return list(pred.clauses) if pred else []
-
-    def unknown_fails(self, name: str, arity: int) -> bool:
-        """Whether calling an undefined `name/arity` fails quietly (it was declared dynamic)."""
-        pred = self.predicates.get((name, arity))
-        return pred is not None and pred.dynamic
 
     def library_predicates(self) -> set[tuple[str, int]]:
         """The predicates defined only by the prelude (a user file may replace them, assert may not)."""

@@ -17,6 +17,11 @@ from .terms import Struct, Term, Var
 Subst = dict[Var, Term]
 
 
+def _rebuilt(node: Struct, args: list[Term]) -> Struct:
+    """`node` with these arguments; `node` itself when none changed (shares subterms)."""
+    return node if all(a is b for a, b in zip(args, node.args)) else Struct(node.name, tuple(args))
+
+
 class Bindings:
     """Variable bindings with a trail; the engine's only mutable state."""
 
@@ -63,8 +68,7 @@ class Bindings:
             node, done = stack[-1]
             if len(done) == len(node.args):
                 stack.pop()
-                rebuilt = node if all(a is b for a, b in zip(done, node.args)) \
-                    else Struct(node.name, tuple(done))
+                rebuilt = _rebuilt(node, done)
                 if stack:
                     stack[-1][1].append(rebuilt)
                 else:
@@ -107,8 +111,7 @@ class Bindings:
             if len(done) == len(node.args):
                 stack.pop()
                 active.difference_update(entered)
-                rebuilt = node if all(a is b for a, b in zip(done, node.args)) \
-                    else Struct(node.name, tuple(done))
+                rebuilt = _rebuilt(node, done)
                 if stack:
                     stack[-1][1].append(rebuilt)
                 else:
