@@ -234,3 +234,13 @@ def test_repl_on_a_terminal(tmp_path):
     child.expect(pexpect.EOF)
     saved = history.read_text()
     assert "+member(X,\n+[1,2,3])." in saved and "+sequential(X, Y)." in saved
+
+
+def test_completion_offers_predicates_relations_atoms_and_commands():
+    from schemalog.toplevel import completion_words
+
+    ws = Workspace([str(MIX)])
+    assert completion_words(ws, "sequen") == {"sequential"}
+    assert completion_words(ws, ":co") == {":compress"}
+    assert {"spoon", "subtask", "schema"} <= completion_words(ws, "s")       # atoms and predicates
+    assert "next_action" in completion_words(ws, "next")
