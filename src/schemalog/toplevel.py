@@ -70,15 +70,14 @@ class Answer:
 def answer_of(query: Query, b: Bindings) -> Answer:
     """The bindings of one answer, resolved."""
     values = tuple((name, b.resolve_finite(v)) for name, v in query.names)
-    answer = Answer(values, {})
-    names = variable_names([value for _, value in values])
+    answer = Answer(values, variable_names([value for _, value in values]))
     for v in iter_vars(query.goal):             # `_Z` in the query keeps its name, as in SWI
         if v.name:
-            names[v] = v.name
+            answer.names[v] = v.name
     for members, value in answer.groups():
         if isinstance(value, Var):
-            names[value] = members[-1]
-    return Answer(values, names)
+            answer.names[value] = members[-1]
+    return answer
 
 
 def answer_text(answer: Answer) -> str:
