@@ -9,6 +9,7 @@ A scene file is YAML:
     scale: 1.0                         # the distance at which lambda reaches 1
     min_lambda: 0.05                   # lambda is clamped into [min_lambda, 1]
     neutral_lambda: 1.0                # lambda of a behaviour with no object
+    knowledge: ../tasks/mix.pl         # optional: the task file this scene stages
     objects:
       spoon: [0.30, -0.20, 0.05]
       cup:   [0.45,  0.10, 0.05]
@@ -36,7 +37,7 @@ Position = tuple[float, ...]
 DEFAULT_SCALE = 1.0
 DEFAULT_MIN_LAMBDA = 0.05
 DEFAULT_NEUTRAL_LAMBDA = 1.0
-_KEYS = ("name", "end_effector", "scale", "min_lambda", "neutral_lambda", "objects")
+_KEYS = ("name", "end_effector", "scale", "min_lambda", "neutral_lambda", "objects", "knowledge")
 
 
 def object_name(obj: Term) -> str:
@@ -55,6 +56,7 @@ class Scene:
     neutral_lambda: float = DEFAULT_NEUTRAL_LAMBDA
     name: str = "no scene"
     file: str | None = None
+    knowledge: str | None = None          # the task file this scene stages (simulate-demo's default)
     marks: dict[str, SourcePos] = field(default_factory=dict, hash=False, compare=False)
 
     def lambda_at(self, obj: str | None, where: Position) -> float:
@@ -179,6 +181,12 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
                 objects[name] = position(pos_node, f"the position of {name}")
                 marks[name] = SourcePos(file, name_node.start_mark.line + 1, name_node.start_mark.column + 1)
             values["objects"] = objects
+        elif key == "knowledge":
+            # A path relative to the scene file, like an include.
+            if not isinstance(value, yaml.ScalarNode) or not str(value.value).strip():
+                raise fail("`knowledge` is the path of a task file, relative to the scene", value)
+            base = Path(file).parent if not file.startswith("<") else Path(".")
+            values["knowledge"] = str(base / str(value.value))
         elif key == "min_lambda":
             values[key] = number(value, key, positive=True)
             if values[key] > 1:

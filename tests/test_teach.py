@@ -1,0 +1,125 @@
+"""Teaching (Sec. II-D): segmented actions attached to the enabled sub-task with the highest
+activation reproduce the paper's learned tasks."""
+
+import pytest
+
+from conftest import COFFEE, MIX, ROOT
+from schemalog.documents import document_from_text, load_kb
+from schemalog.errors import SchemalogError
+from schemalog.kb import KnowledgeBase
+from schemalog.learn import learn
+from schemalog.parse import parse_term
+from schemalog.scene import read_scene
+from schemalog.segment import segment
+from schemalog.simulate import simulate
+from schemalog.teach import Attachment, Recognised, next_action_number, teach
+from schemalog.terms import term_to_text
+from schemalog.tree import instantiate
+
+STRUCTURE = ROOT / "kb" / "tasks" / "coffee_structure.pl"
+KITCHEN = ROOT / "kb" / "scenes" / "kitchen.yaml"
+MIX_SCENE = ROOT / "kb" / "scenes" / "mix_with_spoon.yaml"
+
+MIX_STRUCTURE = """
+task(use(spoon)).
+object(spoon).  object(cup).
+agent(gripper(_), gripper).
+initial(hand.free).
+schema(use(spoon), [(subtask(take, spoon), hand.free), (subtask(mix, spoon), spoon.taken)], spoon.used).
+schema(subtask(take, O), [], O.taken).
+schema(subtask(mix, O), [], O.used).
+schema(gripper(close), [], not hand.free).
+schema(gripper(open), [], hand.free).
+"""
+
+
+def demonstrate(tmp_path, knowledge, task, scene, name, seed=0):
+    from schemalog.demo import write_demonstration
+    demo = simulate(load_kb([knowledge]), parse_term(task), read_scene(scene), seed=seed)
+    path = tmp_path / name
+    write_demonstration(demo, path)
+    return path
+
+
+def test_figure_2_is_learned_from_a_demonstration_of_mixing(tmp_path):
+    structure = tmp_path / "mix_structure.pl"
+    structure.write_text(MIX_STRUCTURE)
+    demo = demonstrate(tmp_path, MIX, "use(spoon)", MIX_SCENE, "mix.csv")
+    lesson = learn(str(demo), str(structure), None)
+    expected = instantiate(load_kb([MIX]), parse_term("use(spoon)"))
+    assert lesson.tree == expected                      # labels, releasers, posts, agents, objects
+    steps = lesson.teaching.steps
+    assert [term_to_text(s.subtask) for s in steps] == ["subtask(take,spoon)"] * 3 + ["subtask(mix,spoon)"] * 6
+    assert [term_to_text(s.releaser.atom) if hasattr(s.releaser, "atom") else "true" for s in steps] == \
+        ["true", "a1.done", "a2.done", "true", "a3.done", "a4.done", "a5.done", "a6.done", "a7.done"]
+
+
+def test_coffee_then_tea_joined_as_prepareboth_is_the_63_behaviour_task(tmp_path):
+    coffee = demonstrate(tmp_path, COFFEE, "preparecoffee", KITCHEN, "coffee.csv", seed=1)
+    tea = demonstrate(tmp_path, COFFEE, "preparetea", KITCHEN, "tea.json", seed=2)
+    first = learn(str(coffee), str(STRUCTURE), parse_term("preparecoffee"))
+    learned = tmp_path / "learned.pl"
+    learned.write_text(first.text)
+    second = learn(str(tea), str(learned), parse_term("preparetea"))
+    # The tea demonstration takes and pours water again: recognised, not taught twice.
+    recognised = [s for s in second.teaching.steps if isinstance(s, Recognised)]
+    assert [term_to_text(s.action) for s in recognised] == [
+        "a1(water)", "a2(water)", "gripper(close)", "a3(cup)", "a4(cup)", "a5(cup)", "a6(cup)", "a7(cup)",
+        "gripper(open)"]
+    assert [term_to_text(a.label) for a in second.teaching.attachments][:2] == ["a22(tea)", "a23(tea)"]
+    kb = document_from_text(second.text, "learned2.pl").to_kb(KnowledgeBase())
+    both = instantiate(kb, parse_term("prepareboth"))
+    assert both == instantiate(load_kb([COFFEE]), parse_term("prepareboth"))
+
+
+def test_the_first_action_goes_to_the_sub_task_nearest_the_hand(tmp_path):
+    # Both take sub-tasks are enabled at the start; the hand ends its first motion at the water.
+    coffee = demonstrate(tmp_path, COFFEE, "preparecoffee", KITCHEN, "coffee.csv")
+    lesson = learn(str(coffee), str(STRUCTURE), parse_term("preparecoffee"))
+    first = lesson.teaching.steps[0]
+    assert isinstance(first, Attachment)
+    assert term_to_text(first.subtask) == "subtask(take,water)"
+    assert term_to_text(first.runner_up[0]) == "subtask(take,coffee)" and first.runner_up[1] < first.emphasis
+
+
+def test_action_numbers_continue_after_the_knowledge():
+    assert next_action_number(load_kb([STRUCTURE])) == 1
+    assert next_action_number(load_kb([COFFEE])) == 29
+
+
+def test_an_action_with_nowhere_to_go_is_refused_with_its_line(tmp_path):
+    # Demonstrate the coffee task to a structure whose only sub-task is done after one grasp.
+    structure = tmp_path / "s.pl"
+    structure.write_text(MIX_STRUCTURE.replace("(subtask(mix, spoon), spoon.taken)", "(subtask(mix, spoon), false)"))
+    demo = demonstrate(tmp_path, MIX, "use(spoon)", MIX_SCENE, "mix.csv")
+    with pytest.raises(SchemalogError) as info:
+        learn(str(demo), str(structure), None)
+    message = str(info.value)
+    assert message.startswith(f"{demo}:")
+    assert "a3(cup) (line " in message and "no enabled sub-task of use(spoon) to attach it to" in message
+    assert "subtask(mix,spoon): pre-condition false is false" in message
+
+
+def test_a_structure_without_sub_tasks_to_teach_is_refused(tmp_path):
+    demo = demonstrate(tmp_path, MIX, "use(spoon)", MIX_SCENE, "mix.csv")
+    structure = tmp_path / "full.pl"
+    structure.write_text(MIX.read_text() + "\naction(A) :- schema(A, [], _).\n")
+    with pytest.raises(SchemalogError, match="nothing is left to teach"):
+        learn(str(demo), str(structure), None)
+
+
+def test_a_gripper_command_needs_its_schema(tmp_path):
+    structure = tmp_path / "s.pl"
+    structure.write_text(MIX_STRUCTURE.replace("schema(gripper(open), [], hand.free).", ""))
+    demo = demonstrate(tmp_path, MIX, "use(spoon)", MIX_SCENE, "mix.csv")
+    with pytest.raises(SchemalogError, match=r"no schema for gripper\(open\)"):
+        learn(str(demo), str(structure), None)
+
+
+def test_teach_reports_untaught_sub_tasks(tmp_path):
+    # Demonstrating only preparetea against prepareboth leaves the coffee sub-tasks untaught.
+    tea = demonstrate(tmp_path, COFFEE, "preparetea", KITCHEN, "tea.csv")
+    lesson = learn(str(tea), str(STRUCTURE), parse_term("prepareboth"))
+    assert not lesson.teaching.accomplished
+    assert {term_to_text(t) for t in lesson.teaching.untaught} == {
+        "subtask(take,coffee)", "subtask(pour,coffee)", "subtask(take,spoon)", "subtask(mix,spoon)"}
