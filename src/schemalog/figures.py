@@ -3,6 +3,7 @@
     figure4(results, out)            execution time against RD, a panel per depth, a line per branching
     selectors_by_size(results, out)  time per decision against behaviours: scan, incremental, py_trees
     figure3(out)                     a generated tree (depth 4, 2 children, RD 0.5) and its merged form
+    demonstration_figure(lesson, p)  a learned demonstration: segments, objects, merged primitives
 
 Each figure is written as PNG and SVG, atomically (a temporary file renamed into place).
 """
@@ -15,6 +16,7 @@ import tempfile
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")   # files only: no display is needed, or wanted, on a CI machine
 
@@ -189,3 +191,74 @@ def figure3(out: Path, depth: int = 4, children: int = 2, rd: float = 0.5, seed:
 
 
 __all__ = ["figure4", "selectors_by_size", "figure3", "save"]
+
+
+def demonstration_figure(lesson, path: Path) -> Path:
+    """A demonstration, segmented and learned: (left) the hand's path seen from above, a colour
+    per action, the objects with their proximity circles; (middle) the hand's height over time,
+    the segments shaded and labelled; (right) each merged action's demonstrated path against its
+    merged primitive's reproduction. Written atomically, in the format of `path`'s suffix."""
+    from .primitives import rollout
+
+    demo = lesson.demo
+    labelled = {}
+    for step in lesson.teaching.steps:
+        labelled[id(step.segment)] = term_to_text(getattr(step, "label", None) or step.action)
+    motions = [s for s in lesson.segments if s.kind == "motion"]
+    colours = plt.get_cmap("tab20")
+    merged = lesson.motions.merged if lesson.motions is not None else ()
+    panels = 3 if merged else 2
+    fig, axes = plt.subplots(1, panels, figsize=(6.2 * panels, 5.6), layout="constrained")
+    top, height = axes[0], axes[1]
+    p = demo.positions
+    for k, seg in enumerate(motions):
+        colour = colours(k % 20)
+        part = p[seg.start:seg.end + 1]
+        name = labelled.get(id(seg), term_to_text(seg.label))
+        top.plot(part[:, 0], part[:, 1], color=colour, linewidth=1.4)
+        top.annotate(name, part[-1, :2], fontsize=6, color=colour, xytext=(2, 2), textcoords="offset points")
+        height.axvspan(demo.times[seg.start], demo.times[seg.end], color=colour, alpha=0.18, linewidth=0)
+        height.text((demo.times[seg.start] + demo.times[seg.end]) / 2, 1.0, name, rotation=90, fontsize=6,
+                    ha="center", va="top", transform=height.get_xaxis_transform())
+    height.plot(demo.times, p[:, 2], color="black", linewidth=0.9)
+    for seg in lesson.segments:
+        if seg.kind == "gripper":
+            closing = seg.label.args[0].name == "close"
+            marker = "v" if closing else "^"
+            top.plot(p[seg.start, 0], p[seg.start, 1], marker=marker, color="black", markersize=6)
+            height.plot(demo.times[seg.start], p[seg.start, 2], marker=marker, color="black", markersize=6)
+    for name, track in sorted(demo.objects.items()):
+        start = track[0]
+        top.add_patch(plt.Circle(start[:2], lesson.radius, fill=False, linestyle="--", linewidth=0.8, color="grey"))
+        top.plot(start[0], start[1], "s", color="grey", markersize=5)
+        top.annotate(name, start[:2], fontsize=8, xytext=(4, -10), textcoords="offset points")
+        if np.ptp(track, axis=0).max() > 1e-6:
+            top.plot(track[:, 0], track[:, 1], color="grey", linewidth=0.6, linestyle=":")
+    top.set_aspect("equal", adjustable="datalim")
+    top.set(xlabel="x (m)", ylabel="y (m)",
+            title=f"{demo.file}: {len(motions)} motions (v close, ^ open)")
+    height.set(xlabel="time (s)", ylabel="z (m)", title="height of the hand; segments shaded")
+    if merged:
+        ax = axes[2]
+        for k, m in enumerate(merged):
+            colour = colours((2 * k) % 20)
+            ax.plot(m.poses[:, 0], m.poses[:, 1], color="grey", linewidth=2.5, alpha=0.5)
+            out = rollout(m.dmp, m.times)
+            ax.plot(out[:, 0], out[:, 1], color=colour, linewidth=1.2, linestyle="--",
+                    label=f"{term_to_text(m.label)}: RMS {m.error.rms * 1000:.1f} mm")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.legend(fontsize=6, loc="best")
+        ax.set(xlabel="x (m)", ylabel="y (m)", title="merged primitives (dashed) over the demonstration (grey)")
+    path = Path(path)
+    fmt = path.suffix.lstrip(".").lower() or "png"
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".{fmt}", dir=path.parent or Path("."))
+    os.close(fd)
+    try:
+        fig.savefig(temporary, format=fmt, dpi=150, bbox_inches="tight")
+        os.chmod(temporary, file_mode(path))
+        os.replace(temporary, path)
+    finally:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        plt.close(fig)
+    return path

@@ -10,10 +10,12 @@ Nothing is written here: the command line writes the outputs, atomically, once a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
-from . import conditions as cond
+import numpy as np
+
+from . import conditions as cond, defaults, primitives
 from .compress import compress, protected_labels
 from .demo import Demonstration, read_demonstration
 from .documents import YAML_SUFFIXES, document_from_text, read_document, read_source, to_pl
@@ -37,7 +39,7 @@ class Lesson:
     tree: Behaviour
     compressed: Behaviour
     radius: float
-    primitives: dict = field(default_factory=dict)       # filled by primitives_of (motions.py)
+    motions: "Motions | None" = None
 
     def actions_of(self) -> dict[Term, Segment]:
         """Each action of the learned task and the segment that demonstrated it."""
@@ -58,7 +60,7 @@ def where_demonstrated(demo: Demonstration, seg: Segment) -> str:
 
 def learn(demo_path: str, structure_path: str, task: Term | None, *, radius: float = DEFAULT_RADIUS,
           hysteresis: float = DEFAULT_HYSTERESIS, min_motion: float = DEFAULT_MIN_MOTION,
-          max_bytes: int | None = None) -> Lesson:
+          max_bytes: int | None = None, bases: int | None = defaults.BASES) -> Lesson:
     """Segment the demonstration, teach the structure's task, and check what was learned."""
     demo = read_demonstration(demo_path, **({"max_bytes": max_bytes} if max_bytes else {}))
     limit = {"max_bytes": max_bytes} if max_bytes else {}
@@ -84,7 +86,121 @@ def learn(demo_path: str, structure_path: str, task: Term | None, *, radius: flo
     learned_kb = document_from_text(text, "<learned>").to_kb(KnowledgeBase())
     tree = instantiate(learned_kb, task)
     compressed = compress(tree, "full", protected_labels(learned_kb, tree)).tree
-    return Lesson(demo, segments, teaching, text, learned_kb, tree, compressed, radius)
+    lesson = Lesson(demo, segments, teaching, text, learned_kb, tree, compressed, radius)
+    if bases:
+        lesson.motions = fit_motions(lesson, bases)
+    return lesson
+
+
+@dataclass(frozen=True)
+class Primitive:
+    """A motion primitive: what it stands for, the primitive, and how well it reproduces the demonstration."""
+
+    label: Term
+    parts: tuple[Term, ...]             # the learned actions it covers, in order (one unless merged)
+    dmp: primitives.DMP
+    error: primitives.Error
+    times: np.ndarray                   # the demonstrated samples it was fitted to (merged: concatenated)
+    poses: np.ndarray
+    single: primitives.Error | None = None   # merged: a primitive with one segment's bases, for comparison
+
+
+@dataclass(frozen=True)
+class Motions:
+    """A primitive per learned action, and a merged one per merged behaviour of the compressed task."""
+
+    bases: int
+    actions: tuple[Primitive, ...]
+    merged: tuple[Primitive, ...]
+
+
+def fit_motions(lesson: Lesson, bases: int = defaults.BASES) -> Motions:
+    """Encode each demonstrated action as a DMP, and each merged action as one DMP of its parts."""
+    demo = lesson.demo
+    poses = demo.poses
+    by_label = lesson.actions_of()
+
+    def span(seg: Segment) -> tuple[np.ndarray, np.ndarray]:
+        return demo.times[seg.start:seg.end + 1], poses[seg.start:seg.end + 1]
+
+    actions = []
+    for label, seg in by_label.items():
+        if seg.kind != "motion":
+            continue
+        t, p = span(seg)
+        dmp = primitives.fit(t, p, n_basis=bases)
+        actions.append(Primitive(label, (label,), dmp, primitives.reproduction_error(dmp, t, p), t, p))
+    merged = []
+    for b in walk(lesson.compressed):
+        if b.children or not b.merged_from:
+            continue
+        segs = [by_label.get(label) for label in b.merged_from]
+        if any(s is None or s.kind != "motion" for s in segs):
+            continue        # a part this demonstration did not show, or a gripper command
+        parts = [span(s) for s in segs]
+        dmp = primitives.merge(parts, n_basis_per_part=bases)
+        t, p = _concatenated(parts)
+        single = primitives.fit(t, p, n_basis=bases)
+        merged.append(Primitive(b.label, b.merged_from, dmp, primitives.reproduction_error(dmp, t, p), t, p,
+                                primitives.reproduction_error(single, t, p)))
+    return Motions(bases, tuple(actions), tuple(merged))
+
+
+def _concatenated(parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """Consecutive segments as one trajectory (they share their junction sample: kept once)."""
+    times, poses = [parts[0][0]], [parts[0][1]]
+    for t, p in parts[1:]:
+        if t[0] == times[-1][-1]:
+            t, p = t[1:], p[1:]
+        times.append(t)
+        poses.append(p)
+    return np.concatenate(times), np.concatenate(poses)
+
+
+def motions_json(lesson: Lesson, motions: Motions) -> dict:
+    """The primitives as JSON (docs/learning.md): each with its segment(s) and reproduction error."""
+    by_label = lesson.actions_of()
+    demo = lesson.demo
+
+    def error(e: primitives.Error) -> dict:
+        return {"rms": e.rms, "max": e.max, "final": e.final, "angle_rms": e.angle_rms}
+
+    def segment_json(label: Term) -> dict:
+        seg = by_label[label]
+        return {"action": term_to_text(label), "first_row": int(demo.rows[seg.start]),
+                "last_row": int(demo.rows[seg.end]), "start_time": float(demo.times[seg.start]),
+                "end_time": float(demo.times[seg.end]), "object": seg.obj, "ends": seg.cause}
+
+    return {"demonstration": demo.file, "task": term_to_text(lesson.teaching.task),
+            "dimensions": ["x", "y", "z"] + (["qx", "qy", "qz", "qw"] if demo.orientations is not None else []),
+            "bases_per_segment": motions.bases,
+            "actions": [{"label": term_to_text(m.label), "segment": segment_json(m.label),
+                         "dmp": primitives.to_json(m.dmp), "error": error(m.error)} for m in motions.actions],
+            "merged": [{"label": term_to_text(m.label), "parts": [segment_json(p) for p in m.parts],
+                        "dmp": primitives.to_json(m.dmp), "error": error(m.error),
+                        "error_with_one_segments_bases": error(m.single)} for m in motions.merged]}
+
+
+def motions_lines(motions: Motions) -> list[str]:
+    """The primitives' reproduction errors, as the report prints them."""
+    def mm(v: float) -> str:
+        return f"{v * 1000:.1f} mm"
+    lines = []
+    if motions.actions:
+        worst = max(motions.actions, key=lambda m: m.error.rms)
+        mean = float(np.mean([m.error.rms for m in motions.actions]))
+        final = max(m.error.final for m in motions.actions)
+        lines.append(f"motion primitives (DMP, {motions.bases} bases per segment): {len(motions.actions)} actions; "
+                     f"reproduction error RMS {mm(mean)} on average, worst {mm(worst.error.rms)} "
+                     f"({term_to_text(worst.label)}); end point within {mm(final)}")
+    if motions.merged:
+        lines.append(f"merged primitives, one per merged action of the compressed task ({motions.bases} bases per part):")
+        width = max(len(term_to_text(m.label)) for m in motions.merged)
+        for m in motions.merged:
+            lines.append(f"  {term_to_text(m.label):<{width}}  {len(m.parts)} segments, {m.times[-1] - m.times[0]:4.1f} s: "
+                         f"RMS {mm(m.error.rms)}, max {mm(m.error.max)}, end {mm(m.error.final)}  "
+                         f"(one segment's {motions.bases} bases: RMS {mm(m.single.rms)})")
+    return lines
 
 
 def lesson_lines(lesson: Lesson) -> list[str]:
@@ -127,7 +243,10 @@ def lesson_lines(lesson: Lesson) -> list[str]:
     before, after = count_nodes(lesson.tree), count_nodes(lesson.compressed)
     merged = sum(1 for b in walk(lesson.compressed) if b.merged_from)
     lines.append(f"learned task: {before} behaviours; compressed: {after} behaviours ({merged} merged)")
+    if lesson.motions is not None:
+        lines += motions_lines(lesson.motions)
     return lines
 
 
-__all__ = ["learn", "Lesson", "lesson_lines", "where_demonstrated"]
+__all__ = ["learn", "Lesson", "lesson_lines", "where_demonstrated", "Motions", "Primitive", "fit_motions",
+           "motions_json", "motions_lines"]
