@@ -294,7 +294,8 @@ def test_run_with_another_state_and_a_failing_action():
     assert r.returncode == 1
     assert "FAILED: the robot did not complete a5(cup)" in r.stdout
     assert "stuck: nothing is enabled" in r.stdout and "a5(cup): its command failed 3 times; inhibited" in r.stdout
-    r = run("run", MIX, "--scene", FIG2_SCENE, "--fail", "a5(cup)", "--fail-times", "1", "--compressed")
+    r = run("run", MIX, "--scene", FIG2_SCENE, "--fail", "a5(cup)", "--fail-times", "1", "--compressed",
+            "--recovery", "resume")
     assert r.returncode == 0 and "- a5(cup) (failed)" in r.stdout and "(skipped: accomplished)" in r.stdout
 
 
@@ -474,3 +475,34 @@ def test_generate_checks_every_destination_before_writing_any(tmp_path):
     assert same.returncode == 2 and "-o and --scene name the same file" in same.stderr and not scene.exists()
     dash = run("generate", "--depth", 3, "--children", 2, "--scene", "-", cwd=tmp_path)
     assert dash.returncode == 2 and not (tmp_path / "-").exists()
+
+
+def test_run_decompresses_a_merged_behaviour_that_fails_part_way():
+    args = ("run", COFFEE, "--scene", KITCHEN, "--compressed", "--fail", "a4(cup)", "--fail-times", "1")
+    r = run(*args)
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    failed = lines.index("      - a4(cup) (failed)")
+    assert "a3_a4_a5_a6_a7(cup)" in lines[failed - 2] and "FAILED: the robot did not complete a4(cup)" in lines[failed - 2]
+    assert lines[failed + 1] == ("      decompressed a3_a4_a5_a6_a7(cup) into a3(cup), a4(cup), a5(cup), a6(cup), "
+                                 "a7(cup): a4(cup) is retried on its own")
+    assert lines[failed + 2].startswith("   4  a4(cup) ")
+    assert "decompressed 1 merged behaviour after failures (a3_a4_a5_a6_a7(cup)): the tree went from 33 to " \
+           "37 behaviours" in r.stdout
+    assert "completed: prepareboth is accomplished" in r.stdout
+    data = json.loads(run(*args, "--json").stdout)
+    assert data["completed"] and data["recovery"] == "decompress"
+    assert data["behaviours"] == 33 and data["final_behaviours"] == 37
+    assert data["trace"].count("a4(cup)") == 1 and len(data["trace"]) == 36
+    split = [d for d in data["decisions"] if d["decompressed"]]
+    assert [(d["index"], d["decompressed"]["behaviour"], d["decompressed"]["into"]) for d in split] == [
+        (3, "a3_a4_a5_a6_a7(cup)", ["a3(cup)", "a4(cup)", "a5(cup)", "a6(cup)", "a7(cup)"])]
+    assert data["decisions"][3]["behaviour"] == "a4(cup)" and data["decisions"][3]["executed"] == ["a4(cup)"]
+    # resume keeps the tree and the old behaviour; an always failing a4(cup) is inhibited on its own
+    old = json.loads(run(*args, "--json", "--recovery", "resume").stdout)
+    assert old["final_behaviours"] == 33 and not any(d["decompressed"] for d in old["decisions"])
+    assert old["decisions"][3]["skipped"] == ["a3(cup)"]
+    r = run("run", COFFEE, "--scene", KITCHEN, "--compressed", "--fail", "a4(cup)")
+    assert r.returncode == 1 and "  a4(cup): its command failed 3 times; inhibited" in r.stdout
+    assert "a3_a4_a5_a6_a7(cup): its command failed" not in r.stdout
+    assert run("run", MIX, "--recovery", "replan").returncode == 2

@@ -1,5 +1,7 @@
 """The attentional executive: enabling, emphasis, winner-take-all, failures, both selectors."""
 
+from collections import Counter
+
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
@@ -12,7 +14,7 @@ from schemalog.generate import generate, scene_for
 from schemalog.parse import parse_term
 from schemalog.scene import Scene, read_scene
 from schemalog.terms import term_to_text
-from schemalog.tree import Behaviour, Origin, instantiate
+from schemalog.tree import Behaviour, Origin, count_nodes, instantiate, walk
 from schemalog.world import World, initial_state
 
 from conftest import COFFEE, MIX, ROOT
@@ -180,7 +182,7 @@ def test_a_persistent_failure_is_retried_then_inhibited():
 def test_a_merged_behaviour_resumes_at_the_failed_action():
     tree = compress(FIG2).tree
     robot = RobotManager(FIG2_SCENE, {t("a5(cup)"): 1})
-    ex = Executive(tree, World(FIG2, FIG2_INIT), FIG2_SCENE, robot=robot)
+    ex = Executive(tree, World(FIG2, FIG2_INIT), FIG2_SCENE, robot=robot, recovery="resume")
     ex.run()
     assert ex.outcome.completed
     failed = next(d for d in ex.decisions if d.failed)
@@ -329,3 +331,158 @@ def test_a_failure_of_the_merged_label_does_not_mask_the_actions_own():
     ex.run()
     assert [term_to_text(d.failed) for d in ex.decisions if d.failed] == ["a1(spoon)", "a1(spoon)"]
     assert ex.outcome.completed
+
+
+# --- failure-local recovery: decompress only the merged leaf that failed --------
+
+def merged_leaves(tree):
+    return Counter(term_to_text(n.label) for n in walk(tree) if not n.children and n.merged_from)
+
+
+@pytest.mark.parametrize("selector", ["scan", "incremental"])
+def test_a_failure_inside_a_merged_leaf_decompresses_only_that_leaf(selector):
+    tree = compress(COFFEE_TREE).tree
+    plain = execute(tree, COFFEE_TREE, COFFEE_INIT, KITCHEN, selector)
+    robot = RobotManager(KITCHEN, {t("a4(cup)"): 1})
+    ex = execute(tree, COFFEE_TREE, COFFEE_INIT, KITCHEN, selector, robot=robot)
+    assert ex.outcome.completed, ex.outcome
+    split = [d for d in ex.decisions if d.decompressed]
+    assert len(split) == 1
+    failed = split[0]
+    assert term_to_text(failed.behaviour) == "a3_a4_a5_a6_a7(cup)" and term_to_text(failed.failed) == "a4(cup)"
+    assert names(failed.decompressed) == ["a3_a4_a5_a6_a7(cup)", "a3(cup)", "a4(cup)", "a5(cup)", "a6(cup)",
+                                          "a7(cup)"]
+    assert failed.inhibited is None
+    # the failed constituent is retried on its own, then its successors one by one
+    after = ex.decisions[failed.index:failed.index + 4]
+    assert names(d.behaviour for d in after) == ["a4(cup)", "a5(cup)", "a6(cup)", "a7(cup)"]
+    assert [names(d.executed) for d in after] == [["a4(cup)"], ["a5(cup)"], ["a6(cup)"], ["a7(cup)"]]
+    # only that behaviour is decompressed: 33 -> 37 behaviours, the other merged ones intact
+    assert count_nodes(ex.given_tree) == 33 and count_nodes(ex.tree) == 37
+    before, now = merged_leaves(tree), merged_leaves(ex.tree)
+    before.subtract({"a3_a4_a5_a6_a7(cup)": 1})
+    assert now == +before
+    parts = {term_to_text(n.label): n for n in walk(ex.tree) if not n.children and not n.merged_from
+             and term_to_text(n.label) in {"a3(cup)", "a4(cup)", "a5(cup)", "a6(cup)", "a7(cup)"}}
+    assert len(parts) == 5 and all(n.k == 1 for n in parts.values())
+    assert cond.to_text(parts["a5(cup)"].pre) == "water.taken and not water.used and a4.done"
+    # the trace: every action once, a4(cup) included, in the order of the failure-free run
+    assert names(ex.trace).count("a4(cup)") == 1
+    assert names(ex.trace) == names(plain.trace)
+    assert replay(COFFEE_TREE, COFFEE_INIT, ex.trace).valid
+    # the accomplished a3(cup) now counts in its parent's mu: a4(cup) alone is more emphasised
+    # than the merged behaviour resuming at it
+    resume = execute(tree, COFFEE_TREE, COFFEE_INIT, KITCHEN, selector,
+                     robot=RobotManager(KITCHEN, {t("a4(cup)"): 1}), recovery="resume")
+    assert resume.outcome.completed and count_nodes(resume.tree) == 33
+    assert not any(d.decompressed for d in resume.decisions)
+    assert after[0].emphasis > resume.decisions[failed.index].emphasis
+
+
+def inhibited_labels(ex):
+    return {term_to_text(ex.plan.nodes[i].label) for i in ex.selector.inhibited}
+
+
+def test_a_persistent_failure_inhibits_only_the_failed_constituent():
+    tree = compress(COFFEE_TREE).tree
+    ex = execute(tree, COFFEE_TREE, COFFEE_INIT, KITCHEN, robot=RobotManager(KITCHEN, {t("a4(cup)"): None}))
+    assert ex.outcome.status is Status.STUCK
+    assert inhibited_labels(ex) == {"a4(cup)"}
+    assert "a4(cup): its command failed 3 times; inhibited" in ex.outcome.blocked
+    assert not any("a3_a4_a5_a6_a7" in b for b in ex.outcome.blocked)
+    inhibited = [d for d in ex.decisions if d.inhibited is not None]
+    assert inhibited and all(term_to_text(d.inhibited) == "a4(cup)" for d in inhibited)
+    # the actions before it stay done and are not commanded again
+    assert names(ex.trace).count("a3(cup)") == 1 and "a4(cup)" not in names(ex.trace)
+    # resume, for comparison, inhibits the whole merged behaviour
+    old = execute(tree, COFFEE_TREE, COFFEE_INIT, KITCHEN, robot=RobotManager(KITCHEN, {t("a4(cup)"): None}),
+                  recovery="resume")
+    assert inhibited_labels(old) == {"a3_a4_a5_a6_a7(cup)"}
+    assert "a3_a4_a5_a6_a7(cup): its command failed 3 times; inhibited" in old.outcome.blocked
+
+
+def test_each_constituent_gets_its_own_retries():
+    """a3, a4 and a5 each fail once: three failures of one merged behaviour in a row exhaust
+    --retries 1 under resume; decompressed, each action is retried once and the task completes."""
+    tree = compress(FIG2).tree
+    once = {t("a3(cup)"): 1, t("a4(cup)"): 1, t("a5(cup)"): 1}
+    old = execute(tree, FIG2, FIG2_INIT, FIG2_SCENE, robot=RobotManager(FIG2_SCENE, once), retries=1,
+                  recovery="resume")
+    assert old.outcome.status is Status.STUCK
+    new = execute(tree, FIG2, FIG2_INIT, FIG2_SCENE, robot=RobotManager(FIG2_SCENE, once), retries=1)
+    assert new.outcome.completed, new.outcome
+    assert names(new.trace) == FIG2_ORDER
+    assert [term_to_text(d.failed) for d in new.decisions if d.failed] == ["a3(cup)", "a4(cup)", "a5(cup)"]
+    assert sum(1 for d in new.decisions if d.decompressed) == 1
+
+
+def test_no_retries_inhibits_the_constituent_at_once_and_an_unknown_recovery_is_refused():
+    tree = compress(FIG2).tree
+    ex = execute(tree, FIG2, FIG2_INIT, FIG2_SCENE, robot=RobotManager(FIG2_SCENE, {t("a5(cup)"): None}),
+                 retries=0)
+    first = next(d for d in ex.decisions if d.failed)
+    assert first.decompressed and term_to_text(first.inhibited) == "a5(cup)"
+    assert inhibited_labels(ex) == {"a5(cup)"} and ex.outcome.status is Status.STUCK
+    with pytest.raises(SchemalogError, match="unknown recovery"):
+        Executive(tree, World(FIG2, FIG2_INIT), FIG2_SCENE, recovery="replan")
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(2, 4), st.integers(1, 3), st.sampled_from([0.0, 0.3, 0.5, 0.7]), st.integers(0, 10**6),
+       st.data())
+def test_one_transient_failure_is_recovered_by_decompressing(depth, branching, rd, seed, data):
+    """Any one action of a generated task fails once: the decompressed run completes whenever
+    the failure-free one does, runs every action once, and is a run of the original tree."""
+    tree = generate(depth, branching, rd, seed)
+    scene = scene_for(branching, seed=seed)
+    compressed = compress(tree).tree
+    action = data.draw(st.sampled_from([n.label for n in walk(tree) if not n.children]))
+    plain = execute(compressed, tree, [], scene)
+    traces = {}
+    for selector in ("scan", "incremental"):
+        ex = execute(compressed, tree, [], scene, selector, robot=RobotManager(scene, {action: 1}))
+        if plain.outcome.completed:
+            assert ex.outcome.completed, (term_to_text(action), ex.outcome)
+            assert sorted(names(ex.trace)) == sorted(names(plain.trace))
+        check = replay(tree, [], ex.trace)
+        assert check.valid, check.reason
+        failed = [d for d in ex.decisions if d.failed is not None]
+        assert [d.failed for d in failed] == [action]
+        leaf = next(n for n in walk(compressed) if not n.children and n.label == failed[0].behaviour)
+        assert count_nodes(ex.tree) - count_nodes(compressed) == leaf.k - 1
+        assert bool(failed[0].decompressed) == (leaf.k > 1)
+        traces[selector] = ex.trace
+    assert traces["scan"] == traces["incremental"]
+
+
+def test_inhibitions_and_failure_counts_follow_their_leaves_into_the_new_tree():
+    """z(spoon), after the merged x_y(cup) in the tree, is inhibited first; splitting x_y moves
+    it in the flattened tree, and it must stay inhibited while y(cup) alone is retried."""
+    x = Behaviour(t("x(cup)"), objects=(t("cup"),), post=c("x.done"))
+    y = Behaviour(t("y(cup)"), objects=(t("cup"),), releaser=c("x.done"), post=c("y.done"))
+    z = Behaviour(t("z(spoon)"), objects=(t("spoon"),), post=c("z.done"))
+    original = Behaviour(t("r"), post=c("y.done"), children=(x, y, z))
+    tree = compress(original).tree
+    assert [term_to_text(n.label) for n in tree.children] == ["x_y(cup)", "z(spoon)"]
+    scene = Scene(objects={"spoon": (0.1, 0.0), "cup": (0.5, 0.0)}, end_effector=(0.0, 0.0))
+    for selector in ("scan", "incremental"):
+        robot = RobotManager(scene, {t("z(spoon)"): None, t("y(cup)"): 1})
+        ex = execute(tree, original, [], scene, selector, robot=robot)
+        assert [(term_to_text(d.behaviour), d.failed and term_to_text(d.failed)) for d in ex.decisions] == [
+            ("z(spoon)", "z(spoon)")] * 3 + [("x_y(cup)", "y(cup)"), ("y(cup)", None)]
+        assert ex.outcome.completed and inhibited_labels(ex) == {"z(spoon)"}
+        z_index = next(i for i, n in enumerate(ex.plan.nodes) if n.label == t("z(spoon)"))
+        assert ex.failures == Counter({z_index: 3})
+
+
+def test_the_loop_detector_forgets_the_configurations_of_the_tree_before_a_split():
+    """Leaf indices name other behaviours after a split: the configurations seen before it
+    (which record inhibited and failed leaves by index) cannot be compared with later ones."""
+    tree = compress(FIG2).tree
+    ex = Executive(tree, World(FIG2, FIG2_INIT), FIG2_SCENE, robot=RobotManager(FIG2_SCENE, {t("a4(cup)"): 1}))
+    seen_before = None
+    for d in ex:
+        if d.decompressed:
+            assert seen_before >= 3 and len(ex._seen) == 1
+        seen_before = len(ex._seen)
+    assert ex.outcome.completed and len(ex._seen) == len(ex.decisions) - 2

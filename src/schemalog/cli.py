@@ -28,8 +28,9 @@ from .render import carried_clauses, compare_dot, rich_tree, show_json, to_dot, 
 from .schema import check_schemas
 from .terms import TRUE, Struct, Term, Var, term_to_text
 from .unify import Bindings
-from .execute import DEFAULT_RETRIES, SELECTORS, Decision, Executive, RobotManager
+from .execute import DEFAULT_RETRIES, RECOVERIES, SELECTORS, Decision, Executive, RobotManager
 from .generate import TOLERANCE, generate, scene_for, shortfall
+from . import defaults
 from .scene import NO_SCENE, Scene, object_name, read_scene, scene_text
 from .verify import (DEFAULT_MAX_STATES, Verifier, all_states, constraints, free_atoms, state_text,
                      verify_by_parts)
@@ -210,6 +211,10 @@ def cmd_compress(args: argparse.Namespace) -> int:
     figures = (f"Bi = {result.nodes_before}, Bm = {result.nodes_after}, D = {result.depth_before}, "
                f"RD = (Bi - Bm) / (Bi - D) = {result.reduction_degree:.2f}")
     fmt = _format(args)
+    report = _verify_compression(kb, result, args) if args.verify else None
+    code = 0 if report is None else 1 if report.violated else (
+        0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE)
+    how = f"propagate {result.propagate}"
     if fmt == "json":
         data = {"task": term_to_text(task), "propagate": result.propagate,
                 "nodes_before": result.nodes_before, "nodes_after": result.nodes_after,
@@ -218,7 +223,10 @@ def cmd_compress(args: argparse.Namespace) -> int:
                 "conditions": {"simplified": result.simplifier.calls,
                                "needed_sympy": result.simplifier.sympy_calls},
                 "notes": result.notes, "tree": tree_json(result.tree)}
+        if report is not None:
+            data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after)
         _emit(json.dumps(data, indent=2) + "\n", args.output, kb.files)
+        return code
     elif fmt == "dot":
         _emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
               args.output, kb.files)
@@ -245,7 +253,20 @@ def cmd_compress(args: argparse.Namespace) -> int:
         else:
             view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
         _print_rich(view, args.output, kb.files)
-    return 0
+    if report is not None:
+        # After the compressed task (or alone, when that went to a file): what verify would print.
+        print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default")))
+    return code
+
+
+def _verify_compression(kb: KnowledgeBase, result, args: argparse.Namespace):
+    """`compress --verify`: prove the compressed tree against its original from the initial state."""
+    world = World(result.original)
+    world.reset(initial_state(kb))
+    initial = [world.atoms]
+    task = result.original.label
+    report = verify_by_parts(result.original, result.tree, world, initial, None, task)
+    return report if report is not None else Verifier(result.original, result.tree, world).verify(initial, None, task)
 
 
 def cmd_decompress(args: argparse.Namespace) -> int:
@@ -315,7 +336,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     world.reset(initial)
     failures = _failures(args, original, tree)
     executive = Executive(tree, world, scene, robot=RobotManager(scene, failures),
-                          selector=args.selector, retries=args.retries, max_decisions=args.max_decisions)
+                          selector=args.selector, retries=args.retries, max_decisions=args.max_decisions,
+                          recovery=args.recovery)
     if scene is NO_SCENE:
         print("note: no --scene: every behaviour gets the neutral lambda, so emphasis follows "
               "progress alone", file=sys.stderr)
@@ -581,6 +603,11 @@ def decision_lines(d: Decision, width: int) -> list[str]:
         lines.extend(f"{'':6}- {term_to_text(a)}" for a in d.executed)
         if d.failed is not None:
             lines.append(f"{'':6}- {term_to_text(d.failed)} (failed)")
+    if d.decompressed:
+        merged, *parts = (term_to_text(x) for x in d.decompressed)
+        then = f"{term_to_text(d.failed)} is retried on its own" if d.inhibited is None else \
+            f"{term_to_text(d.failed)} alone is inhibited"
+        lines.append(f"{'':6}decompressed {merged} into {', '.join(parts)}: {then}")
     return lines
 
 
@@ -593,6 +620,11 @@ def summary_lines(ex: Executive) -> list[str]:
     o = ex.outcome
     lines = [f"{o.status.value}: {o.reason}"]
     lines.extend(f"  {b}" for b in o.blocked)
+    split = [d.decompressed[0] for d in ex.decisions if d.decompressed]
+    if split:
+        lines.append(f"decompressed {len(split)} merged behaviour{'s' if len(split) > 1 else ''} after failures "
+                     f"({', '.join(term_to_text(x) for x in split)}): the tree went from "
+                     f"{count_nodes(ex.given_tree)} to {count_nodes(ex.tree)} behaviours")
     times = sorted(d.seconds for d in ex.decisions)
     if times:
         mean = sum(times) / len(times)
@@ -608,7 +640,8 @@ def run_json(ex: Executive, task: Term, kind: str, initial: list[Term], args: ar
     """The run as data (docs/formats.md)."""
     times = [d.seconds for d in ex.decisions]
     return {
-        "task": term_to_text(task), "tree": kind, "behaviours": count_nodes(ex.tree),
+        "task": term_to_text(task), "tree": kind, "behaviours": count_nodes(ex.given_tree),
+        "final_behaviours": count_nodes(ex.tree), "recovery": ex.recovery,
         "selector": ex.selector_name, "scene": ex.scene.name,
         "initial_state": [term_to_text(a) for a in initial],
         "completed": ex.outcome.completed, "status": ex.outcome.status.value,
@@ -621,6 +654,10 @@ def run_json(ex: Executive, task: Term, kind: str, initial: list[Term], args: ar
             "enabled": d.enabled, "executed": [term_to_text(a) for a in d.executed],
             "skipped": [term_to_text(a) for a in d.skipped],
             "failed": None if d.failed is None else term_to_text(d.failed),
+            "decompressed": None if not d.decompressed else {
+                "behaviour": term_to_text(d.decompressed[0]),
+                "into": [term_to_text(x) for x in d.decompressed[1:]]},
+            "inhibited": None if d.inhibited is None else term_to_text(d.inhibited),
             "seconds": d.seconds, "hand": list(d.hand)} for d in ex.decisions],
         "decision_times": times,
         "final_state": sorted(term_to_text(a) for a in ex.world.atoms),
@@ -720,6 +757,88 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 # ---------------------------------------------------------------------------
+# Learning from demonstration
+
+def cmd_learn(args: argparse.Namespace) -> int:
+    """Segment a demonstration, teach it to a task structure, and write the learned knowledge."""
+    from .learn import learn, lesson_lines, motions_json
+
+    inputs = [args.demo, args.structure]
+    outputs = [o for o in (args.output, args.plot, args.motions) if o and o != "-"]
+    for out in outputs:
+        _emit_check(out, inputs)
+        _writable(out)
+    if len(set(map(os.path.abspath, outputs))) < len(outputs):
+        raise UsageError("-o, --plot and --motions must name different files")
+    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise UsageError(f"--plot {args.plot}: name a .png, .svg or .pdf file")
+    task = _task_term(args.task) if args.task else None
+    lesson = learn(args.demo, args.structure, task, radius=args.radius, hysteresis=args.hysteresis,
+                   min_motion=args.min_motion, max_bytes=args.max_bytes, bases=args.bases)
+    report = lesson_lines(lesson)
+    to_stdout = args.output is None or args.output == "-"
+    motions_text = None
+    if args.motions:
+        if lesson.motions is None:
+            raise UsageError("--motions needs primitives: --bases 0 turns them off")
+        motions_text = json.dumps(motions_json(lesson, lesson.motions), indent=1) + "\n"
+    # Everything is computed before anything is written: bad input leaves no file behind.
+    if args.plot:
+        from .figures import demonstration_figure
+        demonstration_figure(lesson, Path(args.plot))
+        report.append(f"wrote {args.plot}")
+    if motions_text is not None:
+        write_atomically(args.motions, motions_text)
+        report.append(f"wrote {args.motions}")
+    if not to_stdout:
+        write_atomically(args.output, lesson.text)
+        report.append(f"wrote {args.output}")
+    print("\n".join(report), file=sys.stderr if to_stdout else sys.stdout)
+    if to_stdout:
+        sys.stdout.write(lesson.text)
+    return 0
+
+
+def cmd_simulate_demo(args: argparse.Namespace) -> int:
+    """Write a synthetic demonstration of a task in a scene (smooth motions with noise)."""
+    from .demo import demonstration_csv, demonstration_json
+    from .simulate import simulate
+
+    scene = read_scene(args.scene, args.max_bytes)
+    files = args.files or ([scene.knowledge] if scene.knowledge else [])
+    if not files:
+        raise UsageError(f"which task knowledge? {args.scene} names none (knowledge: in the scene): "
+                         f"give the task file, e.g. kb/tasks/prepare_coffee_and_tea.pl")
+    if args.output and args.output != "-":
+        _emit_check(args.output, [*files, args.scene])
+        _writable(args.output)
+    kb = KnowledgeBase()
+    for path in files:
+        read_document(path, args.max_bytes).to_kb(kb)
+    task = _choose_tasks(kb, args.task)[0]
+    if args.jitter:
+        scene = scene.jittered(args.seed, args.jitter)
+    name = args.output if args.output and args.output != "-" else "<stdout>"
+    demo = simulate(kb, task, scene, seed=args.seed, noise=args.noise, rate=args.rate, speed=args.speed,
+                    radius=args.radius, file=name)
+    comment = (f"A simulated demonstration of {term_to_text(task)} in {scene.name} ({args.scene}), written by "
+               f"schemalog simulate-demo:\nminimum-jerk point-to-point motions at {args.speed:g} m/s, {args.rate:g} Hz, "
+               f"position noise {args.noise:g} m (seed {args.seed}).")
+    json_out = bool(args.output) and args.output.lower().endswith(".json")
+    text = demonstration_json(demo) if json_out else demonstration_csv(demo, comment)
+    commands = len(demo.gripper)
+    summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
+               f"{commands} gripper commands")
+    if args.output and args.output != "-":
+        write_atomically(args.output, text)
+        print(f"{summary}; wrote {args.output}")
+    else:
+        sys.stdout.write(text)
+        print(summary, file=sys.stderr)
+    return 0
+
+
+# ---------------------------------------------------------------------------
 # Argument parsing
 
 def _workspace(args: argparse.Namespace, files: list[str]):
@@ -796,6 +915,14 @@ def _distance(text: str) -> float:
     return value
 
 
+def _length(text: str) -> float:
+    """An argparse type: a finite positive number."""
+    value = _distance(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError("must be more than 0")
+    return value
+
+
 def _fraction(text: str) -> float:
     try:
         value = float(text)
@@ -855,6 +982,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--sympy-budget", type=_budget, default=DEFAULT_SYMPY_BUDGET, metavar="N",
                    help=f"simplify with sympy up to N variables (default {DEFAULT_SYMPY_BUDGET}, "
                         f"at most {MAX_SYMPY_BUDGET}: its cost doubles per variable)")
+    p.add_argument("--verify", action="store_true",
+                   help="then prove the compressed task against the original from the initial state "
+                        "(as schemalog verify; exit 1 on a counterexample, 3 without a proof)")
     p.set_defaults(run=cmd_compress)
 
     p = sub.add_parser("decompress", parents=[limits, output],
@@ -888,6 +1018,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="each --fail action fails only its first N commands (default: every one)")
     p.add_argument("--retries", type=_count, default=DEFAULT_RETRIES, metavar="N",
                    help=f"retry a failed behaviour N times before inhibiting it (default {DEFAULT_RETRIES})")
+    p.add_argument("--recovery", choices=list(RECOVERIES), default=RECOVERIES[0],
+                   help="when the robot fails an action inside a merged behaviour: decompress (default) "
+                        "splits just that behaviour into its actions, so only the failed one is retried "
+                        "and inhibited; resume retries the merged behaviour from the failed action")
     p.add_argument("--max-decisions", type=_positive, metavar="N",
                    help="stop after N decisions (default: 4 per action of the original task, at least 100)")
     p.add_argument("--json", action="store_true", help="print the run as JSON (docs/formats.md)")
@@ -952,6 +1086,49 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-states", type=_positive, metavar="N",
                    help="verification stops (no proof) beyond N states (default 20,000, --quick 5,000)")
     p.set_defaults(run=cmd_bench)
+
+    p = sub.add_parser("learn", help="learn task knowledge from a demonstration (Sec. II-C, II-D; docs/learning.md)")
+    p.add_argument("demo", metavar="DEMO", help="the demonstration, CSV or JSON (docs/learning.md)")
+    p.add_argument("--structure", required=True, metavar="FILE",
+                   help="the partially specified task structure: schema knowledge whose sub-tasks have no actions")
+    p.add_argument("--task", help="the demonstrated task (default: the structure's first task/1)")
+    p.add_argument("-o", "--output", help="write the learned knowledge here (atomically); default: standard output")
+    p.add_argument("--radius", type=_length, default=defaults.RADIUS, metavar="M",
+                   help=f"the proximity sphere around each object (default {defaults.RADIUS} m)")
+    p.add_argument("--hysteresis", type=_distance, default=defaults.HYSTERESIS, metavar="M",
+                   help=f"how far beyond the radius leaving counts (default {defaults.HYSTERESIS} m)")
+    p.add_argument("--min-motion", type=_distance, default=defaults.MIN_MOTION, metavar="M",
+                   help=f"a stretch moving the hand less than this is a pause, not an action (default {defaults.MIN_MOTION} m)")
+    p.add_argument("--max-bytes", type=_positive, default=MAX_BYTES,
+                   help=f"refuse input files larger than this (default {MAX_BYTES:,})")
+    p.add_argument("--plot", metavar="FILE", help="draw the trajectory, its segments and objects, and the merged "
+                   "primitives (PNG, SVG or PDF by suffix)")
+    p.add_argument("--motions", metavar="FILE", help="write the motion primitives (DMPs) and their reproduction "
+                   "errors as JSON")
+    p.add_argument("--bases", type=_count, default=defaults.BASES, metavar="N",
+                   help=f"basis functions of a primitive per segment (default {defaults.BASES}; 0: no primitives)")
+    p.set_defaults(run=cmd_learn)
+
+    p = sub.add_parser("simulate-demo", help="write a synthetic demonstration of a task in a scene")
+    p.add_argument("files", nargs="*", metavar="FILE",
+                   help="the task knowledge (default: the scene's knowledge: entry)")
+    p.add_argument("--scene", required=True, metavar="FILE", help="object positions (YAML)")
+    p.add_argument("--task", help="the task to demonstrate (default: the first task/1)")
+    p.add_argument("-o", "--output", help="write here (atomically; .json for JSON, else CSV); default: standard output")
+    p.add_argument("--seed", type=int, default=0, help="seed of the noise and of --jitter (default 0)")
+    p.add_argument("--noise", type=_distance, default=defaults.NOISE, metavar="M",
+                   help=f"standard deviation of the hand's position noise (default {defaults.NOISE} m)")
+    p.add_argument("--jitter", type=_distance, default=0.0, metavar="M",
+                   help="move each object coordinate by up to M metres (with --seed; default 0)")
+    p.add_argument("--rate", type=_length, default=defaults.RATE, metavar="HZ",
+                   help=f"samples per second (default {defaults.RATE:g})")
+    p.add_argument("--speed", type=_length, default=defaults.SPEED, metavar="M/S",
+                   help=f"average speed of a long motion (default {defaults.SPEED} m/s)")
+    p.add_argument("--radius", type=_length, default=defaults.RADIUS, metavar="M",
+                   help=f"the proximity radius the demonstration is planned for (default {defaults.RADIUS} m)")
+    p.add_argument("--max-bytes", type=_positive, default=MAX_BYTES,
+                   help=f"refuse input files larger than this (default {MAX_BYTES:,})")
+    p.set_defaults(run=cmd_simulate_demo)
 
     ask = argparse.ArgumentParser(add_help=False)
     ask.add_argument("--task", help="the task enabled/1, emphasis/2 and next_action/1 look at (default: the first)")

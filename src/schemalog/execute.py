@@ -1,6 +1,7 @@
 """The attentional executive: enabling, emphasis and winner-take-all against an emulated robot.
 
-    Decision = (behaviour, emphasis, runner-up, enabled, executed, skipped, failed, seconds)
+    Decision = (behaviour, emphasis, runner-up, enabled, executed, skipped, failed, seconds,
+                hand, decompressed, inhibited)
     Outcome  = (status, reason, blocked)
     Run      = an iterator of Decisions: `for d in Executive(tree, world, scene): ...`
 
@@ -18,6 +19,12 @@ its goal is not yet achieved). Among enabled leaves the one with the highest emp
 Ties go to the higher `w * mu` (closer to completion), then to the earlier behaviour in the
 tree. A merged leaf executes its constituents in order, skipping those already accomplished.
 
+A failed command is retried, then its leaf is inhibited. When the robot fails a constituent
+of a merged leaf, the `decompress` recovery (the default) replaces just that leaf in the
+running tree by its constituents, one leaf per original action with its own releaser and
+retry count, so only the failed action is replanned (the paper's Sec. V); `resume` keeps the
+merged leaf, which resumes at the failed action.
+
 Two selectors give the same decisions: `scan` visits every behaviour at every decision (the
 paper's cost model: one periodic check per behaviour), `incremental` re-evaluates only the
 conditions that read an atom the last action changed and keeps enabled leaves in one
@@ -30,7 +37,7 @@ import enum
 import heapq
 import time
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Iterator
 
 from . import conditions as cond
@@ -42,6 +49,7 @@ from .tree import Behaviour, walk
 from .world import Change, World
 
 SELECTORS = ("incremental", "scan")
+RECOVERIES = ("decompress", "resume")   # what a failure inside a merged leaf does (the first is the default)
 BASE_ACTIVATION = 1          # mu of the root's (absent) parent
 DEFAULT_RETRIES = 2          # a failed command is retried this many times, then inhibited
 
@@ -75,6 +83,8 @@ class Decision:
     failed: Term | None
     seconds: float
     hand: Position
+    decompressed: tuple[Term, ...] = ()   # after a failure: the merged leaf split, then its constituents
+    inhibited: Term | None = None         # the leaf inhibited after this decision's failure
 
 
 @dataclass(frozen=True)
@@ -402,6 +412,34 @@ def make_selector(name: str, plan: Plan, world: World, scene: Scene):
 
 
 # ---------------------------------------------------------------------------
+# Failure-local decompression
+
+def constituents(leaf: Behaviour) -> tuple[Behaviour, ...]:
+    """Split a merged leaf into one leaf per original action it stands for, in order."""
+    # Each keeps its own releaser, post-condition, importance and provenance (so it counts for
+    # its parent's n as before) under the context the merged-away ancestors propagated. When
+    # the constituents came from different original parents, their contexts differed and the
+    # merged leaf kept them only inside its releaser: each then inherits its whole pre-condition.
+    one_parent = len({o.slot for o in leaf.origins}) == 1
+    context = leaf.context if one_parent else leaf.pre
+    return tuple(Behaviour(label=o.label, agent=leaf.agent, objects=leaf.objects, releaser=o.releaser,
+                           post=o.post, context=context, importance=o.importance, origins=(o,),
+                           source=leaf.source) for o in leaf.origins)
+
+
+def splice(root: Behaviour, path: list[int], parts: tuple[Behaviour, ...]) -> Behaviour:
+    """Put `parts` in place of the behaviour at `path` (child positions from the root)."""
+    spine = [root]
+    for position in path[:-1]:
+        spine.append(spine[-1].children[position])
+    kids = spine[-1].children
+    rebuilt = replace(spine[-1], children=kids[:path[-1]] + parts + kids[path[-1] + 1:])
+    for node, position in zip(reversed(spine[:-1]), reversed(path[:-1])):
+        rebuilt = replace(node, children=node.children[:position] + (rebuilt,) + node.children[position + 1:])
+    return rebuilt
+
+
+# ---------------------------------------------------------------------------
 # The executive
 
 class Executive:
@@ -410,8 +448,12 @@ class Executive:
     def __init__(self, tree: Behaviour, world: World, scene: Scene = NO_SCENE, *,
                  robot: RobotManager | None = None, selector: str = "incremental",
                  retries: int = DEFAULT_RETRIES, max_decisions: int | None = None,
-                 detect_loops: bool = True) -> None:
+                 detect_loops: bool = True, recovery: str = RECOVERIES[0]) -> None:
+        if recovery not in RECOVERIES:
+            raise SchemalogError(f"unknown recovery {recovery!r} (choose {' or '.join(RECOVERIES)})")
         self.tree, self.world, self.scene = tree, world, scene
+        self.given_tree = tree                   # self.tree changes when a merged leaf is decompressed
+        self.recovery = recovery
         self.robot = robot or RobotManager(scene)
         self.plan = Plan.of(tree)
         started = time.perf_counter()
@@ -470,21 +512,28 @@ class Executive:
         leaf = -order
         label = self.plan.nodes[leaf].label
         runner_up = (self.plan.nodes[-best[1][2]].label, best[1][0]) if len(best) > 1 else None
-        executed, skipped, failed = self._execute(leaf)
-        decision = Decision(len(self.decisions) + 1, label, e, runner_up, enabled, tuple(executed),
-                            tuple(skipped), failed, seconds, self.robot.hand)
-        self.decisions.append(decision)
+        executed, skipped, failed, step = self._execute(leaf)
+        decompressed: tuple[Term, ...] = ()
+        inhibited = None
         if failed is not None:
             self.failures[leaf] += 1
+            if self.recovery == "decompress" and len(self.plan.steps[leaf]) > 1:
+                decompressed = (label, *(action for action, _ in self.plan.steps[leaf]))
+                leaf = self._decompress(leaf, step)
             if self.failures[leaf] > self.retries:
                 self.selector.inhibit(leaf)
+                inhibited = self.plan.nodes[leaf].label
         else:
             self.failures.pop(leaf, None)
+        decision = Decision(len(self.decisions) + 1, label, e, runner_up, enabled, tuple(executed),
+                            tuple(skipped), failed, seconds, self.robot.hand, decompressed, inhibited)
+        self.decisions.append(decision)
         self._check_loop()
         return decision
 
-    def _execute(self, leaf: int) -> tuple[list[Term], list[Term], Term | None]:
+    def _execute(self, leaf: int) -> tuple[list[Term], list[Term], Term | None, int]:
         """Command the robot through the leaf's constituents, skipping accomplished ones."""
+        # Returns the actions executed and skipped, and the failed one with its position (or -1).
         executed: list[Term] = []
         skipped: list[Term] = []
         before: dict[Term, bool] = {}       # each changed atom's value before the decision
@@ -492,12 +541,13 @@ class Executive:
         steps = self.plan.steps[leaf]
         merged_label = self.plan.nodes[leaf].label if len(steps) > 1 else None
         failed = None
-        for action, post in steps:
+        failed_step = -1
+        for position, (action, post) in enumerate(steps):
             if self.world.holds(post):
                 skipped.append(action)
                 continue
             if not self.robot.command(action, obj, merged_label if not executed else None):
-                failed = action
+                failed, failed_step = action, position
                 break
             change = self.world.perform(post)
             for atom in change.added:
@@ -511,7 +561,37 @@ class Executive:
                         frozenset(a for a, was in before.items() if was and a not in self.world))
         self._pending = change
         self._journal.append(change)
-        return executed, skipped, failed
+        return executed, skipped, failed, failed_step
+
+    def _decompress(self, leaf: int, step: int) -> int:
+        """Replace merged leaf `leaf` by its constituents; return the failed one's (`step`) index."""
+        # The failed constituent takes over the leaf's failure count.
+        plan = self.plan
+        path = []
+        i = leaf
+        while plan.parent[i] >= 0:
+            path.append(plan.children[plan.parent[i]].index(i))
+            i = plan.parent[i]
+        parts = constituents(plan.nodes[leaf])
+        self.tree = splice(self.tree, path[::-1], parts)
+        # Pre-order: the parts take the leaf's place, everything after it moves by len(parts) - 1.
+        shift = len(parts) - 1
+
+        def moved(i: int) -> int:
+            return i if i < leaf else i + shift
+
+        failed = leaf + step
+        failures = Counter({moved(i): n for i, n in self.failures.items() if i != leaf})
+        failures[failed] = self.failures[leaf]
+        inhibited = [moved(i) for i in self.selector.inhibited]
+        self.plan = Plan.of(self.tree)
+        self.selector = make_selector(self.selector_name, self.plan, self.world, self.scene)
+        for i in inhibited:
+            self.selector.inhibit(i)
+        self.failures = failures
+        self._pending = Change()             # the new selector read the world as it is
+        self._seen.clear()                   # configurations of another tree are incomparable
+        return failed
 
     # -- loops ----------------------------------------------------------------
     def _config(self) -> tuple:
@@ -628,6 +708,7 @@ def replay(original: Behaviour, initial, trace: list[Term]) -> Replay:
     return Replay(True)
 
 
-__all__ = ["Executive", "Decision", "Outcome", "Status", "RobotManager", "Plan", "SELECTORS",
+__all__ = ["Executive", "Decision", "Outcome", "Status", "RobotManager", "Plan", "SELECTORS", "RECOVERIES",
+           "constituents", "splice",
            "ScanSelector", "IncrementalSelector", "enabled_leaves", "enabled_indices", "replay", "Replay", "emphasis",
            "blocked_reasons"]
