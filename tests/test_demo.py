@@ -35,9 +35,9 @@ def demos():
     @st.composite
     def build(draw):
         n = draw(st.integers(2, 12))
-        steps = draw(st.lists(st.floats(0.001, 1.0), min_size=n, max_size=n))
+        steps = draw(st.lists(st.floats(0.4, 1.0), min_size=n, max_size=n))   # jumps under MAX_SPEED
         times = np.round(np.cumsum(steps), 4)
-        coords = st.floats(-2, 2, allow_nan=False)
+        coords = st.floats(-1, 1, allow_nan=False)
         positions = np.round(np.array(draw(st.lists(st.tuples(coords, coords, coords), min_size=n, max_size=n))), 6)
         q = np.array(draw(st.lists(st.tuples(*[st.floats(0.1, 1)] * 4), min_size=n, max_size=n)))
         q = np.round(q / np.linalg.norm(q, axis=1)[:, None], 6)
@@ -131,7 +131,7 @@ def test_json_reads_static_objects_and_timed_events():
     ({"gripper": [{"time": -1, "command": "open"}]}, "outside any segment"),
     ({"time": [0.0, 0.2, 0.1]}, "sample 3: time 0.1 s is not after the previous sample's 0.2 s"),
     ({"position": [[0.4, 0, 0.3], [float("nan"), 0, 0.2], [0.6, 0.1, 0.1]]}, "sample 2: position is NaN"),
-    ({"position": [[0.4, 0, 0.3]]}, "position has 1 samples, time has 3"),
+    ({"position": [[0.4, 0, 0.3]]}, "position has 1 sample, time has 3"),
     ({"objects": {}}, "objects maps each object"),
     ({"speed": 3}, "unknown key 'speed'"),
 ])
@@ -145,3 +145,24 @@ def test_json_syntax_error_has_line_and_column(tmp_path):
     with pytest.raises(SchemalogError) as info:
         read_demonstration(path)
     assert f"{path}:2:" in str(info.value)
+
+
+def test_implausible_positions_and_glitches_are_refused():
+    far = error_of(csv_text(GOOD[0], "0.1,1e308,0.05,0.2,,0.6,0.1,0.05", GOOD[2]))
+    assert far.startswith("d.csv:3:5: error: the end-effector is 1e+308 m from the base")
+    glitch = error_of(csv_text(GOOD[0], "0.1,0.5,0.05,0.2,,5.6,0.1,0.05", GOOD[2]))
+    assert glitch.startswith("d.csv:3:19: error: cup jumps 5 m in 0.1 s (50 m/s, more than 10 m/s)")
+
+
+def test_a_byte_order_mark_is_skipped(tmp_path):
+    path = tmp_path / "bom.csv"
+    path.write_bytes("\ufeff".encode() + csv_text(*GOOD).encode())
+    assert len(read_demonstration(path)) == 3
+    path = tmp_path / "bom.json"
+    path.write_bytes("\ufeff".encode() + json_text().encode())
+    assert len(read_demonstration(path)) == 3
+
+
+def test_a_json_object_needs_three_coordinates():
+    assert "objects.cup must be a position [x, y, z], or one per sample" in error_of(
+        json_text(objects={"cup": [0.6, 0.1]}), demonstration_from_json)

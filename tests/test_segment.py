@@ -7,7 +7,7 @@ from hypothesis import given, settings, strategies as st
 
 from schemalog.demo import Demonstration, GripperEvent
 from schemalog.errors import SchemalogError
-from schemalog.segment import segment
+from schemalog.segment import segment, smoothed
 from schemalog.terms import term_to_text
 
 CUP = (0.6, 0.1, 0.05)
@@ -108,7 +108,34 @@ def test_segments_partition_the_demonstration(points, commands):
     for a, b in zip(segments, segments[1:]):
         assert b.start >= a.end
     assert all(s.end > s.start for s in motions)
-    assert sum(s.kind == "gripper" for s in segments) == len(commands)
+    # Only commands that change the gripper's state (it starts open) are actions.
+    assert [term_to_text(s.label) for s in segments if s.kind == "gripper"] == \
+        [f"gripper({c})" for c in _changes(sorted(commands))]
+    hand = smoothed(demo.times, demo.positions, 0.05)
     for s in motions:
-        moved = np.linalg.norm(demo.positions[s.start:s.end + 1] - demo.positions[s.start], axis=1).max()
+        moved = np.linalg.norm(hand[s.start:s.end + 1] - hand[s.start], axis=1).max()
         assert moved >= 0.01
+
+
+def _changes(commands):
+    state = "open"
+    for _, command in commands:
+        if command != state:
+            yield command
+        state = command
+
+
+def test_repeated_gripper_commands_are_ignored_with_a_note():
+    demo = walk((0.6, 0.1, 0.40), (0.6, 0.1, 0.03), (0.6, 0.1, 0.40),
+                commands=[(0, "open"), (1, "close"), (2, "close")])
+    notes = []
+    assert labels(segment(demo, notes=notes)) == [("a1(cup)", "enters cup"), ("a2(cup)", "gripper close"),
+                                                   ("gripper(close)", "gripper close"), ("a3(spoon)", "end")]
+    assert notes[0] == "line 2: gripper open while already open: ignored"
+    assert notes[1].endswith("gripper close while already closed: ignored")
+
+
+def test_a_hand_that_never_moves_has_nothing_to_learn():
+    demo = walk((0.6, 0.1, 0.05), (0.6, 0.1, 0.052))
+    with pytest.raises(SchemalogError, match="no motion"):
+        segment(demo)

@@ -3,6 +3,7 @@
 RADIUS = 0.1            # metres: an object's proximity sphere (Sec. II-C)
 HYSTERESIS = 0.005      # metres beyond the radius before leaving counts
 MIN_MOTION = 0.01       # metres: a stretch that moves the hand less is a pause, not an action
+SMOOTHING = 0.05        # seconds: segmentation averages the hand's position over this window
 RATE = 100.0            # samples per second of a simulated demonstration
 NOISE = 0.001           # metres: standard deviation of a simulated hand's position noise
 SPEED = 0.25            # metres per second: the average speed of a long simulated motion

@@ -43,6 +43,8 @@ COMMANDS = ("open", "close")
 POSITION = ("x", "y", "z")
 ORIENTATION = ("qx", "qy", "qz", "qw")
 MAX_BYTES = 256 * 1024 * 1024
+MAX_COORDINATE = 1000.0   # metres: farther from the base is a unit or recording error, not a pose
+MAX_SPEED = 10.0          # metres per second between two samples: faster is a tracking glitch
 _OBJECT_COLUMN = re.compile(r"^([a-z][A-Za-z0-9_]*)_([xyz])$")
 _UNIT = 0.1          # a quaternion whose norm is off by more than this is a recording error
 
@@ -104,7 +106,7 @@ def read_demonstration(path: str | Path, max_bytes: int = MAX_BYTES) -> Demonstr
         if size > max_bytes:
             raise SchemalogError(f"{file} has {size:,} bytes, more than the limit of {max_bytes:,} "
                                  f"(raise it with --max-bytes)")
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")     # spreadsheets write a byte-order mark
     except OSError as err:
         raise SchemalogError(f"cannot read {file}: {err.strerror or err}") from None
     except UnicodeDecodeError as err:
@@ -172,6 +174,12 @@ def demonstration_from_csv(text: str, file: str = "<csv>") -> Demonstration:
         _unit_quaternions(orientations, lambda i, message: fail(message, int(rows[i]),
                                                                 records[i][2][layout["orientation"][0]]))
     objects = {name: values[:, list(cols)] for name, cols in layout["objects"].items()}
+
+    def at_row(i: int, what: str, message: str) -> SchemalogError:
+        number, _, columns = records[i]
+        k = {"hand": layout["position"][0]}.get(what, layout["objects"].get(what, (0,))[0])
+        return fail(message, number, columns[k])
+    _plausible(times, positions, objects, at_row)
     return Demonstration(times, positions, orientations, tuple(gripper), objects, rows, file, "line")
 
 
@@ -324,8 +332,28 @@ def demonstration_from_json(text: str, file: str = "<json>") -> Demonstration:
         index = int(np.searchsorted(times, t, side="left"))
         events.append(GripperEvent(index, event["command"], k))
     events.sort(key=lambda e: e.index)
+    _plausible(times, positions, objects, lambda i, what, message: fail(f"sample {i + 1}: {message}"))
     rows = np.arange(1, n + 1)
     return Demonstration(times, positions, orientations, tuple(events), objects, rows, file, "sample")
+
+
+def _plausible(times: np.ndarray, positions: np.ndarray, objects: dict[str, np.ndarray], fail) -> None:
+    """Refuse positions no robot records: kilometres away, or jumping faster than MAX_SPEED."""
+    dt = np.diff(times)
+    for what, track in (("hand", positions), *sorted(objects.items())):
+        name = "the end-effector" if what == "hand" else what
+        far = np.flatnonzero(np.abs(track).max(axis=1) > MAX_COORDINATE)
+        if far.size:
+            i = int(far[0])
+            raise fail(i, what, f"{name} is {np.abs(track[i]).max():.3g} m from the base: positions are in "
+                                f"metres, within {MAX_COORDINATE:g} m")
+        speed = np.linalg.norm(np.diff(track, axis=0), axis=1) / dt
+        fast = np.flatnonzero(speed > MAX_SPEED)
+        if fast.size:
+            i = int(fast[0]) + 1
+            jump = float(np.linalg.norm(track[i] - track[i - 1]))
+            raise fail(i, what, f"{name} jumps {jump:.3g} m in {dt[i - 1]:.3g} s ({speed[i - 1]:.3g} m/s, more than "
+                                f"{MAX_SPEED:g} m/s): a tracking glitch? Remove or repair the sample")
 
 
 def _json_column(value, what: str, width: int, fail, n: int | None = None) -> np.ndarray:
@@ -333,7 +361,9 @@ def _json_column(value, what: str, width: int, fail, n: int | None = None) -> np
     if not isinstance(value, list):
         raise fail(f"{what} must be a list")
     if n is not None and len(value) != n:
-        raise fail(f"{what} has {len(value)} samples, time has {n}")
+        if width == 3 and len(value) in (2, 4) and all(not isinstance(v, list) for v in value):
+            raise fail(f"{what} must be a position [x, y, z], or one per sample")
+        raise fail(f"{what} has {len(value)} sample{'s' if len(value) != 1 else ''}, time has {n}")
     out = np.empty((len(value), width))
     for i, item in enumerate(value):
         items = [item] if width == 1 else item
@@ -363,7 +393,7 @@ def demonstration_csv(demo: Demonstration, comment: str = "") -> str:
     out.write(",".join(header) + "\n")
     commands = {e.index: e.command for e in demo.gripper}
     for i in range(len(demo)):
-        fields = [f"{demo.times[i]:.4f}", *(f"{v:.6f}" for v in demo.positions[i])]
+        fields = [f"{demo.times[i]:.6f}", *(f"{v:.6f}" for v in demo.positions[i])]
         if demo.orientations is not None:
             fields += [f"{v:.6f}" for v in demo.orientations[i]]
         fields.append(commands.get(i, ""))
@@ -379,11 +409,11 @@ def demonstration_json(demo: Demonstration) -> str:
         track = demo.objects[name]
         objects[name] = (np.round(track[0], 6).tolist() if np.all(track == track[0])
                          else np.round(track, 6).tolist())
-    data = {"time": np.round(demo.times, 4).tolist(),
+    data = {"time": np.round(demo.times, 6).tolist(),
             "position": np.round(demo.positions, 6).tolist()}
     if demo.orientations is not None:
         data["orientation"] = np.round(demo.orientations, 6).tolist()
-    data["gripper"] = [{"time": round(float(demo.times[e.index]), 4), "command": e.command}
+    data["gripper"] = [{"time": round(float(demo.times[e.index]), 6), "command": e.command}
                        for e in demo.gripper]
     data["objects"] = objects
     return json.dumps(data, separators=(",", ":")) + "\n"

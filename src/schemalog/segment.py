@@ -12,8 +12,12 @@ A motion segment ends when the end-effector enters or leaves an object's proximi
 ... and the closest object; each command becomes gripper(open) or gripper(close).
 
 Where the paper is silent (docs/learning.md):
-- A stretch where the hand moves less than `min_motion` from where it started (1 cm) is a
-  pause, not a motion: resting after the last command makes no action.
+- Events are detected on the hand's position averaged over `smoothing` seconds (50 ms), so
+  noise at 1 kHz does not flicker across a border; the hysteresis handles what remains.
+- A stretch where the (averaged) hand moves less than `min_motion` from where it started (1 cm)
+  is a pause, not a motion: resting after the last command makes no action.
+- The gripper starts open; a command that does not change its state (open when open) is
+  ignored with a note, so a column that records the gripper's state on every row works too.
 - Leaving needs the hand `hysteresis` beyond the radius (default 5 mm), so sensor noise at the
   border does not cut a motion into slivers.
 - The object in the hand does not segment: closing the gripper engages the nearest object
@@ -36,6 +40,7 @@ from .terms import Atom, Struct, Term
 DEFAULT_RADIUS = defaults.RADIUS
 DEFAULT_HYSTERESIS = defaults.HYSTERESIS
 DEFAULT_MIN_MOTION = defaults.MIN_MOTION
+DEFAULT_SMOOTHING = defaults.SMOOTHING
 
 
 @dataclass(frozen=True)
@@ -65,21 +70,40 @@ def gripper_label(command: str) -> Term:
     return Struct("gripper", (Atom(command),))
 
 
+def smoothed(times: np.ndarray, values: np.ndarray, window: float) -> np.ndarray:
+    """A centred moving average over `window` seconds (fewer samples at the ends)."""
+    if window <= 0 or len(times) < 3:
+        return values
+    half = int(round(window / 2 / float(np.median(np.diff(times)))))
+    if half < 1:
+        return values
+    n = len(values)
+    sums = np.vstack([np.zeros((1, values.shape[1])), np.cumsum(values, axis=0)])
+    lo = np.maximum(np.arange(n) - half, 0)
+    hi = np.minimum(np.arange(n) + half + 1, n)
+    return (sums[hi] - sums[lo]) / (hi - lo)[:, None]
+
+
 def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: float = DEFAULT_HYSTERESIS,
-            first_label: int = 1, min_motion: float = DEFAULT_MIN_MOTION) -> list[Segment]:
-    """Cut `demo` into motions and gripper commands, in the order they happened."""
+            first_label: int = 1, min_motion: float = DEFAULT_MIN_MOTION, smoothing: float = DEFAULT_SMOOTHING,
+            notes: list[str] | None = None) -> list[Segment]:
+    """Cut `demo` into motions and gripper commands, in the order they happened; what was
+    ignored (repeated gripper commands, pauses) is told in `notes`."""
     if radius <= 0 or hysteresis < 0:
         raise SchemalogError("the proximity radius must be positive and the hysteresis not negative")
+    notes = notes if notes is not None else []
     names = sorted(demo.objects)
     n = len(demo)
+    hand = smoothed(demo.times, demo.positions, smoothing)
     # distance[i, k]: end-effector to object k at sample i
-    distance = np.stack([np.linalg.norm(demo.positions - demo.objects[name], axis=1) for name in names], axis=1)
-    nearest_k = int(np.argmin(distance.min(axis=0)))
-    if distance[:, nearest_k].min() >= radius:
-        i = int(np.argmin(distance[:, nearest_k]))
+    distance = np.stack([np.linalg.norm(hand - demo.objects[name], axis=1) for name in names], axis=1)
+    raw = np.stack([np.linalg.norm(demo.positions - demo.objects[name], axis=1) for name in names], axis=1)
+    nearest_k = int(np.argmin(raw.min(axis=0)))
+    if raw[:, nearest_k].min() >= radius:
+        i = int(np.argmin(raw[:, nearest_k]))
         raise demo.error(
             f"the end-effector never comes within {radius:g} m of an object (nearest: "
-            f"{names[nearest_k]}, {distance[i, nearest_k]:.3f} m at {demo.where(i)}): no action to learn; "
+            f"{names[nearest_k]}, {raw[i, nearest_k]:.3f} m at {demo.where(i)}): no action to learn; "
             f"is the radius right (--radius) and are positions in metres?", i)
     inside = distance[0] < radius
     engaged: dict[int, str] = {}             # object -> "held" | "released"
@@ -96,14 +120,22 @@ def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: flo
         pool = free or list(range(len(names)))
         return min(pool, key=lambda k: distance[i, k])
 
+    pauses = 0
+
     def cut(i: int, cause: str) -> None:
-        nonlocal counter, start
-        moved = np.linalg.norm(demo.positions[start:i + 1] - demo.positions[start], axis=1).max()
-        if i > start and moved >= min_motion:
+        nonlocal counter, start, pauses
+        if i <= start:
+            return
+        moved = np.linalg.norm(hand[start:i + 1] - hand[start], axis=1).max()
+        if moved >= min_motion:
             segments.append(Segment(motion_label(counter, names[closest(i)]), "motion",
                                     names[closest(i)], start, i, cause))
             counter += 1
+        else:
+            pauses += 1
         start = i
+
+    closed = False        # the gripper is taken to start open, holding nothing
 
     for i in range(n):
         events: list[str] = []
@@ -126,6 +158,11 @@ def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: flo
         if events and i > 0:
             cut(i, ", ".join(events))
         for command in commands.get(i, ()):
+            if closed == (command == "close"):
+                notes.append(f"{demo.where(i)}: gripper {command} while already "
+                             f"{'closed' if closed else 'open'}: ignored")
+                continue
+            closed = command == "close"
             cut(i, f"gripper {command}")
             if command == "close":
                 near = [k for k in range(len(names)) if k not in engaged and distance[i, k] < radius]
@@ -139,7 +176,13 @@ def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: flo
                 at = names[held[0]] if held else names[closest(i)]
             segments.append(Segment(gripper_label(command), "gripper", at, i, i, f"gripper {command}"))
     cut(n - 1, "end")
+    if pauses:
+        notes.append(f"{pauses} stretch{'es' if pauses > 1 else ''} moving the hand less than {min_motion:g} m "
+                     f"dropped as pauses")
+    if not any(s.kind == "motion" for s in segments):
+        raise demo.error("the demonstration has no motion: the hand never moves more than "
+                         f"{min_motion:g} m between events (--min-motion)")
     return segments
 
 
-__all__ = ["Segment", "segment", "motion_label", "gripper_label", "DEFAULT_RADIUS", "DEFAULT_HYSTERESIS"]
+__all__ = ["Segment", "segment", "smoothed", "motion_label", "gripper_label", "DEFAULT_RADIUS", "DEFAULT_HYSTERESIS"]
