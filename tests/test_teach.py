@@ -157,3 +157,39 @@ def teach_reference(task):
     tree = instantiate(load_kb([COFFEE]), parse_term(task))
     used = {term_to_text(b.label) for b in walk(tree) if b.children and all(not c.children for c in b.children)}
     return [s for s in check_schemas(load_kb([COFFEE])) if term_to_text(s.task) in used]
+
+
+def extended(demo, offsets):
+    """The demonstration with the hand moving on by `offsets` after its last sample."""
+    import numpy as np
+    from schemalog.demo import Demonstration
+    n, k = len(demo), len(offsets)
+    times = np.concatenate([demo.times, demo.times[-1] + 0.01 * np.arange(1, k + 1)])
+    positions = np.vstack([demo.positions, demo.positions[-1] + np.array(offsets)])
+    orientations = np.vstack([demo.orientations, np.repeat(demo.orientations[-1:], k, axis=0)])
+    objects = {name: np.vstack([t, np.repeat(t[-1:], k, axis=0)]) for name, t in demo.objects.items()}
+    return Demonstration(times, positions, orientations, demo.gripper, objects, np.arange(2, n + k + 2), "x.csv")
+
+
+def test_moving_away_after_the_task_is_accomplished_is_ignored_with_a_note():
+    demo = simulate(load_kb([MIX]), parse_term("use(spoon)"), read_scene(MIX_SCENE))
+    demo = extended(demo, [(0.0, 0.0, 0.003 * k) for k in range(1, 101)])      # 30 cm up, after the release
+    structure = document_from_text(MIX_STRUCTURE, "s.pl").to_kb(KnowledgeBase())
+    teaching = teach(structure, parse_term("use(spoon)"), demo, segment(demo))
+    assert teaching.accomplished and len(teaching.attachments) == 9
+    assert any(n.endswith("after use(spoon) was accomplished: ignored") for n in teaching.notes)
+
+
+def test_a_grasp_of_another_object_than_the_sub_tasks_is_noted(tmp_path):
+    tea = demonstrate(tmp_path, COFFEE, "preparetea", KITCHEN, "tea.csv")
+    lesson = learn(str(tea), str(STRUCTURE), parse_term("preparecoffee"))
+    assert any("gripper(close)" in n and "at tea is attached to subtask(take,coffee), which acts on coffee" in n
+               for n in lesson.teaching.notes)
+
+
+def test_a_demonstration_that_teaches_nothing_new_is_refused(tmp_path):
+    coffee = demonstrate(tmp_path, COFFEE, "preparecoffee", KITCHEN, "coffee.csv")
+    learned = tmp_path / "learned.pl"
+    learned.write_text(learn(str(coffee), str(STRUCTURE), parse_term("preparecoffee"), bases=0).text)
+    with pytest.raises(SchemalogError, match="teaches nothing new: each of its 27 actions is one"):
+        learn(str(coffee), str(learned), parse_term("prepareboth"), bases=0)

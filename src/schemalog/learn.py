@@ -75,8 +75,13 @@ def learn(demo_path: str, structure_path: str, task: Term | None, *, radius: flo
         if not declared:
             raise SchemalogError(f"{structure_path} declares no task/1: name the demonstrated task with --task")
         task = declared[0]
-    segments = segment(demo, radius, hysteresis, min_motion=min_motion)
+    notes: list[str] = []
+    segments = segment(demo, radius, hysteresis, min_motion=min_motion, notes=notes)
     teaching = teach(kb, task, demo, segments)
+    teaching.notes[:0] = notes
+    if not teaching.attachments:
+        raise SchemalogError(f"{demo_path} teaches nothing new: each of its {len(teaching.steps)} actions is one "
+                             f"{structure_path} already knows")
     rows = {a.label: where_demonstrated(demo, a.segment) for a in teaching.attachments}
     settings = (f"Segmentation: proximity radius {radius:g} m, hysteresis {hysteresis:g} m, "
                 f"pauses under {min_motion:g} m dropped.")
@@ -220,18 +225,20 @@ def lesson_lines(lesson: Lesson) -> list[str]:
             what = term_to_text(step.label)
             where = f"-> {term_to_text(step.subtask)}"
             release = cond.to_text(step.releaser)
+            second = f"{term_to_text(step.runner_up[0])} {step.runner_up[1]:.3g}" if step.runner_up else "-"
         else:
             what = term_to_text(step.action)
             where = "recognised (known action)"
-            release = ""
+            release = second = ""
         rows.append((str(k), what, span, f"{demo.times[seg.end]:.2f}", seg.cause, where, release,
-                     f"{step.emphasis:.3g}"))
-    header = ("#", "action", demo.row_name + "s", "t end", "ends", "attached to", "releaser", "e")
+                     f"{step.emphasis:.3g}", second))
+    header = ("#", "action", demo.row_name + "s", "t end", "ends", "attached to", "releaser", "e", "runner-up")
     widths = [max(len(r[c]) for r in [header, *rows]) for c in range(len(header))]
     for r in [header, *rows]:
         lines.append("  ".join(v.rjust(w) if c in (0, 3, 7) else v.ljust(w)
                                for c, (v, w) in enumerate(zip(r, widths))).rstrip())
     lines.append("")
+    lines += [f"note: {note}" for note in teaching.notes]
     taught = ", ".join(term_to_text(s.task) for s in teaching.schemas) or "none"
     lines.append(f"taught {len(teaching.schemas)} sub-tasks of {term_to_text(teaching.task)}: {taught}")
     if teaching.untaught:

@@ -136,6 +136,7 @@ def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: flo
         start = i
 
     closed = False        # the gripper is taken to start open, holding nothing
+    repeated: list[str] = []
 
     for i in range(n):
         events: list[str] = []
@@ -159,8 +160,7 @@ def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: flo
             cut(i, ", ".join(events))
         for command in commands.get(i, ()):
             if closed == (command == "close"):
-                notes.append(f"{demo.where(i)}: gripper {command} while already "
-                             f"{'closed' if closed else 'open'}: ignored")
+                repeated.append(f"{demo.where(i)} ({command})")
                 continue
             closed = command == "close"
             cut(i, f"gripper {command}")
@@ -176,6 +176,10 @@ def segment(demo: Demonstration, radius: float = DEFAULT_RADIUS, hysteresis: flo
                 at = names[held[0]] if held else names[closest(i)]
             segments.append(Segment(gripper_label(command), "gripper", at, i, i, f"gripper {command}"))
     cut(n - 1, "end")
+    if repeated:
+        shown = ", ".join(repeated[:3]) + (f" and {len(repeated) - 3} more" if len(repeated) > 3 else "")
+        notes.append(f"{len(repeated)} gripper command{'s' if len(repeated) > 1 else ''} that did not change its "
+                     f"state ignored: {shown}")
     if pauses:
         notes.append(f"{pauses} stretch{'es' if pauses > 1 else ''} moving the hand less than {min_motion:g} m "
                      f"dropped as pauses")

@@ -36,7 +36,7 @@ from .engine import Engine
 from .errors import SchemalogError
 from .execute import BASE_ACTIVATION, Plan, blocked_reasons, emphasis
 from .kb import KnowledgeBase
-from .scene import Scene
+from .scene import Scene, object_name
 from .schema import Entry, SchemaDef, schema_term, write_clause
 from .segment import Segment, motion_label
 from .terms import Atom, Struct, Term, term_to_text
@@ -77,6 +77,7 @@ class Teaching:
     schemas: list[SchemaDef] = field(default_factory=list)        # taught sub-tasks, in teaching order
     actions: list[SchemaDef] = field(default_factory=list)        # new primitive behaviours
     untaught: list[Term] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)              # warnings for the report
     accomplished: bool = False
     post: Condition = cond.TRUE
 
@@ -125,7 +126,8 @@ def teach(kb: KnowledgeBase, task: Term, demo: Demonstration, segments: list[Seg
     teachable = [i for i in plan.leaves if plan.nodes[i].label not in known]
     if not teachable:
         raise SchemalogError(f"every leaf of {term_to_text(task)} is a declared action (action/1): nothing is "
-                             f"left to teach; give the structure without the leaves to learn")
+                             f"left to teach; to teach it again, learn on the structure this knowledge was learned "
+                             f"on (its first lines name it)")
     gripper_posts = {}
     for seg in segments:
         if seg.kind == "gripper" and seg.label not in gripper_posts:
@@ -143,7 +145,17 @@ def teach(kb: KnowledgeBase, task: Term, demo: Demonstration, segments: list[Seg
     last_post: dict[int, Condition] = {}
     teachable_set = set(teachable)
 
+    used = {object_name(o) for b in walk(tree) for o in b.objects}
+    untracked = sorted(used - set(demo.objects))
+    if untracked:
+        teaching.notes.append(f"the structure's {', '.join(untracked)} {'has' if len(untracked) == 1 else 'have'} no "
+                              f"track in the demonstration: sub-tasks on {'it' if len(untracked) == 1 else 'them'} "
+                              f"compete with a neutral lambda")
     for seg in segments:
+        if world.holds(tree.post):
+            # The task is accomplished: what the teacher does next (moving away) is not part of it.
+            teaching.notes.append(f"{_describe(seg, demo)}: after {term_to_text(task)} was accomplished: ignored")
+            continue
         hand = tuple(float(v) for v in demo.positions[seg.end])
         scene = Scene(objects={name: tuple(float(v) for v in track[seg.end])
                                for name, track in demo.objects.items()}, end_effector=hand)
@@ -167,8 +179,10 @@ def teach(kb: KnowledgeBase, task: Term, demo: Demonstration, segments: list[Seg
         if not open_subtasks:
             reasons = blocked_reasons(plan, world, set(ended), Counter(), limit=6)
             why = "; ".join(reasons) if reasons else "every sub-task is accomplished"
+            recent = [f"{term_to_text(a.label)} -> {term_to_text(a.subtask)}" for a in teaching.attachments[-3:]]
+            before = f"; the actions before it: {', '.join(recent)}" if recent else ""
             raise demo.error(f"{_describe(seg, demo)}: no enabled sub-task of {term_to_text(task)} to attach "
-                             f"it to ({why})", seg.end)
+                             f"it to ({why}){before}", seg.end)
         order = ranked(open_subtasks)
         e, _, minus = order[0]
         i = -minus
@@ -177,6 +191,11 @@ def teach(kb: KnowledgeBase, task: Term, demo: Demonstration, segments: list[Seg
         releaser = cond.TRUE if not entries else last_post[i]
         if seg.kind == "gripper":
             label, post = seg.label, gripper_posts[seg.label]
+            objects = {object_name(o) for o in plan.nodes[i].objects}
+            if seg.label.args[0] == Atom("close") and objects and seg.obj not in objects:
+                teaching.notes.append(f"{_describe(seg, demo)} at {seg.obj} is attached to "
+                                      f"{term_to_text(plan.nodes[i].label)}, which acts on {', '.join(sorted(objects))}: "
+                                      f"is a sub-task taught on the wrong object?")
         else:
             label, post = motion_label(counter, seg.obj), done_atom(f"a{counter}")
             counter += 1
