@@ -154,3 +154,30 @@ def test_plot_needs_a_known_format(coffee):
     where, _ = coffee
     r = run("learn", "demo.csv", "--structure", STRUCTURE, "--plot", "s.xyz", cwd=where)
     assert r.returncode == 2 and "name a .png, .svg or .pdf file" in r.stderr
+
+
+def test_a_failed_write_leaves_no_output_behind(coffee):
+    where, _ = coffee
+    r = run("learn", "demo.csv", "--structure", STRUCTURE, "--task", "preparecoffee", "-o", "/proc/learned.pl",
+            "--motions", "m2.json", "--plot", "p2.png", cwd=where)
+    assert r.returncode == 1 and "cannot write /proc/learned.pl" in r.stderr and "nothing was written" in r.stderr
+    assert not (where / "m2.json").exists() and not (where / "p2.png").exists()
+    assert not [p for p in where.iterdir() if p.name.startswith(".")]      # no temporary files either
+
+
+@pytest.mark.parametrize("args, expected", [
+    (["--bases", "100000"], "argument --bases: must be from 0 to 1,000"),
+    (["--radius", "0"], "argument --radius: must be more than 0"),
+    (["--radius", "nan"], "argument --radius: must be a finite distance"),
+])
+def test_learn_option_ranges(coffee, args, expected):
+    where, _ = coffee
+    r = run("learn", "demo.csv", "--structure", STRUCTURE, *args, cwd=where)
+    assert r.returncode == 2 and expected in r.stderr
+
+
+def test_simulate_demo_option_ranges(tmp_path):
+    r = run("simulate-demo", "--scene", KITCHEN, "--rate", "1e6", cwd=tmp_path)
+    assert r.returncode == 2 and "argument --rate: must be from 1 to 10,000" in r.stderr
+    r = run("simulate-demo", "--scene", KITCHEN, "--speed", "100", cwd=tmp_path)
+    assert r.returncode == 2 and "argument --speed: must be from 0.01 to 2" in r.stderr

@@ -12,11 +12,12 @@ import io
 import json
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 from . import __version__
 from . import conditions as cond
-from .documents import (YAML_SUFFIXES, Document, check_writable, read_document, to_pl, to_yaml,
+from .documents import (YAML_SUFFIXES, Document, check_writable, file_mode, read_document, to_pl, to_yaml,
                         write_atomically)
 from .engine import DEFAULT_MAX_STEPS, PrologError
 from .errors import SchemalogError, UsageError
@@ -782,21 +783,46 @@ def cmd_learn(args: argparse.Namespace) -> int:
         if lesson.motions is None:
             raise UsageError("--motions needs primitives: --bases 0 turns them off")
         motions_text = json.dumps(motions_json(lesson, lesson.motions), indent=1) + "\n"
-    # Everything is computed before anything is written: bad input leaves no file behind.
-    if args.plot:
-        from .figures import demonstration_figure
-        demonstration_figure(lesson, Path(args.plot))
-        report.append(f"wrote {args.plot}")
-    if motions_text is not None:
-        write_atomically(args.motions, motions_text)
-        report.append(f"wrote {args.motions}")
-    if not to_stdout:
-        write_atomically(args.output, lesson.text)
-        report.append(f"wrote {args.output}")
+    # Everything is computed before anything is written, and the files are written side by side
+    # under temporary names, then renamed together: bad input or a failed write leaves none behind.
+    staged: list[tuple[str, str]] = []
+    try:
+        if args.plot:
+            from .figures import demonstration_figure
+            demonstration_figure(lesson, Path(_stage(args.plot, staged)))
+        if motions_text is not None:
+            Path(_stage(args.motions, staged)).write_text(motions_text, encoding="utf-8")
+        if not to_stdout:
+            Path(_stage(args.output, staged)).write_text(lesson.text, encoding="utf-8")
+        for temporary, target in staged:
+            os.chmod(temporary, file_mode(Path(target)))
+        for temporary, target in staged:
+            os.replace(temporary, target)
+            report.append(f"wrote {target}")
+    except OSError as err:
+        temporaries = {t: target for t, target in staged}
+        name = temporaries.get(err.filename, err.filename) if err.filename else (staged[-1][1] if staged else "")
+        raise SchemalogError(f"cannot write {name or 'the output'}: {err.strerror or err}; nothing was written") from None
+    finally:
+        for temporary, _ in staged:
+            if os.path.exists(temporary):
+                os.unlink(temporary)
     print("\n".join(report), file=sys.stderr if to_stdout else sys.stdout)
     if to_stdout:
         sys.stdout.write(lesson.text)
     return 0
+
+
+def _stage(target: str, staged: list[tuple[str, str]]) -> str:
+    """A temporary file beside `target`, with its suffix, to be renamed onto it (see cmd_learn)."""
+    path = Path(target)
+    try:
+        fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
+    except OSError as err:
+        raise OSError(err.errno, err.strerror, target) from None
+    os.close(fd)
+    staged.append((temporary, target))
+    return temporary
 
 
 def cmd_simulate_demo(args: argparse.Namespace) -> int:
@@ -913,6 +939,19 @@ def _distance(text: str) -> float:
     if not (value >= 0 and value < float("inf")):
         raise argparse.ArgumentTypeError("must be a finite distance, at least 0")
     return value
+
+
+def _bounded(low: float, high: float, kind=int):
+    """An argparse type: a number of `kind` from `low` to `high`."""
+    def read(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a {'whole ' if kind is int else ''}number") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be from {low:g} to {high:,g}")
+        return value
+    return read
 
 
 def _length(text: str) -> float:
@@ -1099,14 +1138,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"how far beyond the radius leaving counts (default {defaults.HYSTERESIS} m)")
     p.add_argument("--min-motion", type=_distance, default=defaults.MIN_MOTION, metavar="M",
                    help=f"a stretch moving the hand less than this is a pause, not an action (default {defaults.MIN_MOTION} m)")
-    p.add_argument("--max-bytes", type=_positive, default=MAX_BYTES,
-                   help=f"refuse input files larger than this (default {MAX_BYTES:,})")
+    p.add_argument("--max-bytes", type=_positive, default=defaults.MAX_DEMO_BYTES,
+                   help=f"refuse a demonstration larger than this (default {defaults.MAX_DEMO_BYTES:,})")
     p.add_argument("--plot", metavar="FILE", help="draw the trajectory, its segments and objects, and the merged "
                    "primitives (PNG, SVG or PDF by suffix)")
     p.add_argument("--motions", metavar="FILE", help="write the motion primitives (DMPs) and their reproduction "
                    "errors as JSON")
-    p.add_argument("--bases", type=_count, default=defaults.BASES, metavar="N",
-                   help=f"basis functions of a primitive per segment (default {defaults.BASES}; 0: no primitives)")
+    p.add_argument("--bases", type=_bounded(0, defaults.MAX_BASES), default=defaults.BASES, metavar="N",
+                   help=f"basis functions of a primitive per segment (default {defaults.BASES}, at most "
+                        f"{defaults.MAX_BASES}; 0: no primitives)")
     p.set_defaults(run=cmd_learn)
 
     p = sub.add_parser("simulate-demo", help="write a synthetic demonstration of a task in a scene")
@@ -1120,10 +1160,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"standard deviation of the hand's position noise (default {defaults.NOISE} m)")
     p.add_argument("--jitter", type=_distance, default=0.0, metavar="M",
                    help="move each object coordinate by up to M metres (with --seed; default 0)")
-    p.add_argument("--rate", type=_length, default=defaults.RATE, metavar="HZ",
-                   help=f"samples per second (default {defaults.RATE:g})")
-    p.add_argument("--speed", type=_length, default=defaults.SPEED, metavar="M/S",
-                   help=f"average speed of a long motion (default {defaults.SPEED} m/s)")
+    p.add_argument("--rate", type=_bounded(1, defaults.MAX_RATE, float), default=defaults.RATE, metavar="HZ",
+                   help=f"samples per second (default {defaults.RATE:g}, at most {defaults.MAX_RATE:,g})")
+    p.add_argument("--speed", type=_bounded(0.01, 2.0, float), default=defaults.SPEED, metavar="M/S",
+                   help=f"the speed of the teacher's motions, 0.01 to 2 (default {defaults.SPEED} m/s; each motion "
+                        f"also takes 0.3 s to start and stop)")
     p.add_argument("--radius", type=_length, default=defaults.RADIUS, metavar="M",
                    help=f"the proximity radius the demonstration is planned for (default {defaults.RADIUS} m)")
     p.add_argument("--max-bytes", type=_positive, default=MAX_BYTES,

@@ -36,13 +36,14 @@ from pathlib import Path
 
 import numpy as np
 
+from . import defaults
 from .documents import write_atomically
 from .errors import SchemalogError, SourcePos
 
 COMMANDS = ("open", "close")
 POSITION = ("x", "y", "z")
 ORIENTATION = ("qx", "qy", "qz", "qw")
-MAX_BYTES = 256 * 1024 * 1024
+MAX_BYTES = defaults.MAX_DEMO_BYTES
 MAX_COORDINATE = 1000.0   # metres: farther from the base is a unit or recording error, not a pose
 MAX_SPEED = 10.0          # metres per second between two samples: faster is a tracking glitch
 _OBJECT_COLUMN = re.compile(r"^([a-z][A-Za-z0-9_]*)_([xyz])$")

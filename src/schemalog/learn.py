@@ -63,12 +63,11 @@ def learn(demo_path: str, structure_path: str, task: Term | None, *, radius: flo
           max_bytes: int | None = None, bases: int | None = defaults.BASES) -> Lesson:
     """Segment the demonstration, teach the structure's task, and check what was learned."""
     demo = read_demonstration(demo_path, **({"max_bytes": max_bytes} if max_bytes else {}))
-    limit = {"max_bytes": max_bytes} if max_bytes else {}
-    structure = read_document(structure_path, **limit)
+    structure = read_document(structure_path)
     kb = structure.to_kb(KnowledgeBase())
     # The structure is copied into the output: as written, or as Prolog when it is YAML or SEED.
     plain = not structure.seed and not structure_path.endswith(YAML_SUFFIXES)
-    structure_text = read_source(structure_path, **limit) if plain else to_pl(structure)
+    structure_text = read_source(structure_path) if plain else to_pl(structure)
     if task is None:
         from .tree import declared_tasks
         declared = declared_tasks(kb)

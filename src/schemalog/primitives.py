@@ -236,7 +236,11 @@ def _fit(t: np.ndarray, p: np.ndarray, edges: np.ndarray, per_cell: int, smoothi
         raise ValueError(f"the number of bases must be a positive integer, got {per_cell}")
     if not (math.isfinite(smoothing) and smoothing >= 0):
         raise ValueError(f"smoothing must be a non-negative number of samples, got {smoothing}")
-    y = _smooth(t, p, smoothing)
+    # A basis cannot represent detail finer than its own width: where a basis covers many samples
+    # (a slow demonstration), smooth over a quarter of them, so noise does not dominate the
+    # accelerations the forcing term is fitted to.
+    per_basis = len(t) / (int(per_cell) * (len(edges) - 1))
+    y = _smooth(t, p, max(smoothing, per_basis / 4) if smoothing > 0 else 0.0)
     tau = float(t[-1] - t[0])
     order = 2 if len(t) > 2 else 1
     yd = np.gradient(y, t, axis=0, edge_order=order)
