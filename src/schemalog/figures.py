@@ -36,21 +36,24 @@ COLOURS = {2: "#1f77b4", 3: "#d62728", 4: "#e6a000"}
 
 def save(fig, out: Path, stem: str) -> list[Path]:
     """Write `fig` as stem.png and stem.svg in `out`, each atomically."""
-    written = []
-    for fmt in FORMATS:
-        target = out / f"{stem}.{fmt}"
-        fd, temporary = tempfile.mkstemp(prefix=f".{stem}.", suffix=f".{fmt}", dir=out)
-        os.close(fd)
-        try:
-            fig.savefig(temporary, format=fmt, dpi=150, bbox_inches="tight")
-            os.chmod(temporary, file_mode(target))
-            os.replace(temporary, target)
-        finally:
-            if os.path.exists(temporary):
-                os.unlink(temporary)
-        written.append(target)
+    written = [_write(fig, out / f"{stem}.{fmt}") for fmt in FORMATS]
     plt.close(fig)
     return written
+
+
+def _write(fig, target: Path) -> Path:
+    """Write `fig` to `target` atomically, in the format of its suffix."""
+    fmt = target.suffix.lstrip(".").lower() or "png"
+    fd, temporary = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".{fmt}", dir=target.parent)
+    os.close(fd)
+    try:
+        fig.savefig(temporary, format=fmt, dpi=150, bbox_inches="tight")
+        os.chmod(temporary, file_mode(target))
+        os.replace(temporary, target)
+    finally:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+    return target
 
 
 def _log_axis(ax, which: str) -> None:
@@ -249,16 +252,7 @@ def demonstration_figure(lesson, path: Path) -> Path:
         ax.set_aspect("equal", adjustable="datalim")
         ax.legend(fontsize=6, loc="best")
         ax.set(xlabel="x (m)", ylabel="y (m)", title="merged primitives (dashed) over the demonstration (grey)")
-    path = Path(path)
-    fmt = path.suffix.lstrip(".").lower() or "png"
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".{fmt}", dir=path.parent or Path("."))
-    os.close(fd)
     try:
-        fig.savefig(temporary, format=fmt, dpi=150, bbox_inches="tight")
-        os.chmod(temporary, file_mode(path))
-        os.replace(temporary, path)
+        return _write(fig, Path(path))
     finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
         plt.close(fig)
-    return path
