@@ -486,3 +486,24 @@ def test_the_loop_detector_forgets_the_configurations_of_the_tree_before_a_split
             assert seen_before >= 3 and len(ex._seen) == 1
         seen_before = len(ex._seen)
     assert ex.outcome.completed and len(ex._seen) == len(ex.decisions) - 2
+
+
+@pytest.mark.parametrize("compressed", [False, True])
+def test_activation_ranks_leaves_as_the_selector_does(compressed):
+    # Along a whole run, the plain rule (teaching uses it) picks the selector's winner.
+    from schemalog.execute import ScanSelector, activation, emphasis
+    tree = instantiate(load_kb([COFFEE]), parse_term("prepareboth"))
+    world = World(tree, initial_state(load_kb([COFFEE])))
+    run_tree = compress(tree).tree if compressed else tree
+    scene = read_scene(ROOT / "kb" / "scenes" / "kitchen.yaml")
+    ex = Executive(run_tree, world, scene, selector="scan")
+    plan = ex.plan
+    while True:
+        live, mu = activation(plan, world.atoms)
+        ranked = sorted(((emphasis(plan.weight[i] * mu[i], scene.lambda_at(plan.obj[i], ex.robot.hand)),
+                          plan.weight[i] * mu[i], -i) for i in plan.leaves if live[i]), reverse=True)
+        best, _ = ScanSelector(plan, world, scene).select(ex.robot.hand)
+        assert ranked[:2] == best
+        if ex.step() is None:
+            break
+    assert ex.outcome.completed

@@ -208,6 +208,20 @@ def emphasis(weighted_mu: float, lam: float) -> float:
     return weighted_mu / lam
 
 
+def activation(plan: Plan, atoms: set | frozenset) -> tuple[list[bool], list[int]]:
+    """Every behaviour's liveness (it and its ancestors active) and mu, the selectors' rule in
+    plain form, for callers that rank inner behaviours too (teaching ranks sub-tasks)."""
+    post_ok = [cond.holds(c, atoms) for c in plan.post]
+    live = [False] * len(plan)
+    mu = [0] * len(plan)
+    for i in range(len(plan)):
+        up = plan.parent[i]
+        n = len({k for c in plan.children[i] if post_ok[c] for k in plan.keys[c]})
+        mu[i] = (mu[up] if up >= 0 else BASE_ACTIVATION) + n
+        live[i] = (up < 0 or live[up]) and cond.holds(plan.pre[i], atoms) and not post_ok[i]
+    return live, mu
+
+
 Candidate = tuple[float, float, int]      # (emphasis, w * mu, -order): the larger wins
 
 
@@ -710,5 +724,5 @@ def replay(original: Behaviour, initial, trace: list[Term]) -> Replay:
 
 __all__ = ["Executive", "Decision", "Outcome", "Status", "RobotManager", "Plan", "SELECTORS", "RECOVERIES",
            "constituents", "splice",
-           "ScanSelector", "IncrementalSelector", "enabled_leaves", "enabled_indices", "replay", "Replay", "emphasis",
+           "ScanSelector", "IncrementalSelector", "activation", "enabled_leaves", "enabled_indices", "replay", "Replay", "emphasis",
            "blocked_reasons"]

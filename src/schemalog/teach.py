@@ -34,7 +34,7 @@ from .conditions import Condition
 from .demo import Demonstration
 from .engine import Engine
 from .errors import SchemalogError
-from .execute import BASE_ACTIVATION, Plan, blocked_reasons, emphasis
+from .execute import Plan, activation, blocked_reasons, emphasis
 from .kb import KnowledgeBase
 from .scene import Scene, object_name
 from .schema import Entry, SchemaDef, schema_term, write_clause
@@ -159,7 +159,7 @@ def teach(kb: KnowledgeBase, task: Term, demo: Demonstration, segments: list[Seg
         hand = tuple(float(v) for v in demo.positions[seg.end])
         scene = Scene(objects={name: tuple(float(v) for v in track[seg.end])
                                for name, track in demo.objects.items()}, end_effector=hand)
-        live, mu = _activation(plan, world)
+        live, mu = activation(plan, world.atoms)
 
         def ranked(indices: list[int]) -> list[tuple[float, float, int]]:
             out = []
@@ -227,19 +227,6 @@ def teach(kb: KnowledgeBase, task: Term, demo: Demonstration, segments: list[Seg
     teaching.untaught = [t for t in dict.fromkeys(teaching.untaught) if t not in seen]
     teaching.accomplished = world.holds(tree.post)
     return teaching
-
-
-def _activation(plan: Plan, world: World) -> tuple[list[bool], list[int]]:
-    """Which behaviours are live (pre true, post false, ancestors live) and their mu (Sec. II-B)."""
-    post_ok = [world.holds(p) for p in plan.post]
-    live = [False] * len(plan)
-    mu = [0] * len(plan)
-    for i in range(len(plan)):
-        up = plan.parent[i]
-        n = len({k for c in plan.children[i] if post_ok[c] for k in plan.keys[c]})
-        mu[i] = (mu[up] if up >= 0 else BASE_ACTIVATION) + n
-        live[i] = (up < 0 or live[up]) and world.holds(plan.pre[i]) and not post_ok[i]
-    return live, mu
 
 
 def _matches(action: Behaviour, seg: Segment) -> bool:
