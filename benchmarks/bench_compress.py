@@ -22,11 +22,11 @@ import random
 import sys
 import time
 
-from schemalog import conditions as cond
-from schemalog.cli import tune_gc
-from schemalog.compress import compress, sequential_pairs
-from schemalog.terms import Atom, Struct
-from schemalog.tree import Behaviour
+from schemalog.task import conditions as cond
+from schemalog.cli.main import tune_gc
+from schemalog.task.compress import compress, sequential_pairs
+from schemalog.logic.terms import Atom, Struct
+from schemalog.task.tree import Behaviour
 
 BRANCHING = 4
 OBJECTS = ("cup", "spoon", "water", "coffee", "tea")

@@ -21,15 +21,15 @@ import tempfile
 import time
 from pathlib import Path
 
-from schemalog.cli import tune_gc
-from schemalog.documents import document_from_text
-from schemalog.kb import KnowledgeBase
-from schemalog.engine import Engine
-from schemalog.facts import tree_facts
-from schemalog.generate import generate
-from schemalog.parse import parse_term
+from schemalog.cli.main import tune_gc
+from schemalog.formats.documents import document_from_text
+from schemalog.logic.kb import KnowledgeBase
+from schemalog.logic.engine import Engine
+from schemalog.task.facts import tree_facts
+from schemalog.evaluate.generate import generate
+from schemalog.logic.parse import parse_term
 from schemalog.shipped import shipped_text
-from schemalog.terms import Struct, term_to_text
+from schemalog.logic.terms import Struct, term_to_text
 
 NREV = """
 app([], L, L).

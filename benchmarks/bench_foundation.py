@@ -24,11 +24,11 @@ from pathlib import Path
 
 from lark import Lark
 
-from schemalog.cli import tune_gc
-from schemalog.documents import read_document
-from schemalog.parse import grammar_text, read_source
-from schemalog.terms import Atom
-from schemalog.tree import count_nodes, instantiate
+from schemalog.cli.main import tune_gc
+from schemalog.formats.documents import read_document
+from schemalog.logic.parse import grammar_text, read_source
+from schemalog.logic.terms import Atom
+from schemalog.task.tree import count_nodes, instantiate
 
 BRANCHING = 4
 OBJECTS = ("cup", "spoon", "water", "coffee", "tea")

@@ -19,17 +19,17 @@ import sys
 import tempfile
 import time
 
-from schemalog.cli import tune_gc
-from schemalog.demo import read_demonstration, write_demonstration
-from schemalog.documents import load_kb
-from schemalog.learn import Lesson, fit_motions
-from schemalog.parse import parse_term
-from schemalog.compress import compress
-from schemalog.scene import read_scene
-from schemalog.segment import segment
-from schemalog.simulate import simulate
-from schemalog.teach import teach
-from schemalog.tree import instantiate
+from schemalog.cli.main import tune_gc
+from schemalog.learn.demo import read_demonstration, write_demonstration
+from schemalog.formats.documents import load_kb
+from schemalog.learn.learn import Lesson, fit_motions
+from schemalog.logic.parse import parse_term
+from schemalog.task.compress import compress
+from schemalog.run.scene import read_scene
+from schemalog.learn.segment import segment
+from schemalog.learn.simulate import simulate
+from schemalog.learn.teach import teach
+from schemalog.task.tree import instantiate
 
 ROOT = __file__.rsplit("/benchmarks/", 1)[0]
 
@@ -68,9 +68,9 @@ def main() -> int:
             t_seg, segments = best_of(args.runs, lambda: segment(demo))
             t_teach, teaching = best_of(args.runs, lambda: teach(structure, task, demo, segments))
             # The learned tree, as learn() builds it, for the merged primitives.
-            from schemalog.documents import document_from_text
-            from schemalog.kb import KnowledgeBase
-            from schemalog.teach import learned_text
+            from schemalog.formats.documents import document_from_text
+            from schemalog.logic.kb import KnowledgeBase
+            from schemalog.learn.teach import learned_text
             text = learned_text(teaching, structure, "", demo_file="d", structure_files=["s"], rows={}, settings="")
             learned = document_from_text(text + open(f"{ROOT}/kb/tasks/coffee_structure.pl").read(),
                                          "<l>").to_kb(KnowledgeBase())

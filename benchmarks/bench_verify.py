@@ -20,14 +20,14 @@ import argparse
 import sys
 import time
 
-from schemalog.cli import tune_gc
-from schemalog.compress import compress
-from schemalog.documents import load_kb
-from schemalog.generate import generate
-from schemalog.parse import parse_term
-from schemalog.tree import count_nodes, instantiate
-from schemalog.verify import Verifier, all_states, constraints, free_atoms, verify_by_parts
-from schemalog.world import World, initial_state
+from schemalog.cli.main import tune_gc
+from schemalog.task.compress import compress
+from schemalog.formats.documents import load_kb
+from schemalog.evaluate.generate import generate
+from schemalog.logic.parse import parse_term
+from schemalog.task.tree import count_nodes, instantiate
+from schemalog.run.verify import Verifier, all_states, constraints, free_atoms, verify_by_parts
+from schemalog.run.world import World, initial_state
 
 ROOT = __file__.rsplit("/benchmarks/", 1)[0]
 PAPER = [("kb/tasks/mix_with_spoon.pl", "use(spoon)"), ("kb/tasks/prepare_coffee_and_tea.pl", "prepareboth")]

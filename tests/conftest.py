@@ -6,12 +6,12 @@ from pathlib import Path
 
 import pytest
 
-from schemalog.engine import Engine
-from schemalog.kb import KnowledgeBase
-from schemalog.parse import parse_term
-from schemalog.terms import term_to_text
+from schemalog.logic.engine import Engine
+from schemalog.logic.kb import KnowledgeBase
+from schemalog.logic.parse import parse_term
+from schemalog.logic.terms import term_to_text
 
-from schemalog.cli import tune_gc
+from schemalog.cli.main import tune_gc
 
 # The tests run with the garbage-collector setting the schemalog command uses, so that
 # the 100k-behaviour cases measure schemalog, not Python's default GC thresholds.

@@ -15,7 +15,7 @@ Each case records:
     output  : what the query wrote to standard output
 
 The canonical form is the one driver.pl documents (no operators, lists as lists,
-writeq atoms, variables _A, _B... in order of appearance); tests/test_conformance.py
+writeq atoms, variables _A, _B... in order of appearance); tests/conformance/test_conformance.py
 prints schemalog's answers the same way.
 """
 

@@ -1,0 +1,308 @@
+"""Knowledge files as documents: read .pl, SEED or YAML; write canonical .pl or YAML.
+
+    Document = (items: tuple[Clause | Directive], notes: tuple[str], file: str)
+
+The formats are equivalent: `pl -> yaml -> pl` gives back the same canonical text.
+YAML (read with `yaml.safe_load` only) holds one record per clause, in order:
+
+    schemalog: 1
+    items:
+      - task: use(spoon)                  # task/1, object/1, initial/1, behaviour/1 facts
+      - schema: add(O)
+        subtasks:
+          - {behaviour: subtask(take,O), releaser: hand.free}
+          - {behaviour: subtask(pour,O), releaser: O.taken, importance: 2}
+        post: O.used
+        if: string(O)                     # only for a rule schema
+      - clause: "agent(gripper(_),gripper)."
+      - directive: "dynamic foo/1"
+
+Variables are shared by name within a record, as within a clause.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from contextlib import nullcontext
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+from ..errors import SchemalogError, SourcePos
+from ..logic.kb import KnowledgeBase
+from ..logic.parse import MAX_BYTES, Clause, Directive, parse_text, read_source
+from ..task import conditions as cond
+from ..task.schema import DEFAULT_IMPORTANCE, Entry, schema_term, static_schema, write_clause
+from .seed import import_seed, is_seed
+from ..logic.terms import TRUE, Struct, Term, term_to_text, variable_names
+
+YAML_SUFFIXES = (".yaml", ".yml")
+_SIMPLE_FACTS = ("task", "object", "initial", "behaviour")
+
+
+@dataclass(frozen=True)
+class Document:
+    """A knowledge file's clauses and directives, in order."""
+
+    items: tuple[Clause | Directive, ...]
+    file: str = "<string>"
+    notes: tuple[str, ...] = ()
+    seed: bool = False
+
+    def to_kb(self, kb: KnowledgeBase | None = None) -> KnowledgeBase:
+        """Load the document into a (new) knowledge base."""
+        kb = kb if kb is not None else KnowledgeBase()
+        real = bool(self.file) and not self.file.startswith("<")
+        base = Path(self.file).parent if real else None
+        with kb.reading(self.file) if real else nullcontext():
+            for item in self.items:
+                if isinstance(item, Clause):
+                    kb.add_clause(item.head, item.body, item.pos)
+                else:
+                    kb.run_directive(item, base)
+        kb.warnings.extend(self.notes)
+        return kb
+
+
+# ---------------------------------------------------------------------------
+# Reading
+
+def read_document(path: str | Path, max_bytes: int = MAX_BYTES) -> Document:
+    """Read a knowledge file; SEED files are imported into the schema form."""
+    name = str(path)
+    text = read_source(path, max_bytes)
+    if name.endswith(YAML_SUFFIXES):
+        return document_from_yaml(text, name)
+    return document_from_text(text, name)
+
+
+def document_from_text(text: str, file: str = "<string>") -> Document:
+    """Parse Prolog text; SEED knowledge is imported."""
+    items = parse_text(text, file)
+    if is_seed(items):
+        imported = import_seed(items)
+        notes = tuple(f"{file}: note: {n}" for n in imported.notes)
+        return Document(tuple(imported.clauses), file, notes, seed=True)
+    return Document(tuple(items), file)
+
+
+def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES) -> KnowledgeBase:
+    """Read every file into one knowledge base."""
+    kb = KnowledgeBase()
+    for p in paths:
+        read_document(p, max_bytes).to_kb(kb)
+    return kb
+
+
+def document_from_yaml(text: str, file: str = "<string>") -> Document:
+    """Read the YAML form (safe_load only)."""
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        pos = SourcePos(file, mark.line + 1, mark.column + 1) if mark else None
+        line = text.splitlines()[mark.line] if mark and mark.line < len(text.splitlines()) else None
+        problem = getattr(err, "problem", None) or str(err)
+        raise SchemalogError(f"YAML syntax error: {problem}", pos, line) from None
+    if not isinstance(data, dict) or not isinstance(data.get("items", []), list):
+        raise SchemalogError("a schemalog YAML file is a mapping with an `items` list",
+                             SourcePos(file, 1, 1))
+    marks = _item_marks(text)
+    lines = text.split("\n")
+    items: list[Clause | Directive] = []
+    for i, record in enumerate(data.get("items") or []):
+        line, column = marks[i] if i < len(marks) else (1, 1)
+        pos = SourcePos(file, line, column)
+        try:
+            items.extend(_record_items(record, f"items[{i}]", file, i))
+        except SchemalogError as err:
+            # The item's own place in the YAML file, and the clause it made, to see what broke.
+            raise SchemalogError(err.message, pos, lines[line - 1] if line <= len(lines) else None) from None
+    return Document(tuple(items), file)
+
+
+def _item_marks(text: str) -> list[tuple[int, int]]:
+    """The (line, column) where each element of the top-level `items` list starts."""
+    try:
+        root = yaml.compose(text)
+    except yaml.YAMLError:
+        return []
+    if not isinstance(root, yaml.MappingNode):
+        return []
+    for key, value in root.value:
+        if key.value == "items" and isinstance(value, yaml.SequenceNode):
+            return [(n.start_mark.line + 1, n.start_mark.column + 1) for n in value.value]
+    return []
+
+
+def _record_items(record: object, where: str, file: str, index: int) -> list[Clause | Directive]:
+    if not isinstance(record, dict):
+        raise SchemalogError(f"{where}: expected a mapping, not {type(record).__name__}")
+    text = _record_text(record, where)
+    try:
+        parsed = parse_text(text, f"{file}#items[{index}]")
+    except SchemalogError as err:
+        raise SchemalogError(f"{where}: {err.message.splitlines()[0]} (in the clause it makes: {text})") from None
+    return list(parsed)
+
+
+def _field(record: dict, key: str, where: str) -> str:
+    value = record.get(key)
+    if value is None:
+        raise SchemalogError(f"{where}: missing `{key}`")
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if not isinstance(value, (str, int, float)):
+        raise SchemalogError(f"{where}: `{key}` must be text, not {type(value).__name__}")
+    return str(value)
+
+
+def _record_text(record: dict, where: str) -> str:
+    if "schema" in record:
+        unknown = set(record) - {"schema", "subtasks", "post", "if"}
+        if unknown:
+            raise SchemalogError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+        subs = record.get("subtasks") or []
+        if not isinstance(subs, list):
+            raise SchemalogError(f"{where}: `subtasks` must be a list")
+        entries = []
+        for j, sub in enumerate(subs):
+            w = f"{where}.subtasks[{j}]"
+            if not isinstance(sub, dict):
+                raise SchemalogError(f"{w}: expected a mapping with behaviour and releaser")
+            behaviour = _field(sub, "behaviour", w)
+            releaser = _field(sub, "releaser", w) if "releaser" in sub else "true"
+            importance = sub.get("importance", DEFAULT_IMPORTANCE)
+            if isinstance(importance, bool) or not isinstance(importance, (int, float)):
+                raise SchemalogError(f"{w}: `importance` must be a number")
+            weight = "" if importance == DEFAULT_IMPORTANCE and isinstance(importance, int) else f", {importance!r}"
+            entries.append(f"({behaviour}, ({releaser}){weight})")
+        head = f"schema(({_field(record, 'schema', where)}), [{', '.join(entries)}], ({_field(record, 'post', where)}))"
+        return f"{head} :- {record['if']}." if record.get("if") is not None else f"{head}."
+    for key in _SIMPLE_FACTS:
+        if key in record:
+            return f"{key}(({_field(record, key, where)}))."
+    if "clause" in record:
+        text = _field(record, "clause", where).strip()
+        return text if text.endswith(".") else text + "."
+    if "directive" in record:
+        return f":- {_field(record, 'directive', where)}."
+    raise SchemalogError(f"{where}: a record needs one of schema, clause, directive, "
+                         f"{', '.join(_SIMPLE_FACTS)}")
+
+
+# ---------------------------------------------------------------------------
+# Writing
+
+def _canonical_head(c: Clause) -> Term:
+    s = static_schema(c.head, c.body, c.pos)
+    return schema_term(s) if s is not None else c.head
+
+
+def to_pl(doc: Document, header: str | None = None) -> str:
+    """Canonical schema text: one clause per paragraph group, schemas laid out."""
+    out: list[str] = []
+    if header:
+        out.extend(f"% {line}".rstrip() for line in header.splitlines())
+        out.append("")
+    previous = None
+    for item in doc.items:
+        if isinstance(item, Directive):
+            out.append(f":- {term_to_text(item.goal, 1199, variable_names([item.goal]))}.")
+            previous = None
+            continue
+        head = _canonical_head(item)
+        key = (head.name, len(head.args)) if isinstance(head, Struct) else term_to_text(head)
+        multi_line = isinstance(head, Struct) and head.name == "schema" and "\n" in write_clause(head, item.body)
+        if previous is not None and (key != previous or multi_line):
+            out.append("")
+        out.append(write_clause(head, item.body))
+        previous = key
+    return "\n".join(out) + "\n"
+
+
+def to_yaml(doc: Document) -> str:
+    """The YAML form of a document."""
+    records = []
+    for item in doc.items:
+        if isinstance(item, Directive):
+            records.append({"directive": term_to_text(item.goal, 1199, variable_names([item.goal]))})
+            continue
+        s = static_schema(item.head, item.body, item.pos)
+        head = schema_term(s) if s is not None else item.head
+        names = variable_names([head, item.body])
+
+        def text(t: Term, p: int = 999) -> str:
+            return term_to_text(t, p, names, spaced=True)
+
+        if s is not None:
+            record: dict = {"schema": text(s.task),
+                            "subtasks": [_entry_record(e, text) for e in s.entries],
+                            "post": text(head.args[2])}
+            if item.body is not TRUE:
+                record["if"] = text(item.body, 1199)
+            records.append(record)
+        elif isinstance(head, Struct) and head.name in _SIMPLE_FACTS and len(head.args) == 1 \
+                and item.body is TRUE:
+            records.append({head.name: text(head.args[0])})
+        else:
+            flat = head if item.body is TRUE else Struct(":-", (head, item.body))
+            records.append({"clause": term_to_text(flat, 1200, names) + "."})
+    return yaml.safe_dump({"schemalog": 1, "items": records}, sort_keys=False, allow_unicode=True, width=100)
+
+
+def _entry_record(e: Entry, text) -> dict:
+    record = {"behaviour": text(e.behaviour), "releaser": text(cond.to_term(e.releaser))}
+    if not (e.importance == DEFAULT_IMPORTANCE and isinstance(e.importance, int)):
+        record["importance"] = e.importance
+    return record
+
+
+def file_mode(target: Path) -> int:
+    """The mode a written file should get: the replaced file's, else what umask allows
+    (mkstemp's temporary files are private, 0600, and a rename would keep that)."""
+    try:
+        return target.stat().st_mode & 0o7777
+    except OSError:
+        mask = os.umask(0)
+        os.umask(mask)
+        return 0o666 & ~mask
+
+
+def check_writable(path: str | Path) -> Path:
+    """The directory `path` would be written in; an error if it is missing or not writable,
+    or if `path` is a directory."""
+    target = Path(path)
+    directory = target.parent if str(target.parent) else Path(".")
+    if not directory.is_dir():
+        raise SchemalogError(f"{path}: no such directory {directory}")
+    if target.is_dir():
+        raise SchemalogError(f"{path} is a directory; name a file")
+    if not os.access(directory, os.W_OK):
+        raise SchemalogError(f"{path}: the directory {directory} is not writable")
+    return directory
+
+
+def write_atomically(path: str | Path, text: str) -> None:
+    """Write `text` to `path` through a temporary file and a rename: never a partial file."""
+    target = Path(path)
+    directory = check_writable(path)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+    except OSError as err:
+        raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        os.chmod(tmp, file_mode(target))
+        os.replace(tmp, target)
+    except BaseException as err:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(err, OSError):
+            raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
+        raise

@@ -1,0 +1,557 @@
+"""KnowledgeBase: clauses by predicate, argument indexes, and consult.
+
+    KnowledgeBase.predicates : dict[(name, arity), Predicate]
+    Predicate.clauses        : list[StoredClause]            in source order
+    Predicate index          : dict[key, list[StoredClause]]  key = an argument's
+                                                              principal functor
+
+A call whose first argument is bound only tries the clauses with the same key or
+a variable there; a call whose first argument is unbound uses the first other bound
+argument, indexed just in time. The lists are rebuilt (not mutated) on assert and
+retract, so a running call keeps its snapshot (the logical update view).
+"""
+
+from __future__ import annotations
+
+import functools
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Iterator
+from importlib import resources
+from pathlib import Path
+
+from ..errors import SchemalogError, SourcePos
+from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
+from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
+from .unify import rename
+
+Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
+
+
+def first_arg_key(term: Term) -> Key | None:
+    """The index key of a (walked) first argument; None for a variable."""
+    if isinstance(term, Var):
+        return None
+    if isinstance(term, Struct):
+        return ("s", term.name, len(term.args))
+    if isinstance(term, Atom):
+        return ("a", term.name)
+    if isinstance(term, Float):
+        return ("Float", term.value.hex())      # NaN equals itself, as Float compares
+    return (type(term).__name__, term.value)  # Int, Str
+
+
+@dataclass(eq=False)
+class StoredClause:
+    """A clause in the knowledge base."""
+
+    head: Term
+    body: Term
+    pos: SourcePos | None = None
+    library: bool = False
+    key: Key | None = field(init=False)
+    _copier: object = field(default=None, init=False, repr=False, compare=False)
+    _matcher: object = field(default=None, init=False, repr=False, compare=False)
+    _calls: int = field(default=0, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
+
+    def renamed(self) -> tuple[Term, Term]:
+        """A copy of (head, body) with fresh variables."""
+        copy = self._copier
+        if copy is None:
+            copy = self._copier = compile_copy(Struct(":-", (self.head, self.body)))
+        pair = copy()
+        return pair.args[0], pair.args[1]
+
+    def match(self, goal: Term, b) -> Term | None:
+        """Unify a fresh copy of the head with `goal`; return the body's copy, or None
+        (the caller undoes a failed match's bindings)."""
+        match = self._matcher
+        if match is None:
+            # A ground clause (a fact of a task tree) needs no copy: unify it as it is.
+            # Compiling costs an exec, worth it only for a clause called again and again,
+            # so the first calls copy and unify.
+            if is_ground(self.head) and is_ground(self.body):
+                match = self._matcher = _match_ground(self)
+            else:
+                self._calls += 1
+                if self._calls <= COMPILE_AFTER:
+                    head, body = self.renamed()
+                    return body if b.unify(head, goal) else None
+                match = self._matcher = compile_match(self)
+        return match(goal, b)
+
+    def text(self) -> str:
+        """The clause as Prolog text."""
+        if self.body is TRUE:
+            return term_to_text(self.head) + "."
+        return term_to_text(Struct(":-", (self.head, self.body))) + "."
+
+
+def compile_copy(term: Term, max_nodes: int = 2_000, max_depth: int = 60):
+    """A function returning a copy of `term` with fresh variables, compiled to one Python
+    expression: `rename` walks the term on every call, this builds it directly, sharing
+    ground sub-terms. Very large or deep terms fall back to `rename`."""
+    variables: dict[Var, str] = {}
+    constants: list[Term] = []
+    nodes = 0
+
+    def expr(t: Term, depth: int) -> str:
+        nonlocal nodes
+        nodes += 1
+        if nodes > max_nodes or depth > max_depth:
+            raise OverflowError
+        if isinstance(t, Var):
+            name = variables.get(t)
+            if name is None:
+                name = variables[t] = f"v{len(variables)}"
+            return name
+        if isinstance(t, Struct) and not is_ground(t):
+            args = ", ".join(expr(a, depth + 1) for a in t.args)
+            constants.append(t.name)
+            return f"S(c[{len(constants) - 1}], ({args},))"
+        constants.append(t)
+        return f"c[{len(constants) - 1}]"
+
+    try:
+        body = expr(term, 0)
+    except OverflowError:
+        return lambda: rename(term)
+    fresh = "".join(f"    {name} = V('_')\n" for name in variables.values())
+    source = f"def copy():\n{fresh}    return {body}\n"
+    scope = {"S": Struct, "V": Var, "c": tuple(constants)}
+    exec(source, scope)
+    return scope["copy"]
+
+
+def compile_match(clause: StoredClause, max_nodes: int = 300, max_depth: int = 12):
+    """A function `match(goal, bindings)` that unifies the clause's head with `goal` and
+    returns the body's instance, compiled to Python (the WAM's get instructions, in effect).
+
+    No head is built: a head variable's first occurrence simply names the goal's argument,
+    a constant is compared or bound, a compound is taken apart when the goal has one there
+    and built only when the goal has an unbound variable there. Large or deep heads fall
+    back to copying the clause and unifying."""
+    head, body = clause.head, clause.body
+    if not isinstance(head, Struct):
+        copy = compile_copy(body) if body is not TRUE else None
+        return (lambda goal, b: copy()) if copy else (lambda goal, b: TRUE)
+    names: dict[Var, str] = {}          # every variable of the clause, named up front
+    for v in (*iter_vars(head), *iter_vars(body)):
+        names.setdefault(v, f"v{len(names)}")
+    seen: set[Var] = set()              # the variables the code so far has given a value
+    constants: list = []
+    lines: list[str] = []
+    counter = iter(range(1 << 30))
+    nodes = 0
+
+    def const(t) -> str:
+        constants.append(t)
+        return f"c[{len(constants) - 1}]"
+
+    def build(t: Term) -> str:
+        """An expression building `t` from the named variables."""
+        if isinstance(t, Var):
+            return names[t]
+        if isinstance(t, Struct) and not is_ground(t):
+            return f"S({const(t.name)}, ({', '.join(build(a) for a in t.args)},))"
+        return const(t)
+
+    def create(t: Term, pad: str, known: set[Var]) -> None:
+        """Fresh variables for those of `t` with no value yet."""
+        for v in dict.fromkeys(iter_vars(t)):
+            if v not in known:
+                known.add(v)
+                lines.append(f"{pad}{names[v]} = V('_')")
+
+    def walk(x: str, pad: str) -> None:
+        lines.append(f"{pad}while type({x}) is V:")
+        lines.append(f"{pad}    y = get({x})")
+        lines.append(f"{pad}    if y is None: break")
+        lines.append(f"{pad}    {x} = y")
+
+    def unify_with(p: Term, x: str, pad: str, depth: int) -> None:
+        """Code unifying the head pattern `p` with the term named `x` (walked unless `p` is
+        a variable's first occurrence, which just names it)."""
+        nonlocal nodes
+        nodes += 1
+        if nodes > max_nodes or depth > max_depth:
+            raise OverflowError
+        if isinstance(p, Var):
+            if p in seen:
+                lines.append(f"{pad}if not unify({names[p]}, {x}): return None")
+            else:
+                seen.add(p)
+                lines.append(f"{pad}{names[p]} = {x}")
+            return
+        walk(x, pad)
+        if not isinstance(p, Struct) or is_ground(p):
+            c = const(p)
+            lines.append(f"{pad}if type({x}) is V: values[{x}] = {c}; trail.append({x})")
+            test = f"not unify({x}, {c})" if isinstance(p, Struct) else f"type({x}) is not type({c}) or {x} != {c}"
+            lines.append(f"{pad}elif {test}: return None")
+            return
+        # A compound with variables: built for an unbound goal variable, else taken apart;
+        # both branches leave the same variables named.
+        lines.append(f"{pad}if type({x}) is V:")
+        create(p, pad + "    ", set(seen))
+        lines.append(f"{pad}    values[{x}] = {build(p)}; trail.append({x})")
+        lines.append(f"{pad}elif type({x}) is S and {x}.name == {const(p.name)} and len({x}.args) == {len(p.args)}:")
+        args = f"a{next(counter)}"
+        lines.append(f"{pad}    {args} = {x}.args")
+        for i, sub in enumerate(p.args):
+            item = f"x{next(counter)}"
+            lines.append(f"{pad}    {item} = {args}[{i}]")
+            unify_with(sub, item, pad + "    ", depth + 1)
+        lines.append(f"{pad}else: return None")
+        seen.update(iter_vars(p))
+
+    try:
+        lines.append("    goal_args = goal.args")
+        for i, p in enumerate(head.args):
+            x = f"x{next(counter)}"
+            lines.append(f"    {x} = goal_args[{i}]")
+            unify_with(p, x, "    ", 0)
+        if body is TRUE:
+            result = "T"
+        else:
+            create(body, "    ", seen)
+            result = build(body)
+    except (OverflowError, RecursionError):
+        return _match_by_copy(clause)
+    source = ("def match(goal, b):\n    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
+              + "\n".join(lines) + f"\n    return {result}\n")
+    scope = {"S": Struct, "V": Var, "T": TRUE, "c": tuple(constants)}
+    exec(source, scope)
+    return scope["match"]
+
+
+COMPILE_AFTER = 2   # calls of a clause before its head unification is compiled
+
+
+def _match_ground(clause: StoredClause):
+    head, body = clause.head, clause.body
+
+    def match(goal: Term, b) -> Term | None:
+        return body if b.unify(head, goal) else None
+    return match
+
+
+def _match_by_copy(clause: StoredClause):
+    def match(goal: Term, b) -> Term | None:
+        head, body = clause.renamed()
+        return body if b.unify(head, goal) else None
+    return match
+
+
+class Predicate:
+    """The clauses of one predicate and their argument indexes.
+
+    The first argument is indexed as clauses are called; another argument is indexed
+    just in time, the first time a call leaves the first argument unbound but binds that
+    one (SWI-Prolog's JIT indexing), so `parent(B2, P)` with P bound is a lookup, not a
+    scan. Indexes are dropped on assert and retract and rebuilt on demand.
+    """
+
+    __slots__ = ("clauses", "_index", "_unindexed", "_jit", "dynamic")
+
+    MIN_CLAUSES = 2  # one clause needs no index
+
+    def __init__(self) -> None:
+        self.clauses: list[StoredClause] = []
+        self._index: dict[Key, list[StoredClause]] | None = None
+        self._unindexed: list[StoredClause] = []
+        self._jit: dict[int, tuple[dict[Key, list[StoredClause]], list[StoredClause]] | None] = {}
+        self.dynamic = False
+
+    def changed(self) -> None:
+        self._index = None
+        self._jit = {}
+
+    def candidates(self, first: Term | None) -> list[StoredClause]:
+        if first is None or isinstance(first, Var) or len(self.clauses) < self.MIN_CLAUSES:
+            return self.clauses
+        if self._index is None:
+            self._index, self._unindexed = _build_index(self.clauses, lambda c: c.key)
+        return self._index.get(first_arg_key(first), self._unindexed)
+
+    def select(self, args: tuple, b) -> list[StoredClause]:
+        """The clauses that may match a call with these arguments (the engine's hot path:
+        the first argument dereferenced and keyed inline)."""
+        clauses = self.clauses
+        if len(clauses) < self.MIN_CLAUSES or not args:
+            return clauses
+        first = args[0]
+        values = b.values
+        while type(first) is Var:
+            bound = values.get(first)
+            if bound is None:
+                return self.candidates_by(args, b.walk) if len(args) > 1 else clauses
+            first = bound
+        index = self._index
+        if index is None:
+            index, self._unindexed = _build_index(clauses, lambda c: c.key)
+            self._index = index
+        kind = type(first)
+        if kind is Struct:
+            key = ("s", first.name, len(first.args))
+        elif kind is Atom:
+            key = ("a", first.name)
+        else:
+            key = first_arg_key(first)
+        return index.get(key, self._unindexed)
+
+    def candidates_by(self, args: tuple, walk) -> list[StoredClause]:
+        """The candidates of a call whose first argument is unbound: the bucket of the
+        first other bound argument worth indexing on, else every clause."""
+        if len(self.clauses) < self.MIN_CLAUSES:
+            return self.clauses
+        for position in range(1, len(args)):
+            value = walk(args[position])
+            if isinstance(value, Var):
+                continue
+            if position not in self._jit:
+                self._jit[position] = _useful_index(self.clauses, position)
+            built = self._jit[position]
+            if built is not None:
+                index, unindexed = built
+                return index.get(first_arg_key(value), unindexed)
+        return self.clauses
+
+
+def _arg_key(clause: StoredClause, position: int) -> Key | None:
+    head = clause.head
+    return first_arg_key(head.args[position]) if isinstance(head, Struct) else None
+
+
+def _build_index(clauses: list[StoredClause], key_of) -> tuple[dict[Key, list[StoredClause]],
+                                                             list[StoredClause]]:
+    """Buckets by key, in clause order; a clause with a variable there is in every bucket."""
+    index: dict[Key, list[StoredClause]] = {}
+    unindexed: list[StoredClause] = []
+    for clause in clauses:
+        key = key_of(clause)
+        if key is None:
+            unindexed.append(clause)
+            for bucket in index.values():
+                bucket.append(clause)
+        else:
+            bucket = index.get(key)
+            if bucket is None:
+                bucket = index[key] = list(unindexed)
+            bucket.append(clause)
+    return index, unindexed
+
+
+def _useful_index(clauses: list[StoredClause], position: int):
+    """An index on argument `position`, or None where it would not narrow calls down
+    (fewer than two keys, or most clauses with a variable there)."""
+    index, unindexed = _build_index(clauses, lambda c: _arg_key(c, position))
+    if len(index) < 2 or 2 * len(unindexed) > len(clauses):
+        return None
+    return index, unindexed
+
+
+@functools.lru_cache(maxsize=1)
+def _prelude() -> tuple[Clause, ...]:
+    text = resources.files("schemalog.logic").joinpath("prelude.pl").read_text(encoding="utf-8")
+    return tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause))
+
+
+class KnowledgeBase:
+    """Clauses, consulted from files or added programmatically."""
+
+    def __init__(self, prelude: bool = True) -> None:
+        self.predicates: dict[tuple[str, int], Predicate] = {}
+        self.warnings: list[str] = []
+        self.files: list[str] = []  # every file read, consulted ones included
+        self._consulting: list[Path] = []
+        if prelude:
+            for clause in _prelude():
+                self._store(StoredClause(clause.head, clause.body, clause.pos, library=True))
+
+    # -- reading --------------------------------------------------------------
+    def candidates(self, name: str, arity: int, first: Term | None) -> list[StoredClause] | None:
+        """The clauses that may match a call, or None if the predicate is unknown."""
+        pred = self.predicates.get((name, arity))
+        if pred is None:
+            return None
+        return pred.candidates(first)
+
+    def clauses(self, name: str, arity: int) -> list[StoredClause]:
+        """All clauses of `name/arity`, in order."""
+        pred = self.predicates.get((name, arity))
+        return list(pred.clauses) if pred else []
+
+    def library_predicates(self) -> set[tuple[str, int]]:
+        """The predicates defined only by the prelude (a user file may replace them, assert may not)."""
+        return {key for key, p in self.predicates.items() if p.clauses and all(c.library for c in p.clauses)}
+
+    def user_clauses(self) -> list[StoredClause]:
+        """Every clause that did not come from the library, in predicate order."""
+        return [c for p in self.predicates.values() for c in p.clauses if not c.library]
+
+    # -- writing --------------------------------------------------------------
+    def _store(self, clause: StoredClause, front: bool = False) -> None:
+        ind = indicator(clause.head)
+        pred = self.predicates.get(ind)
+        if pred is None:
+            pred = self.predicates[ind] = Predicate()
+        elif not clause.library and pred.clauses and all(c.library for c in pred.clauses):
+            pred.clauses = []  # a user definition replaces the library's
+        if front:
+            pred.clauses = [clause, *pred.clauses]
+        else:
+            pred.clauses = [*pred.clauses, clause]
+        pred.changed()
+
+    def add_clause(self, head: Term, body: Term = TRUE, pos: SourcePos | None = None,
+                   front: bool = False) -> None:
+        """Add `head :- body`, checking that the head can be a clause head."""
+        from .engine import is_builtin  # engine imports kb only for typing
+
+        if isinstance(head, Var):
+            raise SchemalogError("a clause head cannot be a variable", pos)
+        if not isinstance(head, (Atom, Struct)):
+            raise SchemalogError(f"a clause head must be an atom or compound term, not "
+                                 f"{term_to_text(head)}", pos)
+        name, arity = indicator(head)
+        if is_builtin(name, arity) or (name, arity) in ((",", 2), (";", 2), ("->", 2)):
+            raise SchemalogError(f"no permission to modify the built-in predicate {name}/{arity}", pos)
+        self._store(StoredClause(head, body, pos), front=front)
+
+    def add_facts(self, facts: list[Term]) -> None:
+        """Add many ground facts at once (a task tree's relations): one list per predicate
+        instead of a copy per clause, so loading n facts costs O(n)."""
+        from .engine import is_builtin
+
+        grouped: dict[tuple[str, int], list[StoredClause]] = {}
+        for fact in facts:
+            key = indicator(fact)
+            if is_builtin(*key):
+                raise SchemalogError(f"no permission to modify the built-in predicate {key[0]}/{key[1]}")
+            grouped.setdefault(key, []).append(StoredClause(fact, TRUE))
+        for key, clauses in grouped.items():
+            pred = self.predicates.get(key)
+            if pred is None:
+                pred = self.predicates[key] = Predicate()
+            elif pred.clauses and all(c.library for c in pred.clauses):
+                pred.clauses = []
+            pred.clauses = [*pred.clauses, *clauses]
+            pred.changed()
+
+    def add_term(self, term: Term, front: bool = False) -> None:
+        """Add a clause given as one term (`H :- B` or a fact), as assertz/asserta do."""
+        if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 2:
+            self.add_clause(term.args[0], term.args[1], front=front)
+        else:
+            self.add_clause(term, front=front)
+
+    def remove(self, clause: StoredClause) -> None:
+        """Remove one stored clause (retract)."""
+        pred = self.predicates.get(indicator(clause.head))
+        if pred is not None:
+            pred.clauses = [c for c in pred.clauses if c is not clause]
+            pred.changed()
+
+    def forget_file(self, file: str) -> None:
+        """Remove the clauses read from `file` (before it is consulted again)."""
+        for pred in self.predicates.values():
+            kept = [c for c in pred.clauses if c.pos is None or c.pos.file != file]
+            if len(kept) != len(pred.clauses):
+                pred.clauses = kept
+                pred.changed()
+
+    def declare_dynamic(self, name: str, arity: int) -> None:
+        """Make `name/arity` known, so calling it without clauses fails instead of raising."""
+        pred = self.predicates.setdefault((name, arity), Predicate())
+        pred.dynamic = True
+
+    # -- consulting -----------------------------------------------------------
+    def consult_text(self, text: str, file: str = "<string>", base: Path | None = None,
+                     run_directives: bool = True) -> None:
+        """Add every clause of `text`; directives declare, include or run goals."""
+        for item in parse_text(text, file):
+            if isinstance(item, Clause):
+                self.add_clause(item.head, item.body, item.pos)
+            elif run_directives:
+                self.run_directive(item, base)
+
+    @contextmanager
+    def reading(self, path: str | Path, pos: SourcePos | None = None) -> Iterator[None]:
+        """Mark `path` as being read while the block runs: a file that consults itself,
+        directly or through others, is an error naming the chain."""
+        key = Path(path).resolve()
+        if key in self._consulting:
+            chain = " -> ".join(str(f) for f in (*self._consulting, key))
+            raise SchemalogError(f"consult cycle: {chain}", pos)
+        self.files.append(str(path))
+        self._consulting.append(key)
+        try:
+            yield
+        finally:
+            self._consulting.pop()
+
+    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None) -> None:
+        """Load a knowledge file."""
+        p = Path(path)
+        with self.reading(p, pos):
+            self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
+
+    def run_directive(self, d: Directive, base: Path | None = None) -> None:
+        """Declare (dynamic), include (consult) or run the goal of a directive."""
+        goal = d.goal
+        if isinstance(goal, Struct) and goal.name in ("dynamic", "discontiguous") and len(goal.args) == 1:
+            for spec in _conjuncts(goal.args[0]):
+                items, _ = list_items(spec)
+                for s in items or [spec]:
+                    if not (isinstance(s, Struct) and s.name == "/" and isinstance(s.args[0], Atom)
+                            and isinstance(s.args[1], Int)):
+                        raise SchemalogError(f"{goal.name} expects Name/Arity, not {term_to_text(s)}", d.pos)
+                    if goal.name == "dynamic":
+                        self.declare_dynamic(s.args[0].name, s.args[1].value)
+            return
+        if isinstance(goal, Struct) and goal.name == "op" and len(goal.args) == 3:
+            self.warnings.append(f"{d.pos}: warning: op/3 ignored: schemalog's operator table is "
+                                 f"fixed (see docs/syntax.md)")
+            return
+        if isinstance(goal, Struct) and goal.name in ("consult", "include", "ensure_loaded") \
+                or isinstance(goal, Struct) and goal.name == "[|]":
+            targets = list_items(goal)[0] if goal.name == "[|]" else [goal.args[0]]
+            for target in targets:
+                name = target.name if isinstance(target, Atom) else (
+                    target.value if isinstance(target, Str) else None)
+                if name is None:
+                    raise SchemalogError(f"cannot consult {term_to_text(target)}", d.pos)
+                path = (base or Path(".")) / name
+                if not path.exists() and path.suffix == "":
+                    path = path.with_suffix(".pl")
+                if not path.exists():
+                    raise SchemalogError(f"consult: no such file {name!r}", d.pos)
+                self.consult(path, pos=d.pos)
+            return
+        if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
+                or isinstance(goal, Atom) and goal.name == "use_module":
+            self.warnings.append(f"{d.pos}: warning: directive {term_to_text(goal)} ignored")
+            return
+        from .engine import Engine, PrologError
+
+        try:
+            if Engine(self, max_steps=1_000_000).first(goal) is None:
+                self.warnings.append(f"{d.pos}: warning: directive failed: {term_to_text(goal)}")
+        except PrologError as err:
+            self.warnings.append(f"{d.pos}: warning: directive raised {err}")
+
+
+def _conjuncts(term: Term) -> list[Term]:
+    out = []
+    while isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
+        out.append(term.args[0])
+        term = term.args[1]
+    out.append(term)
+    return out
+
+
+__all__ = ["KnowledgeBase", "StoredClause", "Predicate", "first_arg_key"]

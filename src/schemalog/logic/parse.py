@@ -1,0 +1,414 @@
+"""Text -> clauses, through the one lark grammar; every error carries file:line:column.
+
+    Clause = (head: Term, body: Term, pos: SourcePos)      facts have body `true`
+    Directive = (goal: Term, pos: SourcePos)               `:- dynamic schema/3.`
+
+The LALR parser calls the transformer as it reduces, so no parse tree is built and
+deep operator chains never recurse in Python. Bracket nesting is bounded
+(`MAX_NESTING`) so that printing and unifying what we read stays safe.
+"""
+
+from __future__ import annotations
+
+import bisect
+import functools
+import re
+from collections import deque
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+
+from ..errors import SchemalogError, SourcePos
+from ..shipped import shipped_text
+from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, make_list
+
+MAX_NESTING = 2_000
+MAX_BYTES = 16 * 1024 * 1024  # lark reads ~0.45 MB/s: refuse what would take minutes
+
+
+@dataclass(frozen=True)
+class Clause:
+    """A fact or rule `head :- body`, with where it was written."""
+
+    head: Term
+    body: Term
+    pos: SourcePos
+
+
+@dataclass(frozen=True)
+class Directive:
+    """A directive `:- goal.`, with where it was written."""
+
+    goal: Term
+    pos: SourcePos
+
+
+def grammar_text() -> str:
+    """Return the grammar, from the installed package or from the source tree."""
+    return shipped_text("grammar/schemalog.lark")
+
+
+_ESCAPE_CHARS = {"n": "\n", "t": "\t", "r": "\r", "a": "\a", "b": "\b", "f": "\f",
+                 "v": "\v", "0": "\0", "\\": "\\", "'": "'", '"': '"', "`": "`", "e": "\x1b",
+                 "s": " ", "z": ""}
+
+
+def _unescape(body: str, quote: str) -> str:
+    out, i = [], 0
+    while i < len(body):
+        c = body[i]
+        if c == quote and i + 1 < len(body) and body[i + 1] == quote:
+            out.append(quote)
+            i += 2
+        elif c == "\\" and i + 1 < len(body):
+            nxt = body[i + 1]
+            if nxt == "x" or nxt in "01234567" and body.find("\\", i + 1) > i + 1 and \
+                    body[i + 1:body.find("\\", i + 1)].isdigit():
+                # \xHH..\ (hex) and \NNN\ (octal): a character code
+                end = body.find("\\", i + 1 + (nxt == "x"))
+                end = len(body) if end < 0 else end
+                digits, base = (body[i + 2:end], 16) if nxt == "x" else (body[i + 1:end], 8)
+                out.append(chr(int(digits or "0", base)))
+                i = end + 1
+            elif nxt == "\n":  # a backslash before a newline continues the line
+                i += 2
+            else:
+                out.append(_ESCAPE_CHARS.get(nxt, nxt))
+                i += 2
+        else:
+            out.append(c)
+            i += 1
+    return "".join(out)
+
+
+def _atom_name(token: str) -> str:
+    if token.startswith("'"):
+        return _unescape(token[1:-1], "'")
+    return token
+
+
+_LAYOUT = re.compile(r"(?:\s+|%[^\n]*|/\*.*?\*/)*", re.S)
+
+
+class _LineIndex:
+    """Offset -> (line, column), by bisecting the offsets where lines start."""
+
+    def __init__(self, text: str) -> None:
+        self.starts = [0] + [m.end() for m in re.finditer("\n", text)]
+
+    def __call__(self, offset: int) -> tuple[int, int]:
+        line = bisect.bisect_right(self.starts, offset)
+        return line, offset - self.starts[line - 1] + 1
+
+
+class _Operand:
+    """Prefix operators followed by their primary: `\\+ a`, `- - x`."""
+
+    __slots__ = ("parts",)
+
+    def __init__(self, parts: list) -> None:
+        self.parts = parts
+
+
+class _ToTerms(Transformer):
+    """A table of one-liners from grammar rules to terms."""
+
+    def __init__(self, file: str) -> None:
+        super().__init__()
+        self.file = file
+        self.varmap: dict[str, Var] = {}
+        self.starts: deque[int] = deque()  # offsets where clauses may start (after each ".")
+        self.text = ""
+        self.line_at = _LineIndex("")
+
+    def _fresh_clause(self) -> dict[str, Var]:
+        names, self.varmap = self.varmap, {}
+        return names
+
+    # -- clauses ------------------------------------------------------------
+    def start(self, clauses):
+        return clauses
+
+    def term_input(self, children):
+        return children[0]
+
+    def clause(self, children):
+        term = children[0]
+        self._fresh_clause()
+        offset = _LAYOUT.match(self.text, self.starts.popleft()).end()
+        pos = SourcePos(self.file, *self.line_at(offset))
+        if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 1:
+            return Directive(term.args[0], pos)
+        if isinstance(term, Struct) and term.name == "?-" and len(term.args) == 1:
+            return Directive(term.args[0], pos)
+        if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 2:
+            return Clause(term.args[0], term.args[1], pos)
+        return Clause(term, TRUE, pos)
+
+    # -- operators: a flat run arranged by priority ----------------------------
+    def expr(self, c): return self._arrange(c, 1200)
+    # An argument may be any term but a bare comma: SWI-Prolog reads f(a;b) and f(a:-b),
+    # though ISO limits arguments to priority 999 (the writer still brackets them).
+    def arg(self, c): return c[0] if len(c) == 1 and not isinstance(c[0], _Operand) else self._arrange(c, 1200)
+    def operand(self, c): return c[0] if len(c) == 1 else _Operand(c)
+    def infix(self, c): return c[0]
+    def arg_infix(self, c): return c[0]
+
+    def _arrange(self, items: list, max_priority: int) -> Term:
+        """Build the term of `operand (infix operand)*` by operator priority (shunting-yard)."""
+        if len(items) == 1 and not isinstance(items[0], _Operand):
+            return items[0]
+        out: list[tuple[Term, int]] = []          # operands with their priority
+        ops: list[tuple[str, int, int, int, Token]] = []  # (name, priority, left max, right max, token)
+
+        def reduce() -> None:
+            name, priority, left_max, right_max, token = ops.pop()
+            right, right_p = out.pop()
+            if right_p > right_max:
+                raise self._clash(token, name)
+            if left_max < 0:  # prefix operator
+                out.append((Struct(name, (right,)), priority))
+                return
+            left, left_p = out.pop()
+            if left_p > left_max:
+                raise self._clash(token, name)
+            out.append((Struct(name, (left, right)), priority))
+
+        for item in items:
+            if isinstance(item, Token):  # an infix operator
+                name = str(item)
+                priority, kind = INFIX_OPS[name]
+                left_max = priority if kind == "yfx" else priority - 1
+                right_max = priority if kind == "xfy" else priority - 1
+                while ops and ops[-1][1] <= left_max:
+                    reduce()
+                ops.append((name, priority, left_max, right_max, item))
+                continue
+            parts = item.parts if isinstance(item, _Operand) else (item,)
+            for part in parts[:-1]:  # prefix operators
+                name = str(part)
+                priority, kind = PREFIX_OPS[name]
+                ops.append((name, priority, -1, priority if kind == "fy" else priority - 1, part))
+            out.append((parts[-1], 0))
+        while ops:
+            reduce()
+        term, priority = out[0]
+        if priority > max_priority:
+            raise SchemalogError(f"operator priority clash: a term of priority {priority} where at most "
+                                 f"{max_priority} is allowed (put it in parentheses)",
+                                 SourcePos(self.file, *self._first_position(items)))
+        return term
+
+    def _clash(self, token: Token, name: str) -> SchemalogError:
+        return SchemalogError(f"operator priority clash at {name!r} (put the operands in parentheses)",
+                              SourcePos(self.file, token.line, token.column))
+
+    @staticmethod
+    def _first_position(items: list) -> tuple[int, int]:
+        for item in items:
+            parts = item.parts if isinstance(item, _Operand) else (item,)
+            for part in parts:
+                if isinstance(part, Token):
+                    return part.line, part.column
+        return 1, 1
+
+    # -- primaries ----------------------------------------------------------
+    def atom(self, c): return Atom(_atom_name(str(c[0])))
+
+    def var(self, c):
+        name = str(c[0])
+        if name == "_":
+            return Var("_")
+        v = self.varmap.get(name)
+        if v is None:
+            v = self.varmap[name] = Var(name)
+        return v
+
+    def int(self, c):
+        text = str(c[0])
+        sign, digits = (-1, text[1:]) if text.startswith("-") else (1, text)
+        if digits.startswith("0'"):
+            return Int(sign * ord(_unescape(digits[2:], "'")))
+        if digits[:2] in ("0x", "0o", "0b"):
+            return Int(sign * int(digits, 0))
+        return Int(sign * int(digits))
+
+    def float(self, c):
+        text = str(c[0])
+        if text.endswith("Inf"):  # SWI-Prolog writes infinity as 1.0Inf
+            return Float(float("-inf") if text.startswith("-") else float("inf"))
+        if text.endswith("NaN"):
+            return Float(float("nan"))
+        return Float(float(text))
+    def string(self, c): return Str(_unescape(str(c[0])[1:-1], '"'))
+    def compound(self, c): return Struct(_atom_name(str(c[0])), tuple(c[1]))
+    def args(self, c): return [a for a in c if not isinstance(a, Token)]
+    def nil(self, c): return NIL
+    def list(self, c): return make_list(c[0])
+    def list_tail(self, c): return make_list(c[0], c[1])
+    def curly_atom(self, c): return Atom("{}")
+    def curly(self, c): return Struct("{}", (c[0],))
+    def paren(self, c): return c[0]
+
+
+class _TooDeep(Exception):
+    def __init__(self, token: Token) -> None:
+        super().__init__()
+        self.token = token
+
+
+class _Reader:
+    """One compiled LALR table per start symbol, with its transformer and bracket guard.
+
+    Lark keeps a reference to the transformer, so a parse resets its state (file name,
+    variable names, nesting depth) instead of rebuilding the table. A lock keeps
+    concurrent parses apart.
+    """
+
+    def __init__(self, start: str) -> None:
+        self.transformer = _ToTerms("<string>")
+        self.depth = 0
+        self.lock = threading.Lock()
+        callbacks = {name: self._open for name in ("LPAR", "LSQB", "LBRACE")}
+        callbacks.update({name: self._close for name in ("RPAR", "RSQB", "RBRACE")})
+        callbacks["END"] = self._end
+        self.lark = Lark(grammar_text(), parser="lalr", start=start,
+                         transformer=self.transformer, maybe_placeholders=False,
+                         lexer_callbacks=callbacks)
+
+    def _end(self, token: Token) -> Token:
+        # The next clause starts at the first character after this "." that is not
+        # layout or a comment; positions are found lazily, by offset, in `clause`.
+        self.transformer.starts.append(token.end_pos)
+        return token
+
+    def _open(self, token: Token) -> Token:
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise _TooDeep(token)
+        return token
+
+    def _close(self, token: Token) -> Token:
+        self.depth = max(0, self.depth - 1)
+        return token
+
+    def parse(self, text: str, file: str):
+        with self.lock:
+            self.transformer.file = file
+            self.transformer.varmap = {}
+            self.transformer.starts.clear()
+            self.transformer.starts.append(0)
+            self.transformer.text = text
+            self.transformer.line_at = _LineIndex(text)
+            self.depth = 0
+            return self.lark.parse(text)
+
+
+@functools.lru_cache(maxsize=None)
+def _reader(start: str) -> _Reader:
+    return _Reader(start)
+
+
+_EXPECTED_NAMES = {
+    "END": "'.' (end of clause)", "RPAR": "')'", "RSQB": "']'", "RBRACE": "'}'",
+    "COMMA": "','", "VBAR": "'|'", "LPAR": "'('", "LSQB": "'['", "LBRACE": "'{'",
+    "NAME": "an atom", "VAR": "a variable", "INT": "a number", "FLOAT": "a number",
+    "STRING": "a string", "QATOM": "an atom", "FUNCTOR": "a compound term",
+}
+
+
+def _describe_token(token: Token) -> str:
+    if token.type == "$END":
+        return "end of file"
+    text = str(token)
+    return repr(text) if len(text) < 40 else repr(text[:37] + "...")
+
+
+def _source_line(text: str, line: int) -> str | None:
+    lines = text.split("\n")  # lines as lark counts them: \f and \v do not end a line
+    return lines[line - 1] if 0 < line <= len(lines) else None
+
+
+def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogError:
+    if isinstance(err, UnexpectedEOF) or isinstance(err, UnexpectedToken) and err.token.type == "$END":
+        lines = text.rstrip("\n").split("\n")
+        line, column = len(lines), len(lines[-1]) + 1
+        message = "unexpected end of file: a clause is not finished (missing ')', ']' or the final '.'?)"
+    elif isinstance(err, UnexpectedToken):
+        line, column = err.line, err.column
+        expected = sorted({_EXPECTED_NAMES.get(name) or f"'{name.lower()}'"
+                           for name in err.expected if not name.startswith("__")})
+        wanted = f"; expected {', '.join(expected[:6])}" if expected else ""
+        message = f"syntax error: unexpected {_describe_token(err.token)}{wanted}"
+    elif isinstance(err, UnexpectedCharacters):
+        line, column = err.line, err.column
+        char = text[err.pos_in_stream] if err.pos_in_stream < len(text) else "?"
+        message = f"syntax error: unexpected character {char!r} (unknown operator or unbalanced quote?)"
+    else:  # pragma: no cover - lark has no other UnexpectedInput kinds
+        line, column, message = getattr(err, "line", 1), getattr(err, "column", 1), str(err)
+    return SchemalogError(message, SourcePos(file, line, column), _source_line(text, line))
+
+
+def _parse(text: str, file: str, start: str):
+    try:
+        return _reader(start).parse(text, file)
+    except _TooDeep as deep:
+        tok = deep.token
+        raise SchemalogError(f"brackets nested deeper than {MAX_NESTING} levels",
+                             SourcePos(file, tok.line, tok.column),
+                             _source_line(text, tok.line)) from None
+    except UnexpectedInput as err:
+        raise _error_from_lark(err, text, file) from None
+    except VisitError as err:  # a transformer callback failed, e.g. a bad character code
+        raise SchemalogError(f"cannot read term: {err.orig_exc}", SourcePos(file, 1, 1)) from None
+
+
+def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
+    """Parse program text into clauses and directives."""
+    return _parse(text, file, "start")
+
+
+def parse_term(text: str, file: str = "<argument>") -> Term:
+    """Parse one term (an optional final '.' is allowed)."""
+    return _parse(text, file, "term_input")
+
+
+def read_source(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
+    """Read a text file, refusing missing, oversized and binary files clearly."""
+    p = Path(path)
+    name = str(path)
+    try:
+        size = p.stat().st_size
+    except FileNotFoundError:
+        raise SchemalogError(f"{name}: no such file") from None
+    except OSError as err:
+        raise SchemalogError(f"{name}: cannot read: {err.strerror}") from None
+    if p.is_dir():
+        raise SchemalogError(f"{name}: is a directory, not a knowledge file")
+    if size > max_bytes:
+        raise SchemalogError(f"{name}: file is {size / 2**20:.1f} MiB, over the "
+                             f"{max_bytes / 2**20:.1f} MiB limit (raise it with --max-bytes)")
+    try:
+        data = p.read_bytes()
+    except OSError as err:
+        raise SchemalogError(f"{name}: cannot read: {err.strerror}") from None
+    nul = data.find(b"\0")
+    if nul >= 0:
+        line = data.count(b"\n", 0, nul) + 1
+        column = nul - (data.rfind(b"\n", 0, nul) + 1) + 1
+        raise SchemalogError("binary data (a NUL byte): not a text knowledge file",
+                             SourcePos(name, line, column))
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = data.count(b"\n", 0, err.start) + 1
+        column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+        raise SchemalogError("not UTF-8 text (binary file?)", SourcePos(name, line, column)) from None
+
+
+def parse_file(path: str | Path, max_bytes: int = MAX_BYTES) -> list[Clause | Directive]:
+    """Read and parse a knowledge file."""
+    return parse_text(read_source(path, max_bytes), str(path))

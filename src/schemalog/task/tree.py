@@ -1,0 +1,356 @@
+"""Behaviours and task trees: the paper's working memory, instantiated from long-term memory.
+
+    Behaviour = (label, agent, objects, releaser, post, children, context, k,
+                 merged_from, importance)
+    TaskTree  = the root Behaviour
+
+`instantiate(kb, label)` is the paper's loadTaskFromLTM: it looks up
+`schema(label, Subtasks, Post)` (by resolution, so parameterised and rule schemas
+work), then each sub-task in turn. Two uses of the same sub-task (add(water) under
+coffee and under tea) become two distinct nodes. The walk is iterative with
+explicit depth and size limits; a schema that reaches itself is a cycle error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Iterator
+
+from . import conditions as cond
+from .conditions import Condition
+from ..logic.engine import Engine, PrologError
+from ..errors import SchemalogError, SourcePos
+from ..logic.kb import KnowledgeBase
+from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, read_schema
+from ..logic.terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, is_ground, list_items, term_to_text
+from ..logic.unify import Bindings
+
+DEFAULT_MAX_DEPTH = 256
+DEFAULT_MAX_NODES = 2_000_000
+
+
+@dataclass(frozen=True)
+class Origin:
+    """An original behaviour that a compressed one stands for (provenance).
+
+    `position` is its index among its original siblings; `slot` is which origin of the
+    compressed parent was its original parent. Both are relative, so two identical
+    subtrees keep identical provenance, and decompression rebuilds the original exactly.
+    """
+
+    label: Term
+    releaser: Condition
+    post: Condition
+    importance: int | float = DEFAULT_IMPORTANCE
+    position: int = 0
+    slot: int = 0
+
+
+@dataclass(frozen=True)
+class Behaviour:
+    """A node of a task tree: a running behaviour with its conditions."""
+
+    label: Term
+    agent: str = DEFAULT_AGENT
+    objects: tuple[Term, ...] = ()
+    releaser: Condition = cond.TRUE
+    post: Condition = cond.TRUE
+    children: tuple["Behaviour", ...] = ()
+    context: Condition = cond.TRUE        # inherited from merged-away ancestors (compression)
+    importance: int | float = DEFAULT_IMPORTANCE
+    origins: tuple[Origin, ...] = ()      # provenance; empty in a tree read from knowledge
+    source: SourcePos | None = field(default=None, compare=False)
+
+    @property
+    def pre(self) -> Condition:
+        """The pre-condition: propagated context AND own releaser."""
+        return cond.conjoin([self.context, self.releaser])
+
+    @property
+    def k(self) -> int:
+        """How many original behaviours this one stands for (Sec. III-D)."""
+        return max(1, len(self.origins))
+
+    @property
+    def merged_from(self) -> tuple[Term, ...]:
+        """The original behaviours a merged behaviour replaces, in order (empty if not merged)."""
+        return tuple(o.label for o in self.origins) if len(self.origins) > 1 else ()
+
+    @property
+    def entry(self) -> Condition:
+        """The entry releaser: its own releaser, or for a merged one its first constituent's
+        original releaser (what Definition 1 compares with a post-condition)."""
+        return self.origins[0].releaser if self.origins else self.releaser
+
+    @property
+    def is_leaf(self) -> bool:
+        return not self.children
+
+    @property
+    def name(self) -> str:
+        return term_to_text(self.label)
+
+
+TaskTree = Behaviour
+
+
+def walk(root: Behaviour) -> Iterator[Behaviour]:
+    """Every behaviour of the tree, pre-order, iteratively."""
+    stack = [root]
+    while stack:
+        node = stack.pop()
+        yield node
+        stack.extend(reversed(node.children))
+
+
+def walk_with_depth(root: Behaviour) -> Iterator[tuple[Behaviour, int]]:
+    """Every behaviour with its level (the root is level 1), pre-order."""
+    stack = [(root, 1)]
+    while stack:
+        node, level = stack.pop()
+        yield node, level
+        stack.extend((c, level + 1) for c in reversed(node.children))
+
+
+def count_nodes(root: Behaviour) -> int:
+    """B in the paper: the number of behaviours."""
+    return sum(1 for _ in walk(root))
+
+
+def depth(root: Behaviour) -> int:
+    """D in the paper: the number of levels (a lone root has depth 1)."""
+    return max(level for _, level in walk_with_depth(root))
+
+
+def map_tree(root: Behaviour, fn) -> Behaviour:
+    """Rebuild the tree bottom-up: fn(node with its rebuilt children, position among siblings)."""
+    stack: list[tuple[Behaviour, int, list[Behaviour]]] = [(root, 0, [])]
+    while True:
+        node, position, done = stack[-1]
+        if len(done) < len(node.children):
+            stack.append((node.children[len(done)], len(done), []))
+            continue
+        stack.pop()
+        rebuilt = fn(replace(node, children=tuple(done)) if done else node, position)
+        if not stack:
+            return rebuilt
+        stack[-1][2].append(rebuilt)
+
+
+# ---------------------------------------------------------------------------
+# Instantiation
+
+@dataclass
+class _Frame:
+    label: Term
+    releaser: Condition
+    importance: int | float
+    schema: SchemaDef
+    level: int
+    path: tuple[Term, ...]
+    pending: list[Entry]
+    origins: tuple[Origin, ...] = ()
+    built: list[Behaviour] = field(default_factory=list)
+
+
+class Instantiator:
+    """Looks behaviours up in one knowledge base (schemas, agents, objects)."""
+
+    def __init__(self, kb: KnowledgeBase, max_depth: int = DEFAULT_MAX_DEPTH,
+                 max_nodes: int = DEFAULT_MAX_NODES) -> None:
+        self.kb = kb
+        self.engine = Engine(kb, max_steps=5_000_000)
+        self.max_depth = max_depth
+        self.max_nodes = max_nodes
+        self._has = {name: bool(kb.clauses(name, arity))
+                     for name, arity in (("agent", 2), ("object", 1), ("objects", 2), ("behaviour", 1),
+                                         ("origins", 2), ("task_origins", 2))}
+        self._origins_cache: dict[Term, list[tuple[Origin, ...]]] = {}
+        self._agent_cache: dict[Term, str] = {}
+        self._objects_cache: dict[Term, tuple[Term, ...]] = {}
+
+    # -- look-ups -------------------------------------------------------------
+    def lookup(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef]:
+        """Find the schema of `label`; return the (possibly more bound) label and the schema."""
+        goal_list, goal_post = Var("L"), Var("P")
+        for clause in self.kb.candidates("schema", 3, label) or []:
+            if clause.library:
+                continue
+            b = Bindings()
+            head, body = clause.renamed()
+            if not b.unify(head, Struct("schema", (label, goal_list, goal_post))):
+                continue
+            if body != Atom("true"):
+                try:
+                    if self.engine.first(body, b) is None:
+                        continue
+                except PrologError as err:
+                    raise SchemalogError(f"while instantiating {term_to_text(label)}, the schema's "
+                                         f"body raised {err}", clause.pos) from None
+            resolved = Struct("schema", (b.resolve(label), b.resolve(goal_list), b.resolve(goal_post)))
+            return resolved.args[0], read_schema(resolved, pos=clause.pos, allow_unbound=False)
+        if self._has["behaviour"] and self._succeeds(Struct("behaviour", (label,))):
+            post = cond.Lit(Struct(".", (label, Atom("done"))))
+            return label, SchemaDef(label, (), post, pos=used_at)
+        where = f" (a sub-task in the schema at {used_at})" if used_at else ""
+        raise SchemalogError(
+            f"no schema for {term_to_text(label)}{where}; define schema({term_to_text(label)}, Subtasks, Post), "
+            f"or declare a primitive behaviour with schema({term_to_text(label)}, [], Post) or "
+            f"behaviour({term_to_text(label)})", used_at)
+
+    def _succeeds(self, goal: Term) -> bool:
+        try:
+            return self.engine.first(goal) is not None
+        except PrologError as err:
+            raise SchemalogError(f"{term_to_text(goal)} raised {err}") from None
+
+    def agent(self, label: Term) -> str:
+        """Who performs `label`: the first `agent(Label, A)` answer, else `arm`."""
+        cached = self._agent_cache.get(label)
+        if cached is not None:
+            return cached
+        agent = DEFAULT_AGENT
+        if self._has["agent"]:
+            a = Var("A")
+            try:
+                b = self.engine.first(Struct("agent", (label, a)))
+            except PrologError as err:
+                raise SchemalogError(f"agent({term_to_text(label)}, A) raised {err}") from None
+            if b is not None:
+                value = b.resolve(a)
+                if not isinstance(value, Atom):
+                    raise SchemalogError(f"agent({term_to_text(label)}, A) gave A = {term_to_text(value)}, "
+                                         f"not an agent name")
+                agent = value.name
+        self._agent_cache[label] = agent
+        return agent
+
+    def objects(self, label: Term) -> tuple[Term, ...]:
+        """What `label` acts on: `objects/2` if it answers, else the arguments declared
+        with `object/1`, else every atomic argument."""
+        cached = self._objects_cache.get(label)
+        if cached is not None:
+            return cached
+        result: tuple[Term, ...] | None = None
+        if self._has["objects"]:
+            v = Var("Os")
+            try:
+                b = self.engine.first(Struct("objects", (label, v)))
+            except PrologError as err:
+                raise SchemalogError(f"objects({term_to_text(label)}, Os) raised {err}") from None
+            if b is not None:
+                items, tail = list_items(b.resolve(v))
+                if tail != NIL:
+                    raise SchemalogError(f"objects({term_to_text(label)}, Os) must give a list")
+                result = tuple(items)
+        if result is None:
+            args = label.args if isinstance(label, Struct) else ()
+            if self._has["object"]:
+                result = tuple(a for a in args if self._succeeds(Struct("object", (a,))))
+            else:
+                result = tuple(a for a in args if isinstance(a, (Atom, Int, Float, Str)))
+        self._objects_cache[label] = result
+        return result
+
+    # -- provenance of a compressed tree (written by schemalog compress) ------
+    def child_origins(self, parent: Term, index: int, pos: SourcePos | None) -> tuple[Origin, ...]:
+        """The origins of the `index`-th sub-task of `parent`, from origins(Parent, [...])."""
+        if not self._has["origins"]:
+            return ()
+        table = self._origins_cache.get(parent)
+        if table is None:
+            table = self._origins_cache[parent] = self._read_origins(
+                Struct("origins", (parent, Var("L"))), pos, many=True)
+        return table[index] if index < len(table) else ()
+
+    def root_origins(self, root: Term) -> tuple[Origin, ...]:
+        if not self._has["task_origins"]:
+            return ()
+        found = self._read_origins(Struct("task_origins", (root, Var("L"))), None, many=False)
+        return found[0] if found else ()
+
+    def _read_origins(self, goal: Struct, pos: SourcePos | None, many: bool) -> list[tuple[Origin, ...]]:
+        b = self.engine.first(goal)
+        if b is None:
+            return []
+        value = b.resolve(goal.args[1])
+        groups = list_items(value)[0] if many else [value]
+        try:
+            return [tuple(_origin(t) for t in list_items(group)[0]) for group in groups]
+        except (ValueError, cond.NotACondition) as err:
+            raise SchemalogError(f"malformed provenance in {term_to_text(goal.args[0])}: {err}", pos) from None
+
+    # -- the walk -------------------------------------------------------------
+    def instantiate(self, label: Term) -> Behaviour:
+        """Build the task tree rooted at `label` (a ground term)."""
+        if not is_ground(label):
+            raise SchemalogError(f"the task {term_to_text(label)} has variables: name a ground task "
+                                 f"(its objects filled in, e.g. add(water) rather than add(X))")
+        label, schema = self.lookup(label, None)
+        nodes = 1
+        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, (label,), list(schema.entries),
+                      self.root_origins(label))
+        stack = [root]
+        while True:
+            frame = stack[-1]
+            if frame.pending:
+                entry = frame.pending.pop(0)
+                nodes += 1
+                if nodes > self.max_nodes:
+                    raise SchemalogError(f"the task has more than {self.max_nodes:,} behaviours "
+                                         f"(raise the limit with --max-nodes)", frame.schema.pos)
+                if frame.level + 1 > self.max_depth:
+                    raise SchemalogError(f"the task is deeper than {self.max_depth} levels at "
+                                         f"{term_to_text(entry.behaviour)} (raise the limit with --max-depth)",
+                                         frame.schema.pos)
+                if not is_ground(entry.behaviour):
+                    # Each look-up would bind the variable on its own, so siblings sharing it
+                    # could disagree: the schema must bind it.
+                    raise SchemalogError(
+                        f"the sub-task {term_to_text(entry.behaviour)} of {term_to_text(frame.label)} has "
+                        f"variables the schema does not bind", frame.schema.pos)
+                sub, sub_schema = self.lookup(entry.behaviour, frame.schema.pos)
+                if any(sub == p for p in frame.path) or not is_ground(sub) and any(
+                        term_to_text(sub) == term_to_text(p) for p in frame.path):
+                    cycle = " -> ".join(term_to_text(p) for p in (*frame.path, sub))
+                    raise SchemalogError(f"recursive schema: {cycle}", frame.schema.pos)
+                # The sibling being built now is entry number len(frame.built).
+                origins = self.child_origins(frame.label, len(frame.built), frame.schema.pos)
+                stack.append(_Frame(sub, entry.releaser, entry.importance, sub_schema, frame.level + 1,
+                                    (*frame.path, sub), list(sub_schema.entries), origins))
+                continue
+            stack.pop()
+            node = Behaviour(
+                label=frame.label, agent=self.agent(frame.label), objects=self.objects(frame.label),
+                releaser=frame.releaser, post=frame.schema.post, children=tuple(frame.built),
+                importance=frame.importance, origins=frame.origins, source=frame.schema.pos)
+            if not stack:
+                return node
+            stack[-1].built.append(node)
+
+
+def _origin(t: Term) -> Origin:
+    """Read origin(Label, Releaser, Post, Importance, Position, Slot)."""
+    if not (isinstance(t, Struct) and t.name == "origin" and len(t.args) == 6):
+        raise ValueError(f"expected origin(Label, Releaser, Post, Importance, Position, Slot), "
+                         f"not {term_to_text(t)}")
+    label, releaser, post, weight, position, slot = t.args
+    if not (isinstance(weight, (Int, Float)) and isinstance(position, Int) and isinstance(slot, Int)):
+        raise ValueError(f"importance, position and slot must be numbers in {term_to_text(t)}")
+    return Origin(label, cond.from_term(releaser), cond.from_term(post), weight.value,
+                  position.value, slot.value)
+
+
+def instantiate(kb: KnowledgeBase, label: Term, max_depth: int = DEFAULT_MAX_DEPTH,
+                max_nodes: int = DEFAULT_MAX_NODES) -> Behaviour:
+    """The paper's loadTaskFromLTM: the task tree of `label` in working memory."""
+    return Instantiator(kb, max_depth, max_nodes).instantiate(label)
+
+
+def declared_tasks(kb: KnowledgeBase) -> list[Term]:
+    """The tasks a file declares with `task/1`, in order."""
+    return [c.head.args[0] for c in kb.clauses("task", 1) if not c.library]
+
+
+__all__ = ["Behaviour", "Origin", "TaskTree", "instantiate", "declared_tasks", "walk", "walk_with_depth",
+           "count_nodes", "depth", "Instantiator"]

@@ -1,0 +1,246 @@
+"""The top level: answers printed as SWI-Prolog prints them, `schemalog query` and the REPL,
+run as a user runs them (a subprocess; the REPL also on a pseudo-terminal)."""
+
+import json
+import subprocess
+import sys
+import time
+
+import pexpect
+import pytest
+
+from schemalog.cli.relations import Workspace
+from schemalog.cli.toplevel import answer_text, answers, complete_input, read_query
+
+from conftest import COFFEE, MIX, ROOT
+
+
+def run(*args, stdin=None, env=None):
+    return subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], capture_output=True,
+                          text=True, cwd=ROOT, timeout=120, input=stdin, env=env)
+
+
+# What swipl 9.0.4's top level printed for each query (joined on one line).
+SWIPL_ANSWERS = [
+    ("member(X, [a,b]), Y = X", "X = Y, Y = a"),
+    ("X = a, Y = a, Z = b", "X = Y, Y = a, Z = b"),
+    ("X = Y, Z = f(X, W)", "X = Y, Z = f(Y, W)"),
+    ("length(L, 2)", "L = [_, _]"),
+    ("X = f(Y), Y = g(_Z)", "X = f(g(_Z)), Y = g(_Z)"),
+    ("X = (a:-b), Y = (p,q), Z = [1,2|T]", "X = (a:-b), Y = (p, q), Z = [1, 2|T]"),
+    ("X = 'hello world', Y = \"str\", Z = -(1), W = - 1, V = 1-2",
+     "X = 'hello world', Y = \"str\", Z = W, W = - 1, V = 1-2"),
+    ("X = f(A, B, A)", "X = f(A, B, A)"),
+    ("true", "true"),
+    ("X = f(X)", "X = f(X)"),
+    ("X = (is), Y = ',', Z = f(is), W = (mod)-1", "X = (is), Y = (','), Z = f(is), W = (mod)-1"),
+    ("X = '/*'(a)", "X = '/*'(a)"),                                   # cyclic: made without occurs check
+    ("_X = 1", "_X = 1"),                                       # swipl 9 shows named _ variables
+    ("_Y = 1, X = _Y", "_Y = X, X = 1"),
+    ("X = f(_A), _A = Y", "X = f(Y), _A = Y"),
+    ("_ = 1", "true"),
+]
+
+
+@pytest.mark.parametrize("query, printed", SWIPL_ANSWERS)
+def test_answers_print_as_in_swi_prolog(query, printed):
+    ws = Workspace([])
+    first = next(answers(ws, read_query(query)))[0]
+    assert answer_text(first) == printed
+
+
+@pytest.mark.parametrize("text, complete", [
+    ("X = 1.", True), ("X = 1", False), ("member(X,\n[1]).", True), ("X = 'a.", False),
+    ("X = 'a.'.", True), ("X = \"end.\"", False), ("X = 1. % done", True), ("X = 1 % not yet.", False),
+    ("X = a /* . */", False), ("X = '.'", False), (":tree", True), ("X = 0'.", False), ("X = 0'. .", True),
+    ("X == Y.", True), ("X = [1,2|T]", False), ("", True), ("% a comment", True), ("/* c */", True),
+    ("/* open", False), ("X = 1. Y = 2.", True), ("X = 1. Y = ", False),
+])
+def test_a_query_ends_at_its_full_stop(text, complete):
+    assert complete_input(text) is complete
+
+
+# ---------------------------------------------------------------------------
+# schemalog query
+
+def test_query_prints_every_answer_one_per_line():
+    r = run("query", MIX, "sequential(X, Y), in_tree(X, _, original)")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.splitlines() == ["X = 1, Y = 5", "X = 2, Y = 3", "X = 6, Y = 7", "X = 7, Y = 8",
+                                     "X = 8, Y = 9", "X = 9, Y = 10"]
+
+
+def test_query_json_over_several_files():
+    r = run("query", MIX, COFFEE, "merged(T, B, Parts), length(Parts, N), N > 2", "--json")
+    assert r.returncode == 0, r.stderr
+    data = json.loads(r.stdout)
+    assert {d["T"] for d in data} == {"use(spoon)", "prepareboth"}
+    assert all(isinstance(d["B"], int) and d["N"] > 2 for d in data)
+    assert data[0]["Parts"] == "[a3(cup), a4(cup), a5(cup), a6(cup), a7(cup)]"
+
+
+def test_query_exit_status_is_0_with_answers_1_without_2_on_errors():
+    assert run("query", MIX, "next_action(B)", "--first").stdout == "B = 2\n"
+    r = run("query", MIX, "holds(spoon.used)")
+    assert (r.returncode, r.stdout) == (1, "false\n")
+    r = run("query", MIX, "sequential(X")
+    assert r.returncode == 2 and "^" in r.stderr and "<query>:1:" in r.stderr
+    r = run("query", "atom_length(X, Y)")
+    assert r.returncode == 2 and "instantiation_error" in r.stderr and "Traceback" not in r.stderr
+    r = run("query", "nope(1)")
+    assert r.returncode == 2 and "unknown procedure nope/1" in r.stderr
+    r = run("query", "--max-steps", "1000", "length(L, N), N > 10000")
+    assert r.returncode == 2 and "step limit of 1,000" in r.stderr
+    r = run("query", ROOT / "no-such-file.pl", "true")
+    assert r.returncode == 2 and "no-such-file.pl" in r.stderr
+    r = run("query", MIX, "X = 1", "--json", "--task", "nothing")
+    assert r.returncode == 2 and "no task nothing" in r.stderr
+
+
+def test_query_options_may_stand_between_files_and_query():
+    r = run("query", MIX, "--state", "spoon.taken", "--first", "enabled(B), node(B, L)")
+    assert (r.returncode, r.stdout) == (0, "B = 6, L = a3(cup)\n")
+    r = run("query", MIX, "--bogus", "true")
+    assert r.returncode == 2 and "unrecognized arguments: --bogus" in r.stderr
+
+
+def test_the_step_limit_stops_endless_answers_too():
+    r = run("query", "--max-steps", "1000", "between(1, inf, X)")
+    assert r.returncode == 2 and r.stdout.splitlines()[-1] == "X = 1000" and "step limit" in r.stderr
+
+
+def test_a_program_without_tasks_keeps_its_own_run_and_holds(tmp_path):
+    program = tmp_path / "pure.pl"
+    program.write_text("run(X, Y) :- Y is X * 2.\nholds(sunny).\n")
+    assert run("query", program, "run(3, Y), holds(S)").stdout == "Y = 6, S = sunny\n"
+    r = run("query", "enabled(X)")
+    assert r.returncode == 2 and "unknown procedure enabled/1" in r.stderr
+
+
+def test_deep_terms_are_answered():
+    r = run("repl", stdin=f"assertz((mk(0, a) :- !)), assertz((mk(N, f(T)) :- M is N - 1, mk(M, T))).\n"
+                          f"mk(50000, T), mk(50000, U), T == U, copy_term(T, C), C == T, Ok = yes.\nX = 1.\n")
+    assert r.returncode == 0 and "Ok = yes." in r.stdout and "X = 1." in r.stdout, r.stdout[-500:]
+
+
+def test_query_focus_options():
+    r = run("query", MIX, "enabled(B), node(B, L)", "--state", "hand.free, a1.done, a2.done")
+    assert r.stdout == "B = 4, L = gripper(close)\n"
+    r = run("query", MIX, "enabled(B), node(B, L)", "--compressed")
+    assert r.stdout == "B = 14, L = a1_a2(spoon)\n"
+    assert run("query", MIX, "enabled(B)", "--task", "12").stdout == "B = 14\n"   # a compressed root
+    r = run("query", COFFEE, "next_action(B), node(B, L)", "--scene", ROOT / "kb" / "scenes" / "kitchen.yaml")
+    assert r.returncode == 0 and r.stdout.startswith("B = ")
+
+
+def test_query_output_of_write_goes_with_the_answers():
+    r = run("query", "forall(member(X, [a, b]), (write(X), nl))")
+    assert r.stdout == "a\nb\ntrue\n"
+    assert run("query", "write(hello)").stdout == "hello\ntrue\n"           # answers start a line
+    assert run("query", "write(hello), fail").stdout == "hello\nfalse\n"
+    r = run("query", "write(hello), nl", "--json")
+    assert json.loads(r.stdout) == [{}] and r.stderr.endswith("hello\n")
+
+
+# ---------------------------------------------------------------------------
+# The REPL
+
+TRANSCRIPT = """\
+member(X, [1,2,3]).
+;
+
+append(X, Y,
+  [a]).
+;
+;
+:tree
+:compress
+enabled(B), node(B, L).
+:run
+holds(spoon.used).
+:reset
+holds(spoon.used).
+foo(.
+:limit 500
+assertz((loop :- loop)), loop.
+:verify
+:quit
+X = never.
+"""
+
+
+def test_repl_piped_transcript():
+    r = run("repl", MIX, stdin=TRANSCRIPT)
+    assert r.returncode == 0, r.stderr
+    out = r.stdout
+    assert "?- member(X, [1,2,3]).\nX = 1 ;\nX = 2.\n" in out
+    assert "X = [], Y = [a] ;\nX = [a], Y = [] ;\nfalse.\n" in out
+    assert "2 a1(spoon)  pre: true  post: a1.done" in out                 # :tree numbers as node/2
+    assert "% Bi = 12, Bm = 6, D = 3, RD = 0.67" in out
+    assert "?- enabled(B), node(B, L).\nB = 14, L = a1_a2(spoon)." in out
+    assert "% completed: use(spoon) is accomplished" in out
+    assert "?- holds(spoon.used).\ntrue.\n" in out and "?- holds(spoon.used).\nfalse.\n" in out
+    assert "syntax error" in out and "    ^" in out
+    assert "step limit of 500 resolution steps exceeded" in out
+    assert "use(spoon): proved" in out
+    assert "never" not in out
+
+
+def test_repl_reads_several_queries_on_a_line_and_skips_comments():
+    r = run("repl", "--plain", stdin="X = 1. Y = 2.\n% a comment\n/* another */\nZ = 3.\n;\n:tree 12\n:tree X\n:limit \u0661\n")
+    assert r.returncode == 0, r.stdout
+    assert "?- X = 1.\nX = 1.\n?- Y = 2.\nY = 2.\n?- Z = 3.\nZ = 3.\n" in r.stdout
+    assert "no task 12 here" in r.stdout and "not a variable" in r.stdout
+    assert "needs a positive number of steps" in r.stdout
+
+
+def test_repl_load_and_unfinished_input(tmp_path):
+    extra = tmp_path / "extra.pl"
+    extra.write_text("colour(red). colour(green).\n")
+    r = run("repl", f"--plain", stdin=f":load {extra}\nfindall(C, colour(C), L).\nX = \n")
+    assert "L = [red, green]" in r.stdout
+    assert r.returncode == 2 and "input ended inside a query" in r.stdout
+    r = run("repl", stdin=":load /no/such.pl\n:tree\n")
+    assert "no such file" in r.stdout and "no task here" in r.stdout
+
+
+def test_repl_on_a_terminal(tmp_path):
+    history = tmp_path / "history"
+    child = pexpect.spawn(sys.executable, ["-m", "schemalog", "repl", str(MIX)], cwd=str(ROOT),
+                          # a pseudo-terminal answers no cursor-position request: do not wait for one
+                          env={"SCHEMALOG_HISTORY": str(history), "TERM": "xterm", "PATH": "/usr/bin:/bin",
+                               "PROMPT_TOOLKIT_NO_CPR": "1"},
+                          encoding="utf-8", timeout=30, dimensions=(40, 120))
+    child.expect(r"\?-")
+    child.send("member(X,\r")                    # not finished: Enter continues the query
+    child.send("[1,2,3]).\r")
+    child.expect("X = 1")
+    child.send(";")                               # ';' asks for the next answer
+    child.expect("X = 2")
+    child.send("\r")                              # Enter stops
+    child.expect(r"\?-")
+    child.send("between(1, inf, X), X < 0.\r")   # runs until Ctrl-C
+    child.expect(r"X < 0\.")
+    time.sleep(1.5)
+    child.sendintr()
+    child.expect("interrupted")
+    child.expect(r"\?-")
+    child.send("sequen\t")                        # one completion: Tab takes it
+    child.send("(X, Y).\r")
+    child.expect("X = 1, Y = 5")
+    child.send("\r")
+    child.expect(r"\?-")
+    child.sendeof()
+    child.expect(pexpect.EOF)
+    saved = history.read_text()
+    assert "+member(X,\n+[1,2,3])." in saved and "+sequential(X, Y)." in saved
+
+
+def test_completion_offers_predicates_relations_atoms_and_commands():
+    from schemalog.cli.toplevel import completion_words
+
+    ws = Workspace([str(MIX)])
+    assert completion_words(ws, "sequen") == {"sequential"}
+    assert completion_words(ws, ":co") == {":compress"}
+    assert {"spoon", "subtask", "schema"} <= completion_words(ws, "s")       # atoms and predicates
+    assert "next_action" in completion_words(ws, "next")

@@ -1,0 +1,130 @@
+"""The paper's evaluation as a command: what `schemalog bench` measures and writes.
+
+Timings are never asserted (they belong to benchmarks/): these tests check that a run
+completes, that every generated task has the requested reduction degree, that compressed
+runs complete and are proved, and that the tables and figures are written and readable.
+"""
+
+import csv
+import io
+import os
+import subprocess
+import sys
+
+import py_trees
+import pytest
+
+from schemalog.task import conditions as cond
+from schemalog.evaluate.bench import BenchPlan, headlines, py_trees_tree, run_bench, to_csv, to_markdown
+from schemalog.task.compress import compress
+from schemalog.evaluate.generate import TOLERANCE, generate
+from schemalog.task.tree import count_nodes, walk
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd)
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench") / "results"
+    done = run("bench", "--quick", "--out", out)
+    return done, out
+
+
+def test_bench_quick_writes_the_tables_and_the_figures(quick):
+    done, out = quick
+    assert done.returncode == 0, done.stderr
+    for name in ("figure4", "selectors", "figure3"):
+        assert (out / f"{name}.png").read_bytes().startswith(PNG)
+        assert "<svg" in (out / f"{name}.svg").read_text()[:2000]
+    assert "digraph" in (out / "figure3.dot").read_text()
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]      # no temporary files left
+    mask = os.umask(0)
+    os.umask(mask)
+    assert {p.stat().st_mode & 0o777 for p in out.iterdir()} == {0o666 & ~mask}   # not mkstemp's 0600
+    markdown = (out / "results.md").read_text()
+    assert "## Headlines" in markdown and "| D | b | Bi |" in markdown and "0.23 -> 0.03 s" in markdown
+    assert "- reduction degree: every cell within" in done.stdout
+
+
+def test_bench_quick_every_generated_task_has_its_rd_and_is_proved(quick):
+    _, out = quick
+    rows = list(csv.DictReader((out / "results.csv").open()))
+    generated = [r for r in rows if r["task"] == "generated"]
+    cells = {(r["depth"], r["children"], r["rd_asked"]) for r in generated}
+    assert len(cells) == 36                              # the paper's 9 shapes x 4 RDs
+    for r in generated:
+        assert abs(float(r["rd_achieved"]) - float(r["rd_asked"])) <= TOLERANCE, r
+        assert r["verify_result"] in ("proved", "limit"), r                 # never a counterexample
+        if int(r["behaviours"]) <= 121:
+            assert r["verify_result"] == "proved", r
+        assert {"scan", "incremental", "py_trees"} >= {r["selector"]}
+    selectors = {(r["depth"], r["children"], r["rd_asked"], r["tree"], r["selector"]) for r in generated}
+    assert len(selectors) == len(cells) * 2 * 3          # original and compressed, three executives
+
+
+def test_bench_quick_reproduces_the_coffee_and_tea_row(quick):
+    _, out = quick
+    rows = [r for r in csv.DictReader((out / "results.csv").open()) if r["task"] == "coffee and tea"]
+    assert {(r["behaviours"], r["behaviours_compressed"]) for r in rows} == {("63", "33")}
+    decisions = {(r["tree"], r["selector"]): r["decisions_per_run"] for r in rows}
+    assert decisions["original", "scan"] == decisions["original", "incremental"] == "36"
+    assert decisions["compressed", "scan"] == decisions["compressed", "incremental"] == "16"
+    assert rows[0]["verify_result"] == "proved"
+
+
+def test_bench_refuses_a_file_as_out_and_needs_a_plan(tmp_path):
+    target = tmp_path / "file"
+    target.write_text("keep me")
+    refused = run("bench", "--quick", "--out", target)
+    assert refused.returncode == 2 and "is a file" in refused.stderr and "Traceback" not in refused.stderr
+    assert target.read_text() == "keep me"
+    nested = run("bench", "--quick", "--out", target / "sub")      # found before measuring, not after
+    assert nested.returncode == 2 and "cannot make the directory" in nested.stderr
+    assert "error: error" not in nested.stderr
+    assert run("bench").returncode == 2
+    assert run("bench", "--quick", "--paper").returncode == 2
+
+
+def test_a_small_plan_measures_every_run_and_every_decision():
+    plan = BenchPlan(shapes=((3, 2), (4, 2)), reductions=(0.0, 0.7), runs=2, ticks=2, max_states=1_000)
+    results = run_bench(plan)
+    assert [(c.depth, c.rd_asked) for c in results.cells] == [(3, 0.0), (3, 0.7), (4, 0.0), (4, 0.7)]
+    for cell in results.cells + [results.coffee]:
+        for tree in ("original", "compressed"):
+            scan, inc = cell.timing(tree, "scan"), cell.timing(tree, "incremental")
+            assert len(scan.per_run) == len(inc.per_run) == 2
+            assert scan.decisions == inc.decisions                       # both selectors decide alike
+            assert len(scan.per_decision) == sum(scan.decisions)
+            assert len(cell.timing(tree, "py_trees").per_decision) == 2 * 2
+    four = results.cells[3]
+    assert (four.behaviours, four.merged) == (15, 7)
+    assert four.timing("compressed", "scan").decisions == [2, 2]        # two merged chains, one decision each
+    table = to_markdown(results, "test")
+    assert table.count("\n| 3 | 2 |") == 2 and "| 5 | coffee | 63 |" in table
+    rows = list(csv.DictReader(io.StringIO(to_csv(results))))
+    assert len(rows) == 5 * 2 * 3
+    first = headlines(results)[0]          # two RD 0 cells tie on their distance from the request
+    assert first.startswith("reduction degree: 1 cell(s) beyond 0.05: depth 3, 2 children, RD 0.7")
+    assert "allows RD at most 0.50" in first                             # ... and the cell says why
+
+
+def test_the_py_trees_peer_has_the_same_shape_and_reads_the_same_state():
+    tree = compress(generate(4, 2, 0.5, seed=1)).tree
+    state: set = set()
+    peer = py_trees_tree(tree, state)
+    assert sum(1 for _ in peer.iterate()) == count_nodes(tree)
+    peer.tick_once()
+    Status = py_trees.common.Status
+    assert all(b.status == Status.RUNNING for b in peer.iterate())      # one tick visits every behaviour
+    leaves = {b.name: b.enabled for b in peer.iterate() if not b.children}
+    for leaf in (n for n in walk(tree) if not n.children):              # ... and checks its releaser
+        assert leaves[leaf.name] == cond.holds(leaf.pre, set())
+    assert any(leaves.values()) and not all(leaves.values())
+    state.update(lit.atom for n in walk(tree) for lit in cond.literals(n.post))
+    peer.tick_once()
+    assert peer.status == Status.SUCCESS

@@ -1,0 +1,109 @@
+"""Knowledge files: pl <-> YAML round trips exactly; YAML errors have positions; writes are atomic."""
+
+import os
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from schemalog.formats.documents import (document_from_text, document_from_yaml, read_document, to_pl, to_yaml,
+                                 write_atomically)
+from schemalog.errors import SchemalogError
+
+from conftest import COFFEE, MIX, SEED_COFFEE
+
+
+@pytest.mark.parametrize("path", [MIX, COFFEE, SEED_COFFEE])
+def test_pl_yaml_pl_round_trips_exactly(path):
+    doc = read_document(path)
+    pl = to_pl(doc)
+    assert to_pl(document_from_yaml(to_yaml(doc), "t.yaml")) == pl
+    assert to_pl(document_from_text(pl)) == pl  # canonical text is a fixed point
+
+
+names = st.sampled_from(["take", "mix", "pour", "a1", "a2", "gripper"])
+objects_ = st.sampled_from(["spoon", "cup", "water", "O", "_"])
+literal = st.builds(lambda o, p, neg: f"{'not ' if neg else ''}{o}.{p}",
+                    st.sampled_from(["hand", "spoon", "O"]), st.sampled_from(["free", "taken", "done"]),
+                    st.booleans())
+releaser = st.one_of(st.just("true"), literal,
+                     st.lists(literal, min_size=2, max_size=3).map(" and ".join),
+                     st.lists(literal, min_size=2, max_size=3).map(" or ".join))
+entry = st.builds(lambda n, o, r, w: f"({n}({o}), {r}{'' if w is None else f', {w}'})",
+                  names, objects_, releaser, st.one_of(st.none(), st.integers(0, 5), st.just(1.5)))
+schema_clause = st.builds(
+    lambda n, o, es, post: f"schema({n}({o}), [{', '.join(es)}], {post}).",
+    names, objects_, st.lists(entry, max_size=4), literal.filter(lambda s: True))
+declaration = st.sampled_from(["task(use(spoon)).", "object(cup).", "initial(hand.free).",
+                               "agent(gripper(_), gripper).", "behaviour(a9(_)).",
+                               "helper(X) :- member(X, [a, b]), X \\== c.", ":- dynamic seen/1."])
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.one_of(schema_clause, declaration), min_size=1, max_size=8))
+def test_generated_knowledge_round_trips_through_yaml(clauses):
+    text = "\n".join(clauses) + "\n"
+    doc = document_from_text(text, "gen.pl")
+    pl = to_pl(doc)
+    assert to_pl(document_from_yaml(to_yaml(doc), "gen.yaml")) == pl
+    assert to_pl(document_from_text(pl, "again.pl")) == pl
+
+
+def test_yaml_syntax_error_has_line_and_column():
+    with pytest.raises(SchemalogError) as err:
+        document_from_yaml("schemalog: 1\nitems:\n  - schema: [unclosed\n", "bad.yaml")
+    assert err.value.pos.file == "bad.yaml" and err.value.pos.line >= 3
+
+
+@pytest.mark.parametrize("text, message", [
+    ("- just a list\n", "mapping with an `items` list"),
+    ("items:\n  - 42\n", r"items\[0\]: expected a mapping"),
+    ("items:\n  - {schema: a}\n", r"items\[0\]: missing `post`"),
+    ("items:\n  - {schema: a, post: a.done, subtasks: [{behaviour: b, importance: x}]}\n",
+     "importance` must be a number"),
+    ("items:\n  - {schema: 'a(', post: a.done}\n", r"items\[0\]: .*syntax error|end of file"),
+    ("items:\n  - {colour: red}\n", "a record needs one of"),
+])
+def test_bad_yaml_records_are_named(text, message):
+    with pytest.raises(SchemalogError, match=message):
+        document_from_yaml(text, "bad.yaml")
+
+
+def test_yaml_tags_are_refused_by_safe_load():
+    with pytest.raises(SchemalogError, match="YAML"):
+        document_from_yaml("items: !!python/object/apply:os.system ['true']\n", "evil.yaml")
+
+
+def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
+    target = tmp_path / "out.pl"
+    write_atomically(target, "a.\n")
+    assert target.read_text() == "a.\n"
+    with pytest.raises(SchemalogError, match="no such directory"):
+        write_atomically(tmp_path / "missing" / "x.pl", "a.\n")
+
+    def failing_replace(src, dst):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(os, "replace", failing_replace)
+    with pytest.raises(SchemalogError, match="cannot write .*disk full"):  # a message, not a traceback
+        write_atomically(target, "b.\n")
+    assert target.read_text() == "a.\n"  # the old content survives
+    assert [p.name for p in tmp_path.iterdir()] == ["out.pl"]  # and no temporary is left
+
+
+def test_written_files_follow_the_umask_or_keep_the_mode_they_replace(tmp_path):
+    import os
+    from schemalog.formats.documents import write_atomically
+
+    mask = os.umask(0o022)
+    try:
+        fresh = tmp_path / "fresh.pl"
+        write_atomically(fresh, "task(a).\n")
+        assert fresh.stat().st_mode & 0o777 == 0o644          # not mkstemp's private 0600
+        kept = tmp_path / "kept.pl"
+        kept.write_text("old")
+        kept.chmod(0o640)
+        write_atomically(kept, "task(b).\n")
+        assert kept.stat().st_mode & 0o777 == 0o640 and kept.read_text() == "task(b).\n"
+    finally:
+        os.umask(mask)
