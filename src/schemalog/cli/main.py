@@ -19,7 +19,8 @@ from .. import __version__
 from ..task import conditions as cond
 from ..formats.documents import (YAML_SUFFIXES, Document, check_writable, file_mode, read_document, to_pl, to_yaml,
                         write_atomically)
-from ..logic.engine import DEFAULT_MAX_STEPS, PrologError
+from ..logic.engine import DEFAULT_MAX_STEPS
+from ..logic.exceptions import PrologError
 from ..errors import SchemalogError, UsageError
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import MAX_BYTES, Clause, parse_term

@@ -22,7 +22,8 @@ from ..task import conditions as cond
 from ..task.compress import compress, original_of, protected_labels
 from ..task.conditions import DEFAULT_SYMPY_BUDGET, Simplifier
 from ..formats.documents import read_document
-from ..logic.engine import DEFAULT_MAX_STEPS, Engine, instantiation_error, iso_error, type_error
+from ..logic.engine import DEFAULT_MAX_STEPS, Engine
+from ..logic.exceptions import instantiation_error, iso_error, type_error
 from ..errors import SchemalogError
 from ..run.execute import BASE_ACTIVATION, Executive, Plan, ScanSelector, emphasis, enabled_indices
 from ..task.facts import tree_facts

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator, TextIO
 
-from ..logic.engine import PrologError, StepLimitExceeded, compare_terms
+from ..logic.builtins import compare_terms
+from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..errors import SchemalogError
 from ..logic.parse import parse_term
 from .relations import COMPRESSED, ORIGINAL, RELATIONS, Workspace

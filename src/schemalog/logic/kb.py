@@ -9,6 +9,9 @@ A call whose first argument is bound only tries the clauses with the same key or
 a variable there; a call whose first argument is unbound uses the first other bound
 argument, indexed just in time. The lists are rebuilt (not mutated) on assert and
 retract, so a running call keeps its snapshot (the logical update view).
+
+The knowledge base is the engine's `builtins.Database`; it sits above the engine because
+consulting runs directives (`:- Goal.`) with it, and the engine never imports it back.
 """
 
 from __future__ import annotations
@@ -21,6 +24,8 @@ from importlib import resources
 from pathlib import Path
 
 from ..errors import SchemalogError, SourcePos
+from .engine import Engine, is_builtin
+from .exceptions import PrologError
 from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
@@ -410,8 +415,6 @@ class KnowledgeBase:
     def add_clause(self, head: Term, body: Term = TRUE, pos: SourcePos | None = None,
                    front: bool = False) -> None:
         """Add `head :- body`, checking that the head can be a clause head."""
-        from .engine import is_builtin  # engine imports kb only for typing
-
         if isinstance(head, Var):
             raise SchemalogError("a clause head cannot be a variable", pos)
         if not isinstance(head, (Atom, Struct)):
@@ -425,8 +428,6 @@ class KnowledgeBase:
     def add_facts(self, facts: list[Term]) -> None:
         """Add many ground facts at once (a task tree's relations): one list per predicate
         instead of a copy per clause, so loading n facts costs O(n)."""
-        from .engine import is_builtin
-
         grouped: dict[tuple[str, int], list[StoredClause]] = {}
         for fact in facts:
             key = indicator(fact)
@@ -536,8 +537,6 @@ class KnowledgeBase:
                 or isinstance(goal, Atom) and goal.name == "use_module":
             self.warnings.append(f"{d.pos}: warning: directive {term_to_text(goal)} ignored")
             return
-        from .engine import Engine, PrologError
-
         try:
             if Engine(self, max_steps=1_000_000).first(goal) is None:
                 self.warnings.append(f"{d.pos}: warning: directive failed: {term_to_text(goal)}")

@@ -1,9 +1,10 @@
 """Built-in predicates beyond the core machine, in Python: SWI-Prolog's behaviour, mode by mode.
 
-    Builtin       = (engine, args, bindings) -> bool              (deterministic)
-    NondetBuiltin = (engine, args, bindings) -> Iterator[None]    (one yield per solution)
+    Builtin       = (machine, args, bindings) -> bool              (deterministic)
+    NondetBuiltin = (machine, args, bindings) -> Iterator[None]    (one yield per solution)
 
-engine.py merges EXTRA and EXTRA_NONDET into its tables. Library predicates that read best in
+They see the engine through builtins.Machine, as the core ones do; engine.py merges EXTRA and
+EXTRA_NONDET into its tables. Library predicates that read best in
 Prolog (permutation/2, predsort/3, nth0/4, aggregate_all/3...) are in prelude.pl instead.
 """
 
@@ -12,10 +13,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Iterator
 
-from .engine import (Bindings, Engine, _read_number, _text_of, compare_terms, evaluate, instantiation_error,
-                     iso_error, standard_order_key, type_error)
+from .arith import evaluate
+from .builtins import Machine, _read_number, _text_of, _variables, compare_terms, standard_order_key
+from .exceptions import instantiation_error, iso_error, type_error
 from .terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
-from .unify import rename
+from .unify import Bindings, rename
 
 
 def _domain_error(domain: str, culprit: Term):
@@ -42,7 +44,7 @@ def _natural(t: Term) -> int | None:
 
 # -- arithmetic relations --------------------------------------------------------
 
-def _succ(e: Engine, a: tuple, b: Bindings) -> bool:
+def _succ(e: Machine, a: tuple, b: Bindings) -> bool:
     """succ(?X, ?Y): Y = X + 1, both natural numbers."""
     x, y = _natural(b.walk(a[0])), _natural(b.walk(a[1]))
     if x is not None:
@@ -52,7 +54,7 @@ def _succ(e: Engine, a: tuple, b: Bindings) -> bool:
     return y > 0 and b.unify(a[0], Int(y - 1))
 
 
-def _plus(e: Engine, a: tuple, b: Bindings) -> bool:
+def _plus(e: Machine, a: tuple, b: Bindings) -> bool:
     """plus(?X, ?Y, ?Z): Z = X + Y, any two known."""
     x, y, z = (_integer(b.walk(t)) for t in a)
     if x is not None and y is not None:
@@ -66,7 +68,7 @@ def _plus(e: Engine, a: tuple, b: Bindings) -> bool:
 
 # -- text ------------------------------------------------------------------------
 
-def _char_code(e: Engine, a: tuple, b: Bindings) -> bool:
+def _char_code(e: Machine, a: tuple, b: Bindings) -> bool:
     char, code = b.walk(a[0]), b.walk(a[1])
     if isinstance(char, Atom):
         if len(char.name) != 1:
@@ -84,19 +86,19 @@ def _char_code(e: Engine, a: tuple, b: Bindings) -> bool:
 
 def _convert(make, fn) -> callable:
     """A text-to-text relation such as upcase_atom/2: the first argument must be text."""
-    def run(e: Engine, a: tuple, b: Bindings) -> bool:
+    def run(e: Machine, a: tuple, b: Bindings) -> bool:
         return b.unify(a[1], make(fn(_text_of(b.walk(a[0])))))
     return run
 
 
-def _string_to_atom(e: Engine, a: tuple, b: Bindings) -> bool:
+def _string_to_atom(e: Machine, a: tuple, b: Bindings) -> bool:
     s = b.walk(a[0])
     if not isinstance(s, Var):
         return b.unify(a[1], Atom(_text_of(s)))
     return b.unify(s, Str(_text_of(b.walk(a[1]))))
 
 
-def _number_string(e: Engine, a: tuple, b: Bindings) -> bool:
+def _number_string(e: Machine, a: tuple, b: Bindings) -> bool:
     """number_string(?N, +S): S read as a number (white space around it allowed)."""
     s = b.walk(a[1])
     if isinstance(s, Var):
@@ -110,7 +112,7 @@ def _number_string(e: Engine, a: tuple, b: Bindings) -> bool:
     return b.unify(a[0], value)
 
 
-def _string_code(e: Engine, a: tuple, b: Bindings) -> bool:
+def _string_code(e: Machine, a: tuple, b: Bindings) -> bool:
     """string_code(+I, +S, -C): the I-th (from 1) code of S; fails out of range."""
     index = _integer(b.walk(a[0]), allow_var=False)
     text = _text_of(b.walk(a[1]))
@@ -121,7 +123,7 @@ def _string_code(e: Engine, a: tuple, b: Bindings) -> bool:
 
 def _sub_text(make) -> callable:
     """sub_atom/5 and sub_string/5: Sub is the text of length L after B characters, A after it."""
-    def run(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+    def run(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         text = _text_of(b.walk(a[0]))
         n = len(text)
         before, length, after = (_natural(b.walk(t)) for t in a[1:4])
@@ -155,7 +157,7 @@ def _sub_text(make) -> callable:
     return run
 
 
-def _atom_to_term(e: Engine, a: tuple, b: Bindings) -> bool:
+def _atom_to_term(e: Machine, a: tuple, b: Bindings) -> bool:
     """atom_to_term(+Atom, -Term, -Bindings): Bindings = ['X'=_A, ...] in order of appearance."""
     from .parse import parse_term
 
@@ -184,7 +186,7 @@ def _atom_to_term(e: Engine, a: tuple, b: Bindings) -> bool:
 def _concat(make) -> callable:
     """atom_concat/3 and string_concat/3 in every mode: with the whole known and a part
     unknown, each split of the whole that fits the known part, in order."""
-    def run(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+    def run(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         left, right, whole = (b.walk(t) for t in a)
         if not isinstance(left, Var) and not isinstance(right, Var):
             mark = b.mark()
@@ -205,7 +207,7 @@ def _concat(make) -> callable:
 
 def _text_list(element) -> callable:
     """string_chars/2 and string_codes/2 both ways: the list of a string, or the string of a list."""
-    def run(e: Engine, a: tuple, b: Bindings) -> bool:
+    def run(e: Machine, a: tuple, b: Bindings) -> bool:
         s = b.walk(a[0])
         if not isinstance(s, Var):
             return b.unify(a[1], make_list([element(c) for c in _text_of(s)]))
@@ -216,7 +218,7 @@ def _text_list(element) -> callable:
     return run
 
 
-def _atomic_list_concat(e: Engine, a: tuple, b: Bindings) -> bool:
+def _atomic_list_concat(e: Machine, a: tuple, b: Bindings) -> bool:
     """atomic_list_concat(+List, +Sep, -Atom), or with a non-empty Sep and a known Atom,
     split it: atomic_list_concat(L, '-', 'a-b') gives L = [a, b]."""
     items, tail = list_items(b.resolve(a[0]))
@@ -229,7 +231,7 @@ def _atomic_list_concat(e: Engine, a: tuple, b: Bindings) -> bool:
     raise instantiation_error()
 
 
-def _arg(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
+def _arg(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     """arg(?N, +Term, ?Arg): with N unbound, each argument in turn."""
     n, term = b.walk(a[0]), b.walk(a[1])
     if isinstance(term, Var):
@@ -256,15 +258,14 @@ def _arg(e: Engine, a: tuple, b: Bindings) -> Iterator[None]:
 
 # -- terms and lists -----------------------------------------------------------
 
-def _term_variables(e: Engine, a: tuple, b: Bindings) -> bool:
-    from .engine import _variables
+def _term_variables(e: Machine, a: tuple, b: Bindings) -> bool:
 
     out: list[Var] = []
     _variables(a[0], b, out, set())
     return b.unify(a[1], make_list(out))
 
 
-def _keysort(e: Engine, a: tuple, b: Bindings) -> bool:
+def _keysort(e: Machine, a: tuple, b: Bindings) -> bool:
     items, tail = list_items(b.resolve(a[0]))
     if isinstance(tail, Var):
         raise instantiation_error()
@@ -278,7 +279,7 @@ def _keysort(e: Engine, a: tuple, b: Bindings) -> bool:
     return b.unify(a[1], make_list(sorted(items, key=lambda p: standard_order_key(p.args[0]))))
 
 
-def _sort4(e: Engine, a: tuple, b: Bindings) -> bool:
+def _sort4(e: Machine, a: tuple, b: Bindings) -> bool:
     """sort(+Key, +Order, +List, -Sorted): on the Key-th argument (0: the whole term);
     @< and @> drop elements whose key equals an earlier one's; the sort is stable."""
     key = _natural(b.walk(a[0]))
@@ -318,7 +319,7 @@ def _sort4(e: Engine, a: tuple, b: Bindings) -> bool:
 
 # -- the database and output -----------------------------------------------------
 
-def _retractall(e: Engine, a: tuple, b: Bindings) -> bool:
+def _retractall(e: Machine, a: tuple, b: Bindings) -> bool:
     """retractall(+Head): remove every clause whose head unifies; always succeeds."""
     head = b.walk(a[0])
     if isinstance(head, Var):
@@ -337,7 +338,7 @@ def _retractall(e: Engine, a: tuple, b: Bindings) -> bool:
     return True
 
 
-def _tab(e: Engine, a: tuple, b: Bindings) -> bool:
+def _tab(e: Machine, a: tuple, b: Bindings) -> bool:
     count = evaluate(a[0], b)
     if not isinstance(count, int):
         raise type_error("integer", Float(count))
@@ -345,7 +346,7 @@ def _tab(e: Engine, a: tuple, b: Bindings) -> bool:
     return True
 
 
-def _consult(e: Engine, a: tuple, b: Bindings) -> bool:
+def _consult(e: Machine, a: tuple, b: Bindings) -> bool:
     """consult(+File) and [File, ...]: load Prolog files; loading a file again replaces the
     clauses it defined before, as in SWI-Prolog."""
     target = b.resolve(a[0]) if len(a) == 1 else Struct("[|]", (b.resolve(a[0]), b.resolve(a[1])))

@@ -218,7 +218,7 @@ def initial_state(kb) -> list[Term]:
             except SchemalogError as err:
                 raise SchemalogError(err.message, c.pos) from None
         return list(dict.fromkeys(atoms))
-    from ..logic.engine import PrologError, StepLimitExceeded
+    from ..logic.exceptions import PrologError, StepLimitExceeded
 
     x = Var("X")
     where = f"initial/1 ({clauses[0].pos})" if clauses[0].pos else "initial/1"

@@ -18,7 +18,8 @@ from typing import Iterator
 
 from . import conditions as cond
 from .conditions import Condition
-from ..logic.engine import Engine, PrologError
+from ..logic.engine import Engine
+from ..logic.exceptions import PrologError
 from ..errors import SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, read_schema

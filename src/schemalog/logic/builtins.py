@@ -1,0 +1,618 @@
+"""The core built-in predicates, in Python: each a function of (machine, args, bindings).
+
+    Builtin       = (machine, args, bindings) -> bool              deterministic: succeed or fail
+    NondetBuiltin = (machine, args, bindings) -> Iterator[None]    one yield per solution
+
+A built-in sees the engine only through `Machine`, and the knowledge base only through
+`Database`: the two small interfaces this module states, so that the engine (which
+assembles the tables, engine.py) and the knowledge base (which consults files, kb.py)
+can sit above it without either importing the other's layer back.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import Callable, Iterator, Protocol
+
+from ..errors import SchemalogError
+
+from .arith import _num, evaluate
+from .exceptions import PrologError, instantiation_error, iso_error, type_error
+from .terms import (NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
+                    is_ground, list_items, make_list, term_to_text)
+from .unify import Bindings, rename, variant
+
+
+class Database(Protocol):
+    """What the machine and its built-ins read and change of a knowledge base (kb.py)."""
+
+    predicates: dict
+    files: list
+
+    def clauses(self, name: str, arity: int) -> list: ...
+    def add_clause(self, head: Term, body: Term = TRUE, pos=None, front: bool = False) -> None: ...
+    def remove(self, clause) -> None: ...
+    def library_predicates(self) -> set[tuple[str, int]]: ...
+    def forget_file(self, file: str) -> None: ...
+    def consult(self, path, max_bytes: int = ..., pos=None) -> None: ...
+
+
+class Machine(Protocol):
+    """What a built-in needs of the engine that calls it (engine.py)."""
+
+    kb: Database
+    write: Callable[[str], None]
+
+    def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]: ...
+    def is_builtin(self, name: str, arity: int) -> bool: ...
+
+
+Builtin = Callable[[Machine, tuple, Bindings], bool]
+NondetBuiltin = Callable[[Machine, tuple, Bindings], Iterator[None]]
+
+
+def _compare_numbers(op: Callable[[object, object], bool]) -> Builtin:
+    return lambda e, a, b: op(evaluate(a[0], b), evaluate(a[1], b))
+
+
+def _order_class(t: Term) -> int:
+    # SWI-Prolog 9's observed standard order: Var < Number < String < Atom < Compound.
+    if isinstance(t, Var):
+        return 0
+    if isinstance(t, (Int, Float)):
+        return 1
+    if isinstance(t, Str):
+        return 2
+    if isinstance(t, Atom):
+        return 3
+    return 4
+
+
+def compare_terms(x: Term, y: Term, b: Bindings | None = None) -> int:
+    """-1, 0 or 1 by the standard order of terms (iteratively: deep terms are fine)."""
+    walk = b.walk if b is not None else (lambda t: t)
+    pairs = [(x, y)]
+    while pairs:
+        p, q = pairs.pop()
+        p, q = walk(p), walk(q)
+        if p is q:
+            continue
+        cp, cq = _order_class(p), _order_class(q)
+        if cp != cq:
+            return -1 if cp < cq else 1
+        if cp == 0:
+            return -1 if p.id < q.id else 1
+        if cp == 1:
+            if p.value != q.value:
+                return -1 if p.value < q.value else 1
+            fp, fq = isinstance(p, Float), isinstance(q, Float)
+            if fp != fq:  # equal values: Float before Int
+                return -1 if fp else 1
+            if p != q:  # -0.0 before 0.0
+                return -1 if str(p).startswith("-") else 1
+            continue
+        if cp in (2, 3):
+            a, c = (p.value, q.value) if cp == 2 else (p.name, q.name)
+            if a != c:
+                return -1 if a < c else 1
+            continue
+        if len(p.args) != len(q.args):
+            return -1 if len(p.args) < len(q.args) else 1
+        if p.name != q.name:
+            return -1 if p.name < q.name else 1
+        pairs.extend(reversed(list(zip(p.args, q.args))))
+    return 0
+
+
+def standard_order_key(term: Term):
+    """A sort key for the standard order of terms."""
+    return functools.cmp_to_key(compare_terms)(term)
+
+
+def _type_check(pred: Callable[[Term], bool]) -> Builtin:
+    return lambda e, a, b: pred(b.walk(a[0]))
+
+
+def _is_callable(t: Term) -> bool:
+    return isinstance(t, (Atom, Struct))
+
+
+def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
+    term = b.walk(a[0])
+    if isinstance(term, Var):
+        name, arity = b.walk(a[1]), b.walk(a[2])
+        if isinstance(name, Var) or isinstance(arity, Var):
+            raise instantiation_error()
+        if not isinstance(arity, Int):
+            raise type_error("integer", arity)
+        if arity.value < 0:
+            raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), arity)))
+        if arity.value == 0:
+            return b.unify(term, name)
+        if not isinstance(name, Atom):
+            raise type_error("atomic" if isinstance(name, Struct) else "atom", name)
+        return b.unify(term, Struct(name.name, tuple(Var("_") for _ in range(arity.value))))
+    if isinstance(term, Struct):
+        return b.unify(a[1], Atom(term.name)) and b.unify(a[2], Int(len(term.args)))
+    return b.unify(a[1], term) and b.unify(a[2], Int(0))
+
+
+def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
+    term = b.walk(a[0])
+    if isinstance(term, Struct):
+        return b.unify(a[1], make_list([Atom(term.name), *term.args]))
+    if not isinstance(term, Var):
+        return b.unify(a[1], make_list([term]))
+    items, tail = list_items(b.resolve(a[1]))
+    if tail == NIL and not items:
+        raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
+    if tail != NIL or not items:
+        raise instantiation_error()
+    head = items[0]
+    if len(items) == 1:
+        return b.unify(term, head)
+    if not isinstance(head, Atom):
+        raise type_error("atom", head)
+    return b.unify(term, Struct(head.name, tuple(items[1:])))
+
+
+def _copy_term(e: Machine, a: tuple, b: Bindings) -> bool:
+    return b.unify(a[1], rename(b.resolve(a[0])))
+
+
+def _length(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    items, tail = list_items(b.resolve(a[0]))
+    n = b.walk(a[1])
+    if not isinstance(tail, Var) and tail != NIL:
+        raise type_error("list", b.resolve(a[0]))
+    if isinstance(n, Int) and n.value < 0:
+        raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), n)))
+    if tail == NIL:
+        if b.unify(n, Int(len(items))):
+            yield
+        return
+    if isinstance(n, Int):
+        if n.value >= len(items) and b.unify(tail, make_list([Var("_") for _ in range(n.value - len(items))])):
+            yield
+        return
+    if not isinstance(n, Var):
+        raise type_error("integer", n)
+    if n is tail:           # length(L, L): L would have to be a list and its own length
+        return
+    extra = 0
+    while True:  # enumerate longer and longer open lists, as SWI-Prolog does
+        mark = b.mark()
+        if b.unify(tail, make_list([Var("_") for _ in range(extra)])) and b.unify(n, Int(len(items) + extra)):
+            yield
+        b.undo(mark)
+        extra += 1
+
+
+def _between(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """between(+Low, +High, ?X): integers only, as in SWI-Prolog (no evaluation); High may be inf."""
+    def integer(t: Term) -> int:
+        if isinstance(t, Var):
+            raise instantiation_error()
+        if not isinstance(t, Int):
+            raise type_error("integer", t)
+        return t.value
+
+    low, high, x = integer(b.walk(a[0])), b.walk(a[1]), b.walk(a[2])
+    top = math.inf if isinstance(high, Atom) and high.name in ("inf", "infinite") else integer(high)
+    if not isinstance(x, (Var, Int)):
+        raise type_error("integer", x)
+    if isinstance(x, Int):
+        if low <= x.value <= top:
+            yield
+        return
+    i = low
+    while i <= top:
+        mark = b.mark()
+        if b.unify(x, Int(i)):
+            yield
+        b.undo(mark)
+        i += 1
+
+
+def _text_of(t: Term) -> str:
+    if isinstance(t, Atom):
+        return t.name
+    if isinstance(t, Str):
+        return t.value
+    if isinstance(t, (Int, Float)):
+        return term_to_text(t)
+    if isinstance(t, Var):
+        raise instantiation_error()
+    items, tail = list_items(t)
+    if tail == NIL and all(isinstance(i, (Int, Atom)) for i in items):
+        return "".join(chr(i.value) if isinstance(i, Int) else i.name for i in items)
+    raise type_error("atomic", t)
+
+
+def _atom_length(e, a, b):
+    length = b.walk(a[1])
+    text = _text_of(b.walk(a[0]))
+    if not isinstance(length, (Var, Int)):
+        raise type_error("integer", length)
+    return b.unify(length, Int(len(text)))
+
+
+def _atom_codes(e, a, b):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], make_list([Int(ord(c)) for c in _text_of(t)]))
+    return b.unify(t, Atom(_text_of(b.resolve(a[1]))))
+
+
+def _atom_chars(e, a, b):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], make_list([Atom(c) for c in _text_of(t)]))
+    return b.unify(t, Atom(_text_of(b.resolve(a[1]))))
+
+
+def _atom_string(e, a, b):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], Str(_text_of(t)))
+    return b.unify(t, Atom(_text_of(b.walk(a[1]))))
+
+
+def _split_string(e, a, b):
+    text, seps, pad = (_text_of(b.walk(x)) for x in a[:3])
+    if seps:
+        parts, current = [], []
+        for ch in text:
+            if ch in seps:
+                parts.append("".join(current))
+                current = []
+            else:
+                current.append(ch)
+        parts.append("".join(current))
+    else:
+        parts = [text]
+    return b.unify(a[3], make_list([Str(p.strip(pad) if pad else p) for p in parts]))
+
+
+def _term_text(e, a, b, make):
+    t = b.walk(a[0])
+    if not isinstance(t, Var):
+        return b.unify(a[1], make(term_to_text(b.resolve(t))))
+    from .parse import parse_term  # lark is loaded only when text is read as a term
+    from ..errors import SchemalogError as _Err
+    try:
+        return b.unify(t, parse_term(_text_of(b.walk(a[1]))))
+    except _Err as err:
+        raise iso_error(Struct("syntax_error", (Atom(err.message),))) from None
+
+
+def _read_number(text: str) -> Term | None:
+    from .parse import parse_term  # lark is loaded only when a number is read from text
+    if not text or text != text.strip():
+        return None
+    try:
+        value = parse_term(text)
+    except SchemalogError:
+        return None
+    return value if isinstance(value, (Int, Float)) else None
+
+
+def _atom_number(e, a, b):
+    atom = b.walk(a[0])
+    if isinstance(atom, Var):
+        number = b.walk(a[1])
+        if isinstance(number, Var):
+            raise instantiation_error()
+        return b.unify(atom, Atom(term_to_text(number)))
+    value = _read_number(_text_of(atom))
+    return value is not None and b.unify(a[1], value)
+
+
+def _number_codes(e, a, b):
+    number = b.walk(a[0])
+    if not isinstance(number, Var):
+        return b.unify(a[1], make_list([Int(ord(c)) for c in term_to_text(number)]))
+    value = _read_number(_text_of(b.resolve(a[1])))
+    if value is None:
+        raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
+    return b.unify(number, value)
+
+
+def _assert(front: bool) -> Builtin:
+    def run(e: Machine, a: tuple, b: Bindings) -> bool:
+        clause = rename(b.resolve(a[0]))
+        head, body = (clause.args if isinstance(clause, Struct) and clause.name == ":-"
+                      and len(clause.args) == 2 else (clause, TRUE))
+        if isinstance(head, Var):
+            raise instantiation_error()
+        if not isinstance(head, (Atom, Struct)):
+            raise type_error("callable", head)
+        if isinstance(body, (Int, Float, Str)):
+            raise type_error("callable", body)
+        key = (head.name, len(head.args) if isinstance(head, Struct) else 0)
+        if e.is_builtin(*key) or key in e.kb.library_predicates():
+            raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
+                                                        Struct("/", (Atom(key[0]), Int(key[1]))))))
+        e.kb.add_clause(head, body, front=front)
+        return True
+    return run
+
+
+def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    target = b.resolve(a[0])
+    head, body = (target.args if isinstance(target, Struct) and target.name == ":-"
+                  and len(target.args) == 2 else (target, TRUE))
+    head = b.walk(head)
+    ind = (head.name, len(head.args)) if isinstance(head, Struct) else (
+        (head.name, 0) if isinstance(head, Atom) else None)
+    if ind is None:
+        raise instantiation_error() if isinstance(head, Var) else type_error("callable", head)
+    for clause in list(e.kb.clauses(*ind)):
+        mark = b.mark()
+        h, bd = clause.renamed()
+        if b.unify(head, h) and b.unify(body, bd):
+            e.kb.remove(clause)
+            yield
+        b.undo(mark)
+
+
+def _write(quoted: bool) -> Builtin:
+    def run(e: Machine, a: tuple, b: Bindings) -> bool:
+        e.write(term_to_text(b.resolve(a[0]), quoted=quoted))
+        return True
+    return run
+
+
+def _format(e: Machine, a: tuple, b: Bindings) -> bool:
+    fmt = _text_of(b.walk(a[0]))
+    args_term = b.resolve(a[1]) if len(a) > 1 else NIL
+    items, tail = list_items(args_term)
+    args = items if tail == NIL and (items or args_term == NIL) else [args_term]
+    out, i, n = [], 0, 0
+    while i < len(fmt):
+        c = fmt[i]
+        if c != "~":
+            out.append(c)
+            i += 1
+            continue
+        i += 1
+        digits = ""
+        while i < len(fmt) and fmt[i].isdigit():
+            digits += fmt[i]
+            i += 1
+        d = fmt[i] if i < len(fmt) else "~"
+        i += 1
+        if d == "n":
+            out.append("\n" * (int(digits) if digits else 1))
+            continue
+        if d == "~":
+            out.append("~")
+            continue
+        if n >= len(args):
+            raise iso_error(Struct("format", (Str("not enough arguments"),)))
+        arg = args[n]
+        n += 1
+        if d == "a":
+            out.append(_text_of(arg))
+        elif d == "w":
+            out.append(term_to_text(arg, quoted=False))
+        elif d == "p":
+            out.append(term_to_text(arg))
+        elif d == "q":
+            out.append(term_to_text(arg))
+        elif d == "d":
+            if not isinstance(arg, Int):
+                raise type_error("integer", arg)
+            text = str(abs(arg.value))
+            if digits and int(digits) > 0:  # ~Nd: N digits after a decimal point
+                places = int(digits)
+                text = text.rjust(places + 1, "0")
+                text = f"{text[:-places]}.{text[-places:]}"
+            out.append(("-" if arg.value < 0 else "") + text)
+        elif d in "fge":
+            value = evaluate(arg, b)
+            out.append(f"{value:.{int(digits) if digits else 6}{d}}")
+        elif d == "s":
+            out.append(_text_of(arg))
+        else:
+            raise iso_error(Struct("format", (Str(f"unknown directive ~{d}"),)))
+    e.write("".join(out))
+    return True
+
+
+def _forall(e: Machine, a: tuple, b: Bindings) -> bool:
+    for _ in e.sub_solve(Struct(",", (a[0], Struct("\\+", (a[1],)))), b):
+        return False
+    return True
+
+
+def _findall(e: Machine, a: tuple, b: Bindings) -> bool:
+    results = [rename(b.resolve(a[0])) for _ in e.sub_solve(a[1], b)]
+    return b.unify(a[2], make_list(results))
+
+
+def _variables(t: Term, b: Bindings, out: list[Var], seen: set[Var]) -> None:
+    """The variables of `t` left to right, each once (term_variables/2), without recursion."""
+    stack = [t]
+    while stack:
+        t = b.walk(stack.pop())
+        if isinstance(t, Var):
+            if t not in seen:
+                seen.add(t)
+                out.append(t)
+        elif isinstance(t, Struct):
+            stack.extend(reversed(t.args))
+
+
+def _bag(to_set: bool) -> NondetBuiltin:
+    """bagof/3 and setof/3 as SWI-Prolog's boot/bags.pl defines them: the goal's free
+    variables (those neither in the template nor bound by `V^`) are the witness; answers are
+    key-sorted on it and each run of equal (or variant) witnesses is one bag, in that order."""
+
+    def solve(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+        template, goal, bag = a
+        goal = b.walk(goal)
+        excluded: list[Var] = []
+        seen: set[Var] = set()
+        _variables(template, b, excluded, seen)
+        while isinstance(goal, Struct) and goal.name == "^" and len(goal.args) == 2:
+            _variables(goal.args[0], b, excluded, seen)       # Goal = V^G: V is not free
+            goal = b.walk(goal.args[1])
+        witness: list[Var] = []
+        _variables(goal, b, witness, seen)
+        if not witness:
+            results = [rename(b.resolve(template)) for _ in e.sub_solve(goal, b)]
+            if not results:
+                return
+            mark = b.mark()
+            if b.unify(bag, make_list(_sorted_set(results) if to_set else results)):
+                yield
+            b.undo(mark)
+            return
+        key = Struct("v", tuple(witness))
+        pairs = [rename(b.resolve(Struct("-", (key, template)))) for _ in e.sub_solve(goal, b)]
+        if to_set:
+            pairs = _sorted_set(pairs)
+        else:
+            pairs.sort(key=lambda pair: standard_order_key(pair.args[0]))   # keysort: stable
+        while pairs:
+            first = pairs[0].args[0]
+            group, rest = [pairs[0]], []
+            for pair in pairs[1:]:
+                (group if not rest and (compare_terms(pair.args[0], first) == 0
+                                        or variant(pair.args[0], first)) else rest).append(pair)
+            pairs = rest
+            mark = b.mark()
+            ok = all(b.unify(pair.args[0], first) for pair in group[1:]) and b.unify(key, first)
+            items = [pair.args[1] for pair in group]
+            if ok and b.unify(bag, make_list(_sorted_set([b.resolve(i) for i in items]) if to_set else items)):
+                yield
+            b.undo(mark)
+
+    return solve
+
+
+def _sorted_set(items: list[Term]) -> list[Term]:
+    """sort/2: standard order, duplicates removed."""
+    result: list[Term] = []
+    for item in sorted(items, key=standard_order_key):
+        if not result or compare_terms(result[-1], item) != 0:
+            result.append(item)
+    return result
+
+
+def _throw(e: Machine, a: tuple, b: Bindings) -> bool:
+    ball = b.resolve(a[0])
+    if isinstance(ball, Var):
+        raise instantiation_error()
+    raise PrologError(ball)
+
+
+def _compare(e, a, b):
+    """compare(?Order, +X, +Y): Order must be unbound or one of <, =, >."""
+    order = b.walk(a[0])
+    if not isinstance(order, Var):
+        if not isinstance(order, Atom):
+            raise type_error("atom", order)
+        if order.name not in ("<", "=", ">"):
+            raise iso_error(Struct("domain_error", (Atom("order"), order)))
+    return b.unify(order, Atom("<=>"[compare_terms(a[1], a[2], b) + 1]))
+
+
+def _proper_list(t: Term, b: Bindings) -> list[Term]:
+    """The items of a proper list; instantiation_error for a partial list, type_error(list) otherwise."""
+    whole = b.resolve(t)
+    items, tail = list_items(whole)
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", whole)
+    return items
+
+
+def _msort(e, a, b):
+    items = _proper_list(a[0], b)
+    return b.unify(a[1], make_list(sorted(items, key=standard_order_key)))
+
+
+def _sort(e, a, b):
+    items = _proper_list(a[0], b)
+    return b.unify(a[1], make_list(_sorted_set(items)))
+
+
+CORE: dict[tuple[str, int], Builtin] = {
+    ("=", 2): lambda e, a, b: b.unify(a[0], a[1]),
+    ("\\=", 2): lambda e, a, b: not _unifiable(a[0], a[1], b),
+    ("unify_with_occurs_check", 2): lambda e, a, b: b.unify(a[0], a[1], occurs_check=True),
+    ("==", 2): lambda e, a, b: compare_terms(a[0], a[1], b) == 0,
+    ("\\==", 2): lambda e, a, b: compare_terms(a[0], a[1], b) != 0,
+    ("@<", 2): lambda e, a, b: compare_terms(a[0], a[1], b) < 0,
+    ("@>", 2): lambda e, a, b: compare_terms(a[0], a[1], b) > 0,
+    ("@=<", 2): lambda e, a, b: compare_terms(a[0], a[1], b) <= 0,
+    ("@>=", 2): lambda e, a, b: compare_terms(a[0], a[1], b) >= 0,
+    ("compare", 3): _compare,
+    ("is", 2): lambda e, a, b: b.unify(a[0], _num(evaluate(a[1], b))),
+    ("=:=", 2): _compare_numbers(lambda x, y: x == y),
+    ("=\\=", 2): _compare_numbers(lambda x, y: x != y),
+    ("<", 2): _compare_numbers(lambda x, y: x < y),
+    (">", 2): _compare_numbers(lambda x, y: x > y),
+    ("=<", 2): _compare_numbers(lambda x, y: x <= y),
+    (">=", 2): _compare_numbers(lambda x, y: x >= y),
+    ("var", 1): _type_check(lambda t: isinstance(t, Var)),
+    ("nonvar", 1): _type_check(lambda t: not isinstance(t, Var)),
+    ("atom", 1): _type_check(lambda t: isinstance(t, Atom)),
+    ("number", 1): _type_check(lambda t: isinstance(t, (Int, Float))),
+    ("integer", 1): _type_check(lambda t: isinstance(t, Int)),
+    ("float", 1): _type_check(lambda t: isinstance(t, Float)),
+    ("atomic", 1): _type_check(lambda t: isinstance(t, (Atom, Int, Float, Str))),
+    ("compound", 1): _type_check(lambda t: isinstance(t, Struct)),
+    ("callable", 1): _type_check(_is_callable),
+    ("is_list", 1): lambda e, a, b: list_items(b.resolve(a[0]))[1] == NIL,
+    ("string", 1): _type_check(lambda t: isinstance(t, Str)),
+    ("ground", 1): lambda e, a, b: is_ground(b.resolve(a[0])),
+    ("functor", 3): _functor,
+    ("=..", 2): _univ,
+    ("copy_term", 2): _copy_term,
+    ("atom_length", 2): _atom_length,
+    ("atom_codes", 2): _atom_codes,
+    ("atom_chars", 2): _atom_chars,
+    ("atom_string", 2): _atom_string,
+    ("atom_number", 2): _atom_number,
+    ("atom_to_term", 2): lambda e, a, b: _term_text(e, (a[1], a[0]), b, Atom),
+    ("term_to_atom", 2): lambda e, a, b: _term_text(e, a, b, Atom),
+    ("term_string", 2): lambda e, a, b: _term_text(e, a, b, Str),
+    ("split_string", 4): _split_string,
+    ("number_codes", 2): _number_codes,
+    ("assert", 1): _assert(front=False),
+    ("assertz", 1): _assert(front=False),
+    ("asserta", 1): _assert(front=True),
+    ("write", 1): _write(quoted=False),
+    ("print", 1): _write(quoted=True),
+    ("writeq", 1): _write(quoted=True),
+    ("write_canonical", 1): _write(quoted=True),
+    ("writeln", 1): lambda e, a, b: _write(False)(e, a, b) and (e.write("\n") or True),
+    ("nl", 0): lambda e, a, b: e.write("\n") or True,
+    ("format", 1): _format,
+    ("format", 2): _format,
+    ("forall", 2): _forall,
+    ("findall", 3): _findall,
+    ("throw", 1): _throw,
+    ("msort", 2): _msort,
+    ("sort", 2): _sort,
+}
+
+CORE_NONDET: dict[tuple[str, int], NondetBuiltin] = {
+    ("between", 3): _between,
+    ("length", 2): _length,
+    ("retract", 1): _retract,
+    ("bagof", 3): _bag(to_set=False),
+    ("setof", 3): _bag(to_set=True),
+}
+
+
+def _unifiable(x: Term, y: Term, b: Bindings) -> bool:
+    mark = b.mark()
+    ok = b.unify(x, y)
+    b.undo(mark)
+    return ok
