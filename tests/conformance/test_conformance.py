@@ -34,7 +34,8 @@ from pathlib import Path
 import pytest
 
 from schemalog.formats.documents import document_from_text
-from schemalog.logic.engine import Engine, PrologError, StepLimitExceeded
+from schemalog.logic.engine import Engine
+from schemalog.logic.exceptions import PrologError, StepLimitExceeded
 from schemalog.errors import SchemalogError
 from schemalog.logic.parse import parse_term
 from schemalog.logic.terms import CONS, Atom, Float, Int, Str, Struct, Var, iter_vars

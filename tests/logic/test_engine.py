@@ -4,7 +4,8 @@ Expected answers are SWI-Prolog 9's for the same query."""
 
 import pytest
 
-from schemalog.logic.engine import Engine, PrologError, StepLimitExceeded
+from schemalog.logic.engine import Engine
+from schemalog.logic.exceptions import PrologError, StepLimitExceeded
 from schemalog.logic.kb import KnowledgeBase
 from schemalog.logic.parse import parse_term
 from schemalog.logic.terms import term_to_text

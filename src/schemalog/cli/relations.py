@@ -18,25 +18,26 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
-from ..task import conditions as cond
-from ..task.compress import compress, original_of, protected_labels
-from ..task.conditions import DEFAULT_SYMPY_BUDGET, Simplifier
+from ..errors import SchemalogError
 from ..formats.documents import read_document
 from ..logic.engine import DEFAULT_MAX_STEPS, Engine
 from ..logic.exceptions import instantiation_error, iso_error, type_error
-from ..errors import SchemalogError
-from ..run.execute import BASE_ACTIVATION, Executive, Plan, ScanSelector, emphasis, enabled_indices
-from ..task.facts import tree_facts
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import MAX_BYTES
-from ..run.scene import NO_SCENE, Scene
-from ..task.schema import check_schemas
-from ..shipped import shipped_text
 from ..logic.terms import Atom, Float, Int, Struct, Term, Var, is_ground, make_list, term_to_text
-from ..task.tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate
 from ..logic.unify import Bindings
+from ..run.execute import BASE_ACTIVATION, Executive, Plan, ScanSelector, emphasis, enabled_indices
+from ..run.scene import NO_SCENE, Scene
 from ..run.verify import Verifier, verify_by_parts
 from ..run.world import World, initial_state
+from ..shipped import shipped_text
+from ..task import conditions as cond
+from ..task.compress import compress, original_of, protected_labels
+from ..task.conditions import DEFAULT_SYMPY_BUDGET, Simplifier
+from ..task.facts import tree_facts
+from ..task.schema import check_schemas
+from ..task.tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate
+
 
 ORIGINAL, COMPRESSED = "original", "compressed"
 
@@ -181,11 +182,7 @@ class Workspace:
 
     def reset(self) -> None:
         """Put the world back in the initial state (the files' initial/1), settled."""
-        if self.focus is None:
-            self.state = frozenset(self.initial)
-            return
-        self.focus.world.reset(self.initial)
-        self.state = self.focus.world.atoms
+        self.set_state(self.initial)
 
     def set_state(self, atoms: list[Term]) -> None:
         """Make exactly `atoms` true (settled by the focus task's world)."""

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 import random
 
+from .. import defaults
 from ..task import conditions as cond
 from ..run.scene import Scene
 from ..logic.terms import Atom, Struct, Term
@@ -125,7 +126,7 @@ def generate(depth: int, branching: int, reduction: float = 0.0, seed: int = 0,
     return build(1, 0, cond.TRUE, None)
 
 
-TOLERANCE = 0.05   # how close the achieved reduction degree must come to the requested one
+TOLERANCE = defaults.RD_TOLERANCE
 
 
 def shortfall(depth: int, branching: int, asked: float, got: float, cousins: bool = True) -> str | None:

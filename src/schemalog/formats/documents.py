@@ -28,8 +28,6 @@ from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
-
 from ..errors import SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import MAX_BYTES, Clause, Directive, parse_text, read_source
@@ -98,6 +96,8 @@ def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES) -> K
 
 def document_from_yaml(text: str, file: str = "<string>") -> Document:
     """Read the YAML form (safe_load only)."""
+    import yaml  # loaded only when YAML is read or written
+
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as err:
@@ -125,6 +125,8 @@ def document_from_yaml(text: str, file: str = "<string>") -> Document:
 
 def _item_marks(text: str) -> list[tuple[int, int]]:
     """The (line, column) where each element of the top-level `items` list starts."""
+    import yaml  # loaded only when YAML is read or written
+
     try:
         root = yaml.compose(text)
     except yaml.YAMLError:
@@ -225,6 +227,8 @@ def to_pl(doc: Document, header: str | None = None) -> str:
 
 def to_yaml(doc: Document) -> str:
     """The YAML form of a document."""
+    import yaml  # loaded only when YAML is read or written
+
     records = []
     for item in doc.items:
         if isinstance(item, Directive):

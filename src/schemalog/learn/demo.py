@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import defaults
+from .. import defaults
 from ..formats.documents import write_atomically
 from ..errors import SchemalogError, SourcePos
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..task import conditions as cond
-from . import defaults
+from .. import defaults
 from . import primitives
 from ..task.compress import compress, protected_labels
 from .demo import Demonstration, read_demonstration

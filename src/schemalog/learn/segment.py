@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import defaults
+from .. import defaults
 from .demo import Demonstration
 from ..errors import SchemalogError
 from ..logic.terms import Atom, Struct, Term

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import defaults
+from .. import defaults
 from .demo import Demonstration, GripperEvent
 from ..errors import SchemalogError
 from ..run.execute import Executive

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from typing import Callable, Iterator
 
+from .. import defaults
 from ..errors import SchemalogError
 from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin
 from .exceptions import PrologError, StepLimitExceeded, existence_error, instantiation_error, type_error
@@ -26,7 +27,7 @@ from .library import EXTRA, EXTRA_NONDET
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var
 from .unify import Bindings, rename
 
-DEFAULT_MAX_STEPS = 10_000_000
+DEFAULT_MAX_STEPS = defaults.MAX_STEPS
 
 
 # Markers: goals that only the machine itself pushes.

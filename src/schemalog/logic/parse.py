@@ -21,12 +21,13 @@ from pathlib import Path
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
+from .. import defaults
 from ..errors import SchemalogError, SourcePos
 from ..shipped import shipped_text
 from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, make_list
 
 MAX_NESTING = 2_000
-MAX_BYTES = 16 * 1024 * 1024  # lark reads ~0.45 MB/s: refuse what would take minutes
+MAX_BYTES = defaults.MAX_BYTES
 
 
 @dataclass(frozen=True)

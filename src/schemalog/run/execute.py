@@ -40,6 +40,7 @@ from collections import Counter
 from dataclasses import dataclass, field, replace
 from typing import Iterator
 
+from .. import defaults
 from ..task import conditions as cond
 from ..task.conditions import Condition
 from ..errors import SchemalogError
@@ -48,10 +49,10 @@ from ..logic.terms import Term, term_to_text
 from ..task.tree import Behaviour, walk
 from .world import Change, World
 
-SELECTORS = ("incremental", "scan")
-RECOVERIES = ("decompress", "resume")   # what a failure inside a merged leaf does (the first is the default)
+SELECTORS = defaults.SELECTORS
+RECOVERIES = defaults.RECOVERIES
 BASE_ACTIVATION = 1          # mu of the root's (absent) parent
-DEFAULT_RETRIES = 2          # a failed command is retried this many times, then inhibited
+DEFAULT_RETRIES = defaults.RETRIES
 
 
 class Status(enum.Enum):

@@ -27,8 +27,6 @@ import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-import yaml
-
 from ..errors import SchemalogError, SourcePos
 from ..logic.terms import Atom, Term, term_to_text
 
@@ -112,6 +110,8 @@ def read_scene(path: str | Path, max_bytes: int | None = None) -> Scene:
 
 def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
     """Read a scene from YAML text (composed, not constructed, so every value keeps its place)."""
+    import yaml  # loaded only when YAML is read or written
+
     lines = text.split("\n")
 
     def fail(message: str, node) -> SchemalogError:

@@ -23,6 +23,7 @@ import time
 from collections import Counter, deque
 from dataclasses import dataclass, field
 
+from .. import defaults
 from ..task import conditions as cond
 from ..task.conditions import Condition
 from ..errors import SchemalogError
@@ -35,7 +36,7 @@ from .world import World, state_atoms
 State = frozenset
 Action = tuple[Term, Condition]           # an original action: its label and post-condition
 
-DEFAULT_MAX_STATES = 50_000
+DEFAULT_MAX_STATES = defaults.MAX_STATES
 MAX_FREE_ATOMS = 16
 CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, states can be large
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
+from .. import defaults
 from . import conditions as cond
 from .conditions import Condition, Simplifier
 from ..errors import SchemalogError
@@ -35,7 +36,7 @@ from ..logic.terms import Atom, Int, Float, Str, Struct, Term, term_to_text
 from .tree import Behaviour, Origin, count_nodes, depth, map_tree, walk
 
 Propagate = Literal["none", "pre", "full"]
-PROPAGATE_MODES = ("none", "pre", "full")
+PROPAGATE_MODES = defaults.PROPAGATE_MODES
 MAX_PATHS_PER_GROUP = 10_000
 
 

@@ -22,6 +22,7 @@ from collections.abc import Callable
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 
+from .. import defaults
 from ..logic.terms import CONS, NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, term_to_text
 
 
@@ -199,8 +200,8 @@ def is_conjunction_of_literals(c: Condition) -> bool:
 
 DNF = frozenset
 
-DEFAULT_SYMPY_BUDGET = 8      # variables; sympy's simplify_logic costs ~0.3 s at 8
-MAX_SYMPY_BUDGET = 12         # its cost doubles per variable: 16 ran for over 15 minutes
+DEFAULT_SYMPY_BUDGET = defaults.SYMPY_BUDGET
+MAX_SYMPY_BUDGET = defaults.MAX_SYMPY_BUDGET
 DEFAULT_DNF_LIMIT = 512       # clauses; distributing AND over OR beyond this is refused
 
 

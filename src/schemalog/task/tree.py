@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Iterator
 
+from .. import defaults
 from . import conditions as cond
 from .conditions import Condition
 from ..logic.engine import Engine
@@ -26,8 +27,8 @@ from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, read_sc
 from ..logic.terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, is_ground, list_items, term_to_text
 from ..logic.unify import Bindings
 
-DEFAULT_MAX_DEPTH = 256
-DEFAULT_MAX_NODES = 2_000_000
+DEFAULT_MAX_DEPTH = defaults.MAX_DEPTH
+DEFAULT_MAX_NODES = defaults.MAX_NODES
 
 
 @dataclass(frozen=True)

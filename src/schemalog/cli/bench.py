@@ -1,0 +1,78 @@
+"""`schemalog bench`: reproduce the paper's evaluation (Sec. IV) beside py_trees."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from ..errors import SchemalogError, UsageError
+from .options import Parents, positive
+
+
+def register(sub, parents: Parents) -> None:
+    p = sub.add_parser("bench", help="reproduce the paper's evaluation (Sec. IV) beside py_trees: "
+                                     "CSV, Markdown and figures")
+    which = p.add_mutually_exclusive_group(required=True)
+    which.add_argument("--paper", action="store_true",
+                       help="the whole grid: depth 4-6 x 2-4 children x RD 0, 0.3, 0.5, 0.7, 10 runs each, "
+                            "the coffee-and-tea task, and sizes up to 111,111 behaviours (several minutes)")
+    which.add_argument("--quick", action="store_true",
+                       help="the same grid with 2 runs per tree and sizes to 5,461, in about a minute")
+    p.add_argument("--out", default="bench-results", metavar="DIR",
+                   help="where to write results.csv, results.md and the figures (default bench-results)")
+    p.add_argument("--runs", type=positive, metavar="N", help="runs per tree (default 10, --quick 2)")
+    p.add_argument("--seed", type=int, help="seed of the generated tasks (default 1)")
+    p.add_argument("--max-states", type=positive, metavar="N",
+                   help="verification stops (no proof) beyond N states (default 20,000, --quick 5,000)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Reproduce the paper's evaluation (Sec. IV) beside py_trees; write tables and figures."""
+    import dataclasses
+
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from ..evaluate.bench import PAPER_PLAN, QUICK_PLAN, headlines, run_bench, steps, write_results
+
+    plan = QUICK_PLAN if args.quick else PAPER_PLAN
+    changes = {k: v for k, v in (("runs", args.runs), ("seed", args.seed), ("max_states", args.max_states))
+               if v is not None}
+    plan = dataclasses.replace(plan, **changes)
+    out = Path(args.out)
+    try:                                 # make sure the results can be written before measuring
+        out.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise UsageError(f"--out {args.out} is a file, not a directory") from None
+    except OSError as err:
+        raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
+    if not os.access(out, os.W_OK):
+        raise UsageError(f"--out {args.out}: the directory is not writable")
+    console = Console(stderr=True)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as progress:
+        bar = progress.add_task(f"bench --{plan.name}", total=steps(plan))
+        started = [False]
+
+        def step(description: str) -> None:
+            if started[0]:
+                progress.advance(bar)
+            started[0] = True
+            progress.update(bar, description=description)
+
+        results = run_bench(plan, step)
+        progress.advance(bar)
+    command = "schemalog bench " + " ".join(sys.argv[2:] if sys.argv[1:2] == ["bench"] else [f"--{plan.name}"])
+    try:
+        written = write_results(results, out, command)
+    except OSError as err:
+        raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
+    print(f"bench --{plan.name}: {len(results.cells)} generated tasks x {plan.runs} runs, the coffee-and-tea "
+          f"task, {len(results.sizes)} sizes; {results.seconds:,.0f} s")
+    for line in headlines(results):
+        print(f"- {line}")
+    print("wrote " + ", ".join(str(p) for p in written))
+    return 0

@@ -1,0 +1,35 @@
+"""`schemalog check FILE...`: parse and validate knowledge files, and instantiate their tasks."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..logic.terms import term_to_text
+from .options import Parents
+
+
+def register(sub, parents: Parents) -> None:
+    p = sub.add_parser("check", parents=[parents.limits], help="parse and validate knowledge files")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--task", help="instantiate this task (default: every task/1)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Parse, read every schema, and instantiate the tasks."""
+    from ..task.schema import check_schemas
+    from ..task.tree import count_nodes, depth
+    from .common import choose_tasks, instantiate_task, load_files
+
+    kb, _ = load_files(args)
+    schemas = check_schemas(kb)
+    tasks = choose_tasks(kb, args.task, every=True)
+    files = ", ".join(args.files)
+    report = []
+    for task in tasks:
+        tree = instantiate_task(kb, task, args)
+        report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
+    summary = f"ok: {files}: {len(schemas)} schemas"
+    summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
+    print(summary)
+    return 0

@@ -1,0 +1,162 @@
+"""What the commands share: loading knowledge files, choosing a task, reading terms and
+scenes from options, and writing outputs that never replace a file that was read.
+
+The commands import this module when they run, not when the command line is built.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .. import defaults
+from ..errors import SchemalogError, UsageError
+from ..formats.documents import Document, check_writable, read_document, write_atomically
+from ..logic.kb import KnowledgeBase
+from ..logic.parse import parse_term
+from ..logic.terms import Struct, Term, Var, term_to_text
+from ..logic.unify import Bindings
+from ..run.scene import NO_SCENE, Scene, object_name, read_scene
+from ..run.world import state_atoms
+from ..task.schema import check_schemas
+from ..task.tree import Behaviour, declared_tasks, instantiate, walk
+
+
+def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]:
+    kb = KnowledgeBase()
+    docs = []
+    for path in args.files:
+        doc = read_document(path, args.max_bytes)
+        doc.to_kb(kb)
+        docs.append(doc)
+    for warning in kb.warnings:
+        print(warning, file=sys.stderr)
+    return kb, docs
+
+
+def task_term(text: str) -> Term:
+    try:
+        return parse_term(text, "--task")
+    except SchemalogError as err:
+        raise UsageError(f"--task {text!r} is not a term: {err.message}") from None
+
+
+def root_candidates(kb: KnowledgeBase) -> list[str]:
+    """Schemas never used as a sub-task: likely tasks, for a helpful message."""
+    schemas = check_schemas(kb)
+    used = {term_to_text(e.behaviour) for s in schemas for e in s.entries}
+    return [term_to_text(s.task) for s in schemas if s.entries and term_to_text(s.task) not in used]
+
+
+def choose_tasks(kb: KnowledgeBase, task: str | None, every: bool = False) -> list[Term]:
+    if task is not None:
+        term = task_term(task)
+        if not defines(kb, term):
+            known = [term_to_text(t) for t in declared_tasks(kb)] or root_candidates(kb)
+            hint = f"; tasks here: {', '.join(known[:8])}" if known else ""
+            raise SchemalogError(f"unknown task {term_to_text(term)}: no schema({term_to_text(term)}, "
+                                 f"Subtasks, Post) in {', '.join(kb.files)}{hint}")
+        return [term]
+    declared = declared_tasks(kb)
+    if declared:
+        return declared if every else declared[:1]
+    if every:
+        return []
+    roots = root_candidates(kb)
+    hint = f" (candidates: {', '.join(roots[:8])})" if roots else ""
+    raise UsageError(f"no task declared with task/1: name one with --task{hint}")
+
+
+def defines(kb: KnowledgeBase, task: Term) -> bool:
+    """Whether some schema/3 head unifies with `task`."""
+    goal = Struct("schema", (task, Var("_"), Var("_")))
+    return any(Bindings().unify(c.head, goal) for c in kb.candidates("schema", 3, task) or [])
+
+
+def instantiate_task(kb: KnowledgeBase, task: Term, args: argparse.Namespace) -> Behaviour:
+    return instantiate(kb, task, max_depth=args.max_depth, max_nodes=args.max_nodes)
+
+
+def emit(text: str, output: str | None, inputs: list[str]) -> None:
+    """Print, or write atomically to `output`, which must not be any file read."""
+    if output is None or output == "-":
+        sys.stdout.write(text)
+        return
+    refuse_overwriting(output, inputs)
+    write_atomically(output, text)
+
+
+def check_output(output: str) -> None:
+    """Refuse, before any work is written, an output that could not be written."""
+    try:
+        check_writable(output)
+    except SchemalogError as err:
+        raise UsageError(err.message) from None
+
+
+def refuse_overwriting(output: str, inputs: list[str]) -> None:
+    """Refuse an output file that is one of the files read (through links too)."""
+    out = Path(output).resolve()
+    if any(not i.startswith("<") and Path(i).resolve() == out for i in inputs):
+        raise UsageError(f"-o {output} would overwrite an input file; choose another name")
+
+
+def term_option(text: str, option: str) -> Term:
+    try:
+        return parse_term(text, option)
+    except SchemalogError as err:
+        raise UsageError(f"{option} {text!r} is not a term: {err.message}") from None
+
+
+def atoms_option(text: str, option: str) -> list[Term]:
+    """A state given on the command line, 'hand.free, a1.done': its atoms, or a usage error."""
+    try:
+        return state_atoms(term_option(text, option), option)
+    except UsageError:
+        raise
+    except SchemalogError as err:
+        raise UsageError(err.message) from None
+
+
+def scene_of(args: argparse.Namespace, original: Behaviour) -> Scene:
+    """The scene of --scene, jittered by --seed/--jitter, checked against the task's objects."""
+    if args.scene is None:
+        if args.seed is not None or args.jitter is not None:
+            raise UsageError("--seed and --jitter move the objects of a scene: give --scene too")
+        return NO_SCENE
+    scene = read_scene(args.scene, args.max_bytes)
+    for node in walk(original):
+        for obj in node.objects[:1]:    # lambda reads the distance to a behaviour's first object
+            if object_name(obj) not in scene.objects:
+                known = ", ".join(sorted(scene.objects)) or "none"
+                raise SchemalogError(f"the scene {args.scene} has no position for {object_name(obj)}, which "
+                                     f"{node.name} acts on (objects in the scene: {known})", node.source)
+    if args.seed is not None or args.jitter is not None:
+        scene = scene.jittered(args.seed if args.seed is not None else 0,
+                               args.jitter if args.jitter is not None else defaults.JITTER)
+    return scene
+
+
+def workspace_of(args: argparse.Namespace, files: list[str]):
+    """The files as a query workspace (relations.py), focused as --task/--compressed/--state ask."""
+    from .relations import COMPRESSED, Options, Workspace
+
+    options = Options(propagate=args.propagate, max_bytes=args.max_bytes, max_depth=args.max_depth,
+                      max_nodes=args.max_nodes, max_steps=args.max_steps, sympy_budget=args.sympy_budget,
+                      scene=NO_SCENE)
+    workspace = Workspace(files, options)
+    if args.scene is not None:
+        if workspace.focus is None:
+            raise UsageError("--scene positions the objects of a task, and these files have none")
+        options = Options(**{**vars(options), "scene": scene_of(args, workspace.focus.original)})
+        workspace.options = options
+    if args.task is not None:
+        workspace.set_focus(*workspace.find_tree(task_term(args.task)))
+    if args.compressed:
+        if workspace.focus is None:
+            raise UsageError("--compressed needs a task: these files have none")
+        workspace.set_focus(workspace.focus, COMPRESSED)
+    if args.state is not None:
+        workspace.set_state(atoms_option(args.state, "--state"))
+    return workspace

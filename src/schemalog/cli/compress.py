@@ -1,0 +1,113 @@
+"""`schemalog compress FILE...`: merge sequential behaviours (Definition 1, Algorithm 1)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import TYPE_CHECKING
+
+from .. import defaults
+from ..logic.terms import term_to_text
+from .options import Parents, budget
+
+if TYPE_CHECKING:  # for annotations only: these load when the command runs
+    from ..logic.kb import KnowledgeBase
+
+
+def register(sub, parents: Parents) -> None:
+    p = sub.add_parser("compress", parents=[parents.limits, parents.output],
+                       help="merge sequential behaviours (Definition 1, Algorithm 1)")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--task", help="the task to compress (default: the first task/1)")
+    p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
+                   help="what the children of a merged behaviour inherit: its pre AND not post "
+                        "(full, default), its pre (pre: the paper's rule), or nothing (none)")
+    p.add_argument("--sympy-budget", type=budget, default=defaults.SYMPY_BUDGET, metavar="N",
+                   help=f"simplify with sympy up to N variables (default {defaults.SYMPY_BUDGET}, "
+                        f"at most {defaults.MAX_SYMPY_BUDGET}: its cost doubles per variable)")
+    p.add_argument("--verify", action="store_true",
+                   help="then prove the compressed task against the original from the initial state "
+                        "(as schemalog verify; exit 1 on a counterexample, 3 without a proof)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Merge sequential behaviours (Algorithm 1) and report the paper's figures."""
+    from ..formats.documents import to_pl, to_yaml
+    from ..formats.render import carried_clauses, compare_dot, rich_tree, tree_document, tree_json
+    from ..task.compress import compress, protected_labels
+    from ..task.conditions import Simplifier
+    from .common import choose_tasks, emit, instantiate_task, load_files
+    from .output import output_format, print_rich
+    from .verify import INCONCLUSIVE, verify_json, verify_lines
+
+    kb, _ = load_files(args)
+    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
+    task = tree.label
+    result = compress(tree, args.propagate, protected_labels(kb, tree),
+                      Simplifier(sympy_budget=args.sympy_budget))
+    for note in result.notes:
+        print(f"note: {note}", file=sys.stderr)
+    figures = (f"Bi = {result.nodes_before}, Bm = {result.nodes_after}, D = {result.depth_before}, "
+               f"RD = (Bi - Bm) / (Bi - D) = {result.reduction_degree:.2f}")
+    fmt = output_format(args)
+    report = _verify_compression(kb, result, args) if args.verify else None
+    code = 0 if report is None else 1 if report.violated else (
+        0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE)
+    how = f"propagate {result.propagate}"
+    if fmt == "json":
+        data = {"task": term_to_text(task), "propagate": result.propagate,
+                "nodes_before": result.nodes_before, "nodes_after": result.nodes_after,
+                "depth_before": result.depth_before, "depth_after": result.depth_after,
+                "reduction_degree": round(result.reduction_degree, 4),
+                "conditions": {"simplified": result.simplifier.calls,
+                               "needed_sympy": result.simplifier.sympy_calls},
+                "notes": result.notes, "tree": tree_json(result.tree)}
+        if report is not None:
+            data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after)
+        emit(json.dumps(data, indent=2) + "\n", args.output, kb.files)
+        return code
+    elif fmt == "dot":
+        emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
+              args.output, kb.files)
+    elif fmt in ("pl", "yaml"):
+        doc = tree_document(result.tree, carried=carried_clauses(kb))
+        header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
+                  f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
+                  f"`schemalog decompress` restores the original tree from the origins/2 facts.")
+        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, kb.files)
+    else:
+        from rich.console import Console, Group
+        from rich.table import Table
+
+        before = f"Original: {result.nodes_before} behaviours, depth {result.depth_before}"
+        after = (f"Compressed (propagate {result.propagate}): {result.nodes_after} behaviours, "
+                 f"depth {result.depth_after}")
+        to_file = bool(args.output and args.output != "-")
+        if to_file or Console().width >= 140:  # side by side where there is room
+            table = Table(show_header=True, header_style="bold", box=None, pad_edge=False)
+            table.add_column(before)
+            table.add_column(after)
+            table.add_row(rich_tree(result.original), rich_tree(result.tree))
+            view = Group(table, "", figures)
+        else:
+            view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
+        print_rich(view, args.output, kb.files)
+    if report is not None:
+        # After the compressed task (or alone, when that went to a file): what verify would print.
+        print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default")))
+    return code
+
+
+def _verify_compression(kb: KnowledgeBase, result, args: argparse.Namespace):
+    """`compress --verify`: prove the compressed tree against its original from the initial state."""
+    from ..run.verify import Verifier, verify_by_parts
+    from ..run.world import World, initial_state
+
+    world = World(result.original)
+    world.reset(initial_state(kb))
+    initial = [world.atoms]
+    task = result.original.label
+    report = verify_by_parts(result.original, result.tree, world, initial, None, task)
+    return report if report is not None else Verifier(result.original, result.tree, world).verify(initial, None, task)

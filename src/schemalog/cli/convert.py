@@ -1,0 +1,45 @@
+"""`schemalog convert FILE`: knowledge between SEED, schema text and YAML."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..logic.terms import Struct, TRUE
+from .options import Parents
+
+
+def register(sub, parents: Parents) -> None:
+    p = sub.add_parser("convert", parents=[parents.limits],
+                       help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")
+    p.add_argument("input", metavar="FILE")
+    p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml) picks the format")
+    p.add_argument("--to", choices=["pl", "yaml"], help="output format (default: from -o, else pl)")
+    p.add_argument("--task", help="declare this task (task/1) in the output")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Convert knowledge between SEED, schema text and YAML."""
+    from ..formats.documents import Document, YAML_SUFFIXES, read_document, to_pl, to_yaml
+    from ..logic.parse import Clause
+    from ..task.schema import check_schemas
+    from .common import emit, task_term
+
+    doc = read_document(args.input, args.max_bytes)
+    for note in doc.notes:
+        print(note, file=sys.stderr)
+    if args.task:
+        declaration = Clause(Struct("task", (task_term(args.task),)), TRUE, None)
+        doc = Document((declaration, *doc.items), doc.file, doc.notes, doc.seed)
+    loaded = doc.to_kb()
+    check_schemas(loaded)  # what is written must load again: check before writing
+    target = args.to or ("yaml" if args.output and args.output.endswith(YAML_SUFFIXES) else "pl")
+    if target == "yaml":
+        text = to_yaml(doc)
+    else:
+        origin = "the SEED long-term memory" if doc.seed else ""
+        header = f"Converted by schemalog from {origin + ' ' if origin else ''}{doc.file}."
+        text = to_pl(doc, header=header)
+    emit(text, args.output, [args.input, *loaded.files])
+    return 0

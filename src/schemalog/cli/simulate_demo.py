@@ -1,0 +1,79 @@
+"""`schemalog simulate-demo --scene FILE`: a synthetic demonstration of a task in a scene."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .. import defaults
+from ..errors import UsageError
+from ..logic.terms import term_to_text
+from .options import Parents, bounded, distance, length, positive
+
+
+def register(sub, parents: Parents) -> None:
+    p = sub.add_parser("simulate-demo", help="write a synthetic demonstration of a task in a scene")
+    p.add_argument("files", nargs="*", metavar="FILE",
+                   help="the task knowledge (default: the scene's knowledge: entry)")
+    p.add_argument("--scene", required=True, metavar="FILE", help="object positions (YAML)")
+    p.add_argument("--task", help="the task to demonstrate (default: the first task/1)")
+    p.add_argument("-o", "--output", help="write here (atomically; .json for JSON, else CSV); default: standard output")
+    p.add_argument("--seed", type=int, default=0, help="seed of the noise and of --jitter (default 0)")
+    p.add_argument("--noise", type=distance, default=defaults.NOISE, metavar="M",
+                   help=f"standard deviation of the hand's position noise (default {defaults.NOISE} m)")
+    p.add_argument("--jitter", type=distance, default=0.0, metavar="M",
+                   help="move each object coordinate by up to M metres (with --seed; default 0)")
+    p.add_argument("--rate", type=bounded(1, defaults.MAX_RATE, float), default=defaults.RATE, metavar="HZ",
+                   help=f"samples per second (default {defaults.RATE:g}, at most {defaults.MAX_RATE:,g})")
+    p.add_argument("--speed", type=bounded(0.01, 2.0, float), default=defaults.SPEED, metavar="M/S",
+                   help=f"the speed of the teacher's motions, 0.01 to 2 (default {defaults.SPEED} m/s; each motion "
+                        f"also takes 0.3 s to start and stop)")
+    p.add_argument("--radius", type=length, default=defaults.RADIUS, metavar="M",
+                   help=f"the proximity radius the demonstration is planned for (default {defaults.RADIUS} m)")
+    p.add_argument("--max-bytes", type=positive, default=defaults.MAX_BYTES,
+                   help=f"refuse input files larger than this (default {defaults.MAX_BYTES:,})")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write a synthetic demonstration of a task in a scene (smooth motions with noise)."""
+    from ..formats.documents import read_document, write_atomically
+    from ..logic.kb import KnowledgeBase
+    from ..run.scene import read_scene
+    from .common import check_output, choose_tasks, refuse_overwriting
+
+    from ..learn.demo import demonstration_csv, demonstration_json
+    from ..learn.simulate import simulate
+
+    scene = read_scene(args.scene, args.max_bytes)
+    files = args.files or ([scene.knowledge] if scene.knowledge else [])
+    if not files:
+        raise UsageError(f"which task knowledge? {args.scene} names none (knowledge: in the scene): "
+                         f"give the task file, e.g. kb/tasks/prepare_coffee_and_tea.pl")
+    if args.output and args.output != "-":
+        refuse_overwriting(args.output, [*files, args.scene])
+        check_output(args.output)
+    kb = KnowledgeBase()
+    for path in files:
+        read_document(path, args.max_bytes).to_kb(kb)
+    task = choose_tasks(kb, args.task)[0]
+    if args.jitter:
+        scene = scene.jittered(args.seed, args.jitter)
+    name = args.output if args.output and args.output != "-" else "<stdout>"
+    demo = simulate(kb, task, scene, seed=args.seed, noise=args.noise, rate=args.rate, speed=args.speed,
+                    radius=args.radius, file=name)
+    comment = (f"A simulated demonstration of {term_to_text(task)} in {scene.name} ({args.scene}), written by "
+               f"schemalog simulate-demo:\nminimum-jerk point-to-point motions at {args.speed:g} m/s, {args.rate:g} Hz, "
+               f"position noise {args.noise:g} m (seed {args.seed}).")
+    json_out = bool(args.output) and args.output.lower().endswith(".json")
+    text = demonstration_json(demo) if json_out else demonstration_csv(demo, comment)
+    commands = len(demo.gripper)
+    summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
+               f"{commands} gripper commands")
+    if args.output and args.output != "-":
+        write_atomically(args.output, text)
+        print(f"{summary}; wrote {args.output}")
+    else:
+        sys.stdout.write(text)
+        print(summary, file=sys.stderr)
+    return 0

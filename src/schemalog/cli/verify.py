@@ -1,0 +1,238 @@
+"""`schemalog verify FILE [COMPRESSED]`: prove a compressed task against its original."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import TYPE_CHECKING
+
+from .. import defaults
+from ..errors import SchemalogError, UsageError
+from ..logic.terms import term_to_text
+from .options import Parents, budget, positive
+
+if TYPE_CHECKING:  # for annotations only: these load when the command runs
+    from ..logic.kb import KnowledgeBase
+    from ..logic.terms import Term
+    from ..run.world import World
+
+
+INCONCLUSIVE = 3    # verify: no counterexample, but no proof either (state limit, sampling)
+
+
+def register(sub, parents: Parents) -> None:
+    p = sub.add_parser("verify", parents=[parents.limits],
+                       help="prove a compressed task against its original, with counterexamples")
+    p.add_argument("files", nargs="+", metavar="FILE",
+                   help="a task file (compressed here), or an original and a compressed file")
+    p.add_argument("--task", help="the task (default: the first task/1)")
+    p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
+                   help="how to compress a single task file (default full; pre is the paper's rule)")
+    p.add_argument("--sympy-budget", type=budget, default=defaults.SYMPY_BUDGET, metavar="N",
+                   help=argparse.SUPPRESS)
+    p.add_argument("--states", default="default", metavar="default|all|ATOMS",
+                   help="initial states to cover: the file's (default), all assignments of the free atoms "
+                        "that satisfy constraint/1, or one state such as 'hand.free, spoon.taken'")
+    p.add_argument("--scene", metavar="FILE", help="scene for the selection diagnostic (winner-take-all runs)")
+    p.add_argument("--max-states", type=positive, default=defaults.MAX_STATES, metavar="N",
+                   help=f"stop exploring after N states per tree; the result then says it is no proof "
+                        f"(default {defaults.MAX_STATES:,})")
+    p.add_argument("--no-split", action="store_true",
+                   help="explore the whole task even where it splits into independent parts")
+    p.add_argument("--sample", type=positive, metavar="RUNS",
+                   help="check RUNS random runs instead of every state: finds violations, proves nothing "
+                        "(exit 3 when none is found)")
+    p.add_argument("--seed", type=int, help="random seed of --sample (default 0)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON (docs/formats.md)")
+    p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
+    p.set_defaults(run=run, jitter=None)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Prove a compressed task against its original: soundness and completion, with diagnostics."""
+    from ..run.verify import Verifier, verify_by_parts
+    from ..run.world import World
+    from ..task.tree import count_nodes
+    from .common import emit, scene_of
+
+    kb, original, compressed, how, inputs = _verify_inputs(args)
+    task = original.label
+    world = World(original)
+    initial = _initial_states(args, kb, world, task)
+    scene = scene_of(argparse.Namespace(**{**vars(args), "seed": None}), original)  # --seed samples here
+    verifier = Verifier(original, compressed, world, max_states=args.max_states)
+    report = None
+    if args.sample:
+        report = verifier.sample(initial, args.sample, args.seed or 0, scene, task)
+    elif not args.no_split:
+        report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
+    if report is None:
+        report = verifier.verify(initial, scene, task)
+    if args.json:
+        emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
+              args.output, inputs)
+    else:
+        lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states)
+        emit("\n".join(lines) + "\n", args.output, inputs)
+    if report.violated:
+        return 1
+    return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
+
+
+def _verify_inputs(args: argparse.Namespace):
+    """(kb, original, compressed, how, inputs): one task file compressed here, or an original
+    file and a compressed file someone else produced."""
+    from ..task import conditions as cond
+    from ..formats.documents import read_document
+    from ..logic.kb import KnowledgeBase
+    from ..task.compress import compress, original_of, protected_labels
+    from ..task.conditions import Simplifier
+    from ..task.tree import declared_tasks, walk
+    from .common import choose_tasks, instantiate_task, load_files
+
+    if len(args.files) == 2:
+        first, second = (KnowledgeBase(), KnowledgeBase())
+        for kb, path in ((first, args.files[0]), (second, args.files[1])):
+            read_document(path, args.max_bytes).to_kb(kb)
+        task = choose_tasks(first, args.task)[0]
+        other_tasks = declared_tasks(second) or [task]
+        compressed = instantiate_task(second, other_tasks[0] if args.task is None else task, args)
+        for kb in (first, second):
+            for warning in kb.warnings:
+                print(warning, file=sys.stderr)
+        if any(n.origins for n in walk(compressed)):
+            original = original_of(instantiate_task(first, task, args))
+            if (compressed.label, compressed.post) != (original.label, original.post):
+                raise SchemalogError(
+                    f"{args.files[1]} compresses {term_to_text(compressed.label)} (post-condition "
+                    f"{cond.to_text(compressed.post)}), not {term_to_text(original.label)} of {args.files[0]} "
+                    f"({cond.to_text(original.post)}): name the task with --task")
+            if original_of(compressed) != original:
+                print(f"note: the provenance of {args.files[1]} does not rebuild {args.files[0]}'s "
+                      f"{term_to_text(task)} exactly; the world is the original file's", file=sys.stderr)
+            return first, original, compressed, f"{args.files[1]}", [*first.files, *second.files]
+        raise UsageError(f"{args.files[1]} carries no provenance (origins/2): give one task file to "
+                         f"compress and verify, or an original and a file written by schemalog compress")
+    if len(args.files) != 1:
+        raise UsageError("verify takes one task file, or an original and a compressed file")
+    kb, _ = load_files(args)
+    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
+    original = original_of(tree)
+    if original is not tree:
+        return kb, original, tree, "the compressed file", list(kb.files)
+    result = compress(original, args.propagate, protected_labels(kb, original),
+                      Simplifier(sympy_budget=args.sympy_budget))
+    for note in result.notes:
+        print(f"note: {note}", file=sys.stderr)
+    return kb, original, result.tree, f"propagate {args.propagate}", list(kb.files)
+
+
+def _initial_states(args: argparse.Namespace, kb: KnowledgeBase, world: World, task: Term) -> list:
+    """--states default | all | 'atom, atom': the initial states to cover, settled."""
+    from ..run.verify import all_states, constraints, free_atoms
+    from ..run.world import initial_state
+    from .common import atoms_option
+
+    if args.states == "all":
+        atoms = free_atoms(kb, world.original)
+        states = all_states(world, atoms, constraints(kb))
+        if not states:
+            raise SchemalogError("no assignment of the free atoms satisfies the constraints (constraint/1)")
+        return states
+    if args.states == "default":
+        atoms = initial_state(kb)
+    else:
+        atoms = atoms_option(args.states, "--states")
+    for atom in world.unknown(atoms):
+        print(f"warning: {term_to_text(atom)} is read or set by no condition of {term_to_text(task)}",
+              file=sys.stderr)
+    world.reset(atoms)
+    return [world.atoms]
+
+
+def verify_lines(report, how: str, before: int, after: int, states_option: str) -> list[str]:
+    """The report as a person reads it: each property, and a counterexample where one fails."""
+    from ..run.verify import state_text
+
+    n = len(report.initial_states)
+    which = "default: " + state_text(report.initial_states[0]) if states_option == "default" else \
+        ("all that satisfy the constraints" if states_option == "all" else state_text(report.initial_states[0]))
+    lines = [f"verify {term_to_text(report.task)}: original {before} behaviours, compressed {after} ({how}); "
+             f"{n} initial state{'s' if n != 1 else ''} ({which})",
+             (f"sampled: visited {report.compressed_states:,} states of the compressed tree in "
+              f"{report.seconds:.2f} s (NOT a proof)" if report.sampled else
+              f"explored {report.compressed_states:,} states of the compressed tree and "
+              f"{report.original_states:,} of the original in {report.seconds:.2f} s"
+              + (f", in {report.parts} independent parts" if report.parts > 1 else "")
+              + ("" if report.exhaustive else " (stopped at --max-states: NOT a proof)")), ""]
+    titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",
+              "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
+              "selection": "selection under emphasis (diagnostic)"}
+    for name, verdict in report.properties.items():
+        status = {True: "holds", False: "FAILS", None: "unknown"}[verdict.holds]
+        lines.append(f"{titles[name]}: {status}: {verdict.summary}")
+        if verdict.counterexample is not None:
+            lines.extend(counterexample_lines(verdict.counterexample))
+        lines.append("")
+    if report.violated:
+        verdict = "the compressed tree is " + ("not sound" if report.properties["soundness"].holds is False
+                                               else "not complete") + " (exit 1)"
+    elif report.exhaustive:
+        verdict = "the compressed tree is sound and complete (exit 0)"
+    else:
+        verdict = "no counterexample found, but this is not a proof (exit 3)"
+    lines.append(f"result: {verdict}")
+    return lines
+
+
+def counterexample_lines(ce) -> list[str]:
+    from ..run.verify import state_text
+
+    lines = [f"  counterexample, from the initial state {state_text(ce.initial)}:"]
+    if not ce.path:
+        lines.append("    (at the start)")
+    for k, step in enumerate(ce.path, 1):
+        actions = ", ".join(term_to_text(a) for a in step.actions)
+        label = term_to_text(step.behaviour)
+        lines.append(f"    {k:3d}  {label}" + (f"   [{actions}]" if actions != label else ""))
+    if ce.action is not None:
+        done = "".join(f"{term_to_text(a)}, " for a in ce.done_first)
+        own = "" if ce.behaviour == ce.action and not done else f": {done}{term_to_text(ce.action)}"
+        lines.append(f"    then the compressed tree takes {term_to_text(ce.behaviour)}{own}")
+        lines.append(f"      ({ce.where})")
+        lines.append(f"    the original would not take {term_to_text(ce.action)} there "
+                     f"(state: {state_text(ce.state)}):")
+    else:
+        lines.append(f"    state: {state_text(ce.state)}")
+    lines.extend(f"      {r}" for r in ce.reasons)
+    return lines
+
+
+def verify_json(report, how: str, before: int, after: int) -> dict:
+    """The report as data (docs/formats.md)."""
+    def ce_json(ce):
+        if ce is None:
+            return None
+        return {"initial": sorted(term_to_text(a) for a in ce.initial),
+                "run": [{"behaviour": term_to_text(s.behaviour), "actions": [term_to_text(a) for a in s.actions]}
+                        for s in ce.path],
+                "state": sorted(term_to_text(a) for a in ce.state),
+                "behaviour": None if ce.behaviour is None else term_to_text(ce.behaviour),
+                "behaviour_path": ce.where or None,
+                "actions_before": [term_to_text(a) for a in ce.done_first],
+                "action": None if ce.action is None else term_to_text(ce.action),
+                "reasons": list(ce.reasons)}
+    return {
+        "task": term_to_text(report.task), "compressed": how, "behaviours": {"original": before, "compressed": after},
+        "sound": report.properties["soundness"].holds, "complete": report.properties["completion"].holds,
+        "exhaustive": report.exhaustive,
+        "states": len(report.initial_states),
+        "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
+        "explored": {"compressed": report.compressed_states, "original": report.original_states,
+                     "seconds": report.seconds, "parts": report.parts, "sampled": report.sampled},
+        "counterexample": ce_json(report.properties["soundness"].counterexample
+                                  or report.properties["completion"].counterexample),
+        "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),
+                              **v.details} for name, v in report.properties.items()},
+    }
