@@ -14,11 +14,8 @@ nothing is cached and everything still works, only slower to start.
 
 from __future__ import annotations
 
-import hashlib
 import os
-import pickle
 import stat
-import tempfile
 from pathlib import Path
 from typing import Callable, TypeVar
 
@@ -56,6 +53,10 @@ def cache_file(name: str) -> str | None:
 def remembered(kind: str, sources: list[str], build: Callable[[], T]) -> T:
     """What `build()` returns, kept under a hash of `sources` (the texts it depends on, the
     code that reads them included): a changed source is a new name, an old file is ignored."""
+    import hashlib  # here, not at the top: a command that caches nothing does not pay for them
+    import pickle
+    import tempfile
+
     digest = hashlib.sha256("\0".join(sources).encode("utf-8", "surrogatepass")).hexdigest()[:24]
     path = cache_file(f"{kind}-{digest}.pickle")
     if path is not None:

@@ -25,24 +25,32 @@ COMMANDS = ("check", "show", "compress", "decompress", "run", "verify", "generat
             "simulate_demo", "query", "repl", "convert")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The whole command line: the top level and every command's arguments."""
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command line: the top level and every command's arguments, or with `only` (a
+    command's name, as typed) just that command's, which is all a run of it reads."""
     parser = argparse.ArgumentParser(
         prog="schemalog",
         description="Compress and check robot task structures (schema(m, l, p) knowledge).")
     parser.add_argument("--version", action="version", version=f"schemalog {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     parents = shared_parents()
-    for name in COMMANDS:
+    for name in COMMANDS if only is None else [only.replace("-", "_")]:
         importlib.import_module(f"{__package__}.{name}").register(sub, parents)
     return parser
+
+
+def _named_command(argv: list[str]) -> str | None:
+    """The command `argv` names first, when it is one of ours (`run`, `simulate-demo`)."""
+    name = argv[0] if argv else None
+    return name if name and name.replace("-", "_") in COMMANDS and "_" not in name else None
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
     from ..logic.exceptions import PrologError
 
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(_named_command(argv))
     args, extra = parser.parse_known_args(argv)
     if extra:
         # `schemalog query FILE --first QUERY`: argparse gives FILE to QUERY and leaves the

@@ -20,13 +20,13 @@ import functools
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Iterator
-from importlib import resources
 from pathlib import Path
 
+from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
 from .engine import Engine, is_builtin
 from .exceptions import PrologError
-from .parse import MAX_BYTES, Clause, Directive, parse_text, read_source
+from .parse import MAX_BYTES, Clause, Directive, grammar_text, parse_text, read_source
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
 
@@ -361,8 +361,12 @@ def _useful_index(clauses: list[StoredClause], position: int):
 
 @functools.lru_cache(maxsize=1)
 def _prelude() -> tuple[Clause, ...]:
-    text = resources.files("schemalog.logic").joinpath("prelude.pl").read_text(encoding="utf-8")
-    return tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause))
+    """The library written in Prolog, parsed once per version of it and of its reader."""
+    here = Path(__file__).resolve().parent
+    text = (here / "prelude.pl").read_text(encoding="utf-8")
+    readers = [(here / name).read_text(encoding="utf-8") for name in ("terms.py", "parse.py")]
+    return remembered("prelude", [text, grammar_text(), *readers],
+                      lambda: tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause)))
 
 
 class KnowledgeBase:

@@ -18,10 +18,12 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
+import lark
 from lark import Lark, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from .. import defaults
+from ..cache import cache_file
 from ..errors import SchemalogError, SourcePos
 from ..shipped import shipped_text
 from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, make_list
@@ -276,9 +278,12 @@ class _Reader:
         callbacks = {name: self._open for name in ("LPAR", "LSQB", "LBRACE")}
         callbacks.update({name: self._close for name in ("RPAR", "RSQB", "RBRACE")})
         callbacks["END"] = self._end
+        # lark checks a cached table against a hash of the grammar and options, and rebuilds
+        # it (silently) when the file is stale, torn or unreadable: building takes ~60 ms.
+        cached = cache_file(f"grammar-{start}-lark-{lark.__version__}.cache")
         self.lark = Lark(grammar_text(), parser="lalr", start=start,
                          transformer=self.transformer, maybe_placeholders=False,
-                         lexer_callbacks=callbacks)
+                         lexer_callbacks=callbacks, cache=cached or False)
 
     def _end(self, token: Token) -> Token:
         # The next clause starts at the first character after this "." that is not

@@ -80,6 +80,11 @@ class Var:
     def __repr__(self) -> str:
         return f"Var({self.name!r}, {self.id})"
 
+    def __reduce__(self):
+        # Unpickled (the cached prelude), a variable is a fresh one, so ids stay unique here;
+        # pickle's memo keeps every occurrence of one variable the same object.
+        return (Var, (self.name,))
+
 
 @dataclass(frozen=True, slots=True)
 class Struct:
@@ -88,6 +93,10 @@ class Struct:
     name: str
     args: tuple
     _hash: int = field(default=0, init=False, repr=False, compare=False)
+
+    def __reduce__(self):
+        # The cached hash is not kept: string hashes differ from one process to the next.
+        return (Struct, (self.name, self.args))
 
     def __hash__(self) -> int:
         # Computed on first use: the engine builds many terms (clause copies) never hashed.
