@@ -4,11 +4,12 @@ changing an answer, whatever the process's hash seed."""
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 from schemalog import cache
 from schemalog.logic.kb import KnowledgeBase, _prelude
 from schemalog.logic.parse import parse_text
-from schemalog.logic.terms import Struct, Var, iter_vars
+from schemalog.logic.terms import TRUE, Struct, Var, iter_vars
 from schemalog.logic.unify import variant
 
 from conftest import ROOT
@@ -39,6 +40,26 @@ def test_a_torn_entry_is_rebuilt(tmp_path, monkeypatch):
     assert cache.remembered("t", ["s"], lambda: [5]) == [4]   # and written again, whole
 
 
+def test_an_entry_is_named_by_its_sources_and_replaces_other_versions(tmp_path, monkeypatch):
+    monkeypatch.setenv("SCHEMALOG_CACHE_DIR", str(tmp_path))
+    one = cache.cache_file("grammar-start", ["grammar v1", "lark 1.3"], ".cache")
+    Path(one).write_text("tables")
+    assert cache.cache_file("grammar-start", ["grammar v1", "lark 1.3"], ".cache") == one
+    two = cache.cache_file("grammar-start", ["grammar v2", "lark 1.3"], ".cache")
+    assert two != one and not Path(one).exists()           # another grammar: another name
+    assert cache.cache_file("grammar-start", ["grammar v1", "lark 1.4"], ".cache") != one
+
+
+def test_a_missing_home_is_not_made(tmp_path, monkeypatch):
+    monkeypatch.delenv("SCHEMALOG_CACHE_DIR", raising=False)
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+    monkeypatch.setenv("HOME", str(tmp_path / "no" / "such" / "home"))
+    assert cache.cache_dir() is None
+    assert not (tmp_path / "no").exists()
+    monkeypatch.setenv("HOME", str(tmp_path))              # a HOME that exists: ~/.cache/schemalog
+    assert cache.cache_dir() == tmp_path / ".cache" / "schemalog"
+
+
 def test_no_cache_where_others_could_write_or_when_turned_off(tmp_path, monkeypatch):
     shared = tmp_path / "shared"
     shared.mkdir()
@@ -49,6 +70,11 @@ def test_no_cache_where_others_could_write_or_when_turned_off(tmp_path, monkeypa
     cache.remembered("t", ["s"], lambda: calls.append(1))
     cache.remembered("t", ["s"], lambda: calls.append(1))
     assert calls == [1, 1] and not list(shared.iterdir())
+    (shared / "mine").mkdir(mode=0o700)        # private, but others may rename it away
+    monkeypatch.setenv("SCHEMALOG_CACHE_DIR", str(shared / "mine"))
+    assert cache.cache_dir() is None
+    shared.chmod(0o1777)                        # sticky, as /tmp: only its owner may
+    assert cache.cache_dir() == shared / "mine"
     monkeypatch.setenv("SCHEMALOG_CACHE_DIR", "off")
     assert cache.cache_dir() is None
     monkeypatch.setenv("SCHEMALOG_CACHE_DIR", str(tmp_path / "a-file"))
@@ -70,6 +96,7 @@ def test_the_cached_prelude_is_the_parsed_prelude_with_fresh_variables(tmp_path,
         assert len(clauses) == len(parsed) > 50
         for mine, theirs in zip(clauses, parsed):
             assert mine.pos == theirs.pos
+            assert (mine.body is TRUE) == (theirs.body is TRUE)     # the engine skips `true` bodies
             assert variant(Struct(":-", (mine.head, mine.body)), Struct(":-", (theirs.head, theirs.body)))
     fresh = Var("X")
     ids = [v.id for c in loaded for t in (c.head, c.body) for v in iter_vars(t)]
@@ -127,3 +154,19 @@ def test_a_term_read_back_in_another_process_hashes_as_built_there(tmp_path):
         out = subprocess.run([sys.executable, "-c", code, mode, target], capture_output=True, text=True,
                              env={**os.environ, "PYTHONHASHSEED": str(seed)}, timeout=60, check=True)
     assert out.stdout == "True True\n"
+
+
+def test_a_warm_cache_takes_the_same_steps(tmp_path):
+    # the fewest steps that answer: a library fact read back must still skip its `true` body
+    goal = "append(X, Y, [1, 2])"
+    cold = subprocess.run([sys.executable, "-m", "schemalog", "query", goal, "--max-steps", "7"], cwd=ROOT,
+                          env={**os.environ, "SCHEMALOG_CACHE_DIR": "off"}, capture_output=True, text=True)
+    warm = [_query_steps(tmp_path, goal, 7) for _ in range(2)]
+    assert cold.returncode == 0 and cold.stdout.count("X = ") == 3
+    assert [(r.returncode, r.stdout) for r in warm] == [(0, cold.stdout)] * 2
+
+
+def _query_steps(cache_dir, goal, steps):
+    env = {**os.environ, "SCHEMALOG_CACHE_DIR": str(cache_dir)}
+    return subprocess.run([sys.executable, "-m", "schemalog", "query", goal, "--max-steps", str(steps)],
+                          capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)

@@ -149,3 +149,12 @@ def test_relations_describe_generated_trees_exactly(tmp_path_factory, d, b, rd, 
 
 def _count(ws: Workspace, goal: str) -> int:
     return len(ws.engine().answers(parse_term(goal)))
+
+
+def test_a_clause_asserted_for_a_relation_is_kept_and_the_relation_still_answers():
+    ws = Workspace([str(MIX)])
+    # as for a file's clause: assert/1 accepts it (no permission error), and holds/1 still
+    # reads the state: hand.free is true at the start, x never is
+    assert ask(ws, "assertz(holds(x))") == ["assertz(holds(x))"]
+    assert ask(ws, "holds(x)") == []
+    assert ask(ws, "holds(hand.free)") == ["holds(hand.free)"]

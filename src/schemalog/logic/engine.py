@@ -332,9 +332,10 @@ class Engine:
         raise err.__class__(ball) if isinstance(err, PrologError) else err
 
     def is_builtin(self, name: str, arity: int) -> bool:
-        """Whether `name/arity` is built in for this engine (so assert may not define it)."""
-        key = (name, arity)
-        return key in self.builtins or key in self.nondet or key in CONTROL
+        """Whether `name/arity` is one of every engine's built-ins (so assert may not define it).
+        An engine's own extra predicates (the workspace's relations) do not count: a clause
+        asserted for one is kept, as in a file, though the relation answers first."""
+        return is_builtin(name, arity)
 
     def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
         """Solve `goal` in a sub-machine sharing the bindings (findall, forall)."""

@@ -26,7 +26,7 @@ from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
 from .engine import Engine, is_builtin
 from .exceptions import PrologError
-from .parse import MAX_BYTES, Clause, Directive, grammar_text, parse_text, read_source
+from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
 
@@ -364,8 +364,10 @@ def _prelude() -> tuple[Clause, ...]:
     """The library written in Prolog, parsed once per version of it and of its reader."""
     here = Path(__file__).resolve().parent
     text = (here / "prelude.pl").read_text(encoding="utf-8")
-    readers = [(here / name).read_text(encoding="utf-8") for name in ("terms.py", "parse.py")]
-    return remembered("prelude", [text, grammar_text(), *readers],
+    # what the stored clauses are made of: the reader, the term and position classes, lark
+    readers = [(path).read_text(encoding="utf-8") for path in
+               (here / "terms.py", here / "parse.py", here.parent / "errors.py")]
+    return remembered("prelude", [text, grammar_text(), *readers, lark_version()],
                       lambda: tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause)))
 
 

@@ -54,6 +54,11 @@ def grammar_text() -> str:
     return shipped_text("grammar/schemalog.lark")
 
 
+def lark_version() -> str:
+    """The version of lark that builds the parser (cached tables depend on it)."""
+    return lark.__version__
+
+
 _ESCAPE_CHARS = {"n": "\n", "t": "\t", "r": "\r", "a": "\a", "b": "\b", "f": "\f",
                  "v": "\v", "0": "\0", "\\": "\\", "'": "'", '"': '"', "`": "`", "e": "\x1b",
                  "s": " ", "z": ""}
@@ -280,7 +285,7 @@ class _Reader:
         callbacks["END"] = self._end
         # lark checks a cached table against a hash of the grammar and options, and rebuilds
         # it (silently) when the file is stale, torn or unreadable: building takes ~60 ms.
-        cached = cache_file(f"grammar-{start}-lark-{lark.__version__}.cache")
+        cached = cache_file(f"grammar-{start}", [grammar_text(), lark.__version__], ".cache")
         self.lark = Lark(grammar_text(), parser="lalr", start=start,
                          transformer=self.transformer, maybe_placeholders=False,
                          lexer_callbacks=callbacks, cache=cached or False)

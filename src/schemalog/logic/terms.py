@@ -27,6 +27,13 @@ class Atom:
     def __str__(self) -> str:
         return term_to_text(self)
 
+    def __reduce__(self):
+        # The shared constants come back as themselves (the engine tests `body is TRUE`);
+        # any other atom as an atom of that name.
+        if _SHARED.get(self.name) is self:
+            return (_shared_atom, (self.name,))
+        return (Atom, (self.name,))
+
 
 @dataclass(frozen=True, slots=True)
 class Int:
@@ -120,6 +127,12 @@ Number = Union[Int, Float]
 NIL = Atom("[]")
 TRUE = Atom("true")
 FALSE = Atom("false")
+_SHARED = {atom.name: atom for atom in (NIL, TRUE, FALSE)}
+
+
+def _shared_atom(name: str) -> Atom:
+    return _SHARED[name]
+
 CONS = "[|]"
 
 
