@@ -27,7 +27,7 @@ from ..errors import SchemalogError, SourcePos
 from .engine import Engine, is_builtin
 from .exceptions import PrologError
 from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
-from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, indicator, is_ground, iter_vars, list_items, term_to_text
+from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
@@ -511,7 +511,7 @@ class KnowledgeBase:
         """Declare (dynamic), include (consult) or run the goal of a directive."""
         goal = d.goal
         if isinstance(goal, Struct) and goal.name in ("dynamic", "discontiguous") and len(goal.args) == 1:
-            for spec in _conjuncts(goal.args[0]):
+            for spec in conjuncts(goal.args[0]):
                 items, _ = list_items(spec)
                 for s in items or [spec]:
                     if not (isinstance(s, Struct) and s.name == "/" and isinstance(s.args[0], Atom)
@@ -549,14 +549,6 @@ class KnowledgeBase:
         except PrologError as err:
             self.warnings.append(f"{d.pos}: warning: directive raised {err}")
 
-
-def _conjuncts(term: Term) -> list[Term]:
-    out = []
-    while isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
-        out.append(term.args[0])
-        term = term.args[1]
-    out.append(term)
-    return out
 
 
 __all__ = ["KnowledgeBase", "StoredClause", "Predicate", "first_arg_key"]

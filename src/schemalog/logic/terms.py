@@ -144,6 +144,16 @@ def make_list(items: Iterable[Term], tail: Term = NIL) -> Term:
     return result
 
 
+def conjuncts(term: Term) -> list[Term]:
+    """The goals of a conjunction `(A, B, C)`, in order; any other term is one goal."""
+    out = []
+    while isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
+        out.append(term.args[0])
+        term = term.args[1]
+    out.append(term)
+    return out
+
+
 def list_items(term: Term) -> tuple[list[Term], Term]:
     """Split a list into its items and its tail (`NIL` for a proper list)."""
     items = []

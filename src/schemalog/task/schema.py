@@ -27,7 +27,7 @@ from . import conditions as cond
 from .conditions import Condition, NotACondition
 from ..errors import SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase, StoredClause
-from ..logic.terms import (NIL, TRUE, Atom, Float, Int, Struct, Term, Var, list_items, make_list, term_to_text,
+from ..logic.terms import (NIL, TRUE, Atom, Float, Int, Struct, Term, Var, conjuncts, list_items, make_list, term_to_text,
                     variable_names)
 
 DEFAULT_AGENT = "arm"
@@ -188,7 +188,7 @@ def write_clause(head: Term, body: Term = TRUE) -> str:
     else:
         text = term_to_text(head, 1199, names)
     if body is not TRUE:
-        text += " :-\n    " + ",\n    ".join(term_to_text(g, 999, names, spaced=True) for g in _conjuncts(body))
+        text += " :-\n    " + ",\n    ".join(term_to_text(g, 999, names, spaced=True) for g in conjuncts(body))
     return text + "."
 
 
@@ -205,11 +205,3 @@ def _entry_text(item: Term, names: dict) -> str:
         return "(" + ", ".join(term_to_text(p, 999, names, spaced=True) for p in parts) + ")"
     return term_to_text(item, 999, names, spaced=True)
 
-
-def _conjuncts(term: Term) -> list[Term]:
-    out = []
-    while isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
-        out.append(term.args[0])
-        term = term.args[1]
-    out.append(term)
-    return out
