@@ -12,6 +12,7 @@ from .options import Parents, positive
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog bench` and its arguments to the command line."""
     p = sub.add_parser("bench", help="reproduce the paper's evaluation (Sec. IV) beside py_trees: "
                                      "CSV, Markdown and figures")
     which = p.add_mutually_exclusive_group(required=True)

@@ -16,6 +16,7 @@ if TYPE_CHECKING:  # for annotations only: these load when the command runs
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog compress` and its arguments to the command line."""
     p = sub.add_parser("compress", parents=[parents.limits, parents.output],
                        help="merge sequential behaviours (Definition 1, Algorithm 1)")
     p.add_argument("files", nargs="+", metavar="FILE")

@@ -10,6 +10,7 @@ from .options import Parents
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog decompress` and its arguments to the command line."""
     p = sub.add_parser("decompress", parents=[parents.limits, parents.output],
                        help="restore the original tree of a compressed task file")
     p.add_argument("files", nargs="+", metavar="FILE")

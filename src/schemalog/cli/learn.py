@@ -15,6 +15,7 @@ from .options import Parents, bounded, distance, length, positive
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog learn` and its arguments to the command line."""
     p = sub.add_parser("learn", help="learn task knowledge from a demonstration (Sec. II-C, II-D; docs/learning.md)")
     p.add_argument("demo", metavar="DEMO", help="the demonstration, CSV or JSON (docs/learning.md)")
     p.add_argument("--structure", required=True, metavar="FILE",

@@ -10,6 +10,7 @@ from .options import Parents
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog query` and its arguments to the command line."""
     p = sub.add_parser("query", parents=[parents.limits, parents.ask],
                        help="answer a Prolog query over knowledge files (docs/queries.md)")
     p.add_argument("files", nargs="*", metavar="FILE")
@@ -22,7 +23,6 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Answer one query over knowledge files: every answer (or the first), as text or JSON."""
     from .common import workspace_of
-
     from .toplevel import run_query
 
     try:

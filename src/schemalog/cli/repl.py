@@ -9,6 +9,7 @@ from .options import Parents
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog repl` and its arguments to the command line."""
     p = sub.add_parser("repl", parents=[parents.limits, parents.ask], help="the interactive query top level")
     p.add_argument("files", nargs="*", metavar="FILE")
     p.add_argument("--plain", action="store_true",
@@ -19,7 +20,6 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """The interactive top level (prompt_toolkit) over knowledge files."""
     from .common import workspace_of
-
     from .session import Repl
 
     workspace = workspace_of(args, args.files)

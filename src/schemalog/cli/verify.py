@@ -22,6 +22,7 @@ INCONCLUSIVE = 3    # verify: no counterexample, but no proof either (state limi
 
 
 def register(sub, parents: Parents) -> None:
+    """Add `schemalog verify` and its arguments to the command line."""
     p = sub.add_parser("verify", parents=[parents.limits],
                        help="prove a compressed task against its original, with counterexamples")
     p.add_argument("files", nargs="+", metavar="FILE",
