@@ -1,8 +1,13 @@
 """End to end: the `schemalog` command as a user runs it."""
 
 import json
+import os
+import signal
+import stat
 import subprocess
 import sys
+import threading
+import time
 
 import pytest
 
@@ -352,9 +357,9 @@ def test_run_review_regressions(tmp_path):
     scene.write_text(FIG2_SCENE.read_text())
     r = run("run", MIX, "--scene", scene, "-o", scene)
     assert r.returncode == 2 and scene.read_text() == FIG2_SCENE.read_text()
-    # write errors are messages
+    # an output that cannot be written is refused before running, as a usage error
     r = run("run", MIX, "-o", tmp_path)
-    assert r.returncode == 1 and "is a directory" in r.stderr and "internal error" not in r.stderr
+    assert r.returncode == 2 and "is a directory" in r.stderr and "internal error" not in r.stderr
     # a non-finite importance is refused where it is written
     bad = tmp_path / "nan.pl"
     bad.write_text("task(t).\nschema(t, [(a, true, 1.5NaN)], a.done).\nschema(a, [], a.done).\n")
@@ -506,3 +511,126 @@ def test_run_decompresses_a_merged_behaviour_that_fails_part_way():
     assert r.returncode == 1 and "  a4(cup): its command failed 3 times; inhibited" in r.stdout
     assert "a3_a4_a5_a6_a7(cup): its command failed" not in r.stdout
     assert run("run", MIX, "--recovery", "replan").returncode == 2
+
+
+# --- outputs that never destroy anything (docs/formats.md, Outputs) -----------------------------
+
+def _read_fifo_in_thread(fifo):
+    got = []
+    reader = threading.Thread(target=lambda: got.append(open(fifo, "rb").read()), daemon=True)
+    reader.start()
+    return reader, got
+
+
+def test_output_onto_a_fifo_a_device_or_a_link_writes_into_it(tmp_path):
+    fifo = tmp_path / "fifo.json"
+    os.mkfifo(fifo)
+    reader, got = _read_fifo_in_thread(fifo)
+    r = run("show", MIX, "--json", "-o", fifo)
+    reader.join(30)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(got[0])["task"] == "use(spoon)" and stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    null = tmp_path / "null"
+    os.mknod(null, stat.S_IFCHR | 0o666, os.makedev(1, 3))   # the null device, inside tmp_path
+    r = run("compress", MIX, "-o", null)
+    assert r.returncode == 0, r.stderr
+    assert stat.S_ISCHR(os.lstat(null).st_mode) and os.lstat(null).st_rdev == os.makedev(1, 3)
+    link = tmp_path / "link.json"
+    link.symlink_to(fifo)
+    reader, got = _read_fifo_in_thread(fifo)
+    r = run("show", MIX, "--json", "-o", link)
+    reader.join(30)
+    assert r.returncode == 0 and json.loads(got[0])["task"] == "use(spoon)"
+    assert link.is_symlink() and stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert sorted(os.listdir(tmp_path)) == ["fifo.json", "link.json", "null"]
+
+
+@pytest.mark.parametrize("args", [("show", MIX), ("compress", MIX), ("convert", MIX), ("generate", "--depth", "2", "--children", "2"),
+                                  ("run", MIX), ("verify", MIX)])
+@pytest.mark.parametrize("name", ["newdir/", "newdir/x.pl"])
+def test_output_into_a_directory_that_is_not_there_is_refused(tmp_path, args, name):
+    r = run(*args, "-o", name, cwd=tmp_path)
+    assert r.returncode == 2 and "directory" in r.stderr and "newdir" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr and os.listdir(tmp_path) == []
+
+
+def test_output_never_overwrites_any_input(tmp_path):
+    scene = tmp_path / "s.yaml"
+    scene.write_text(FIG2_SCENE.read_text())
+    for args in (("verify", MIX, "--scene", "s.yaml"), ("simulate-demo", MIX, "--scene", "s.yaml"),
+                 ("run", MIX, "--scene", "s.yaml")):
+        r = run(*args, "-o", "s.yaml", cwd=tmp_path)
+        assert r.returncode == 2 and "-o s.yaml would overwrite an input file" in r.stderr, (args, r.stderr)
+        assert scene.read_text() == FIG2_SCENE.read_text()
+    # learn: a file the structure consults
+    (tmp_path / "X.pl").write_text("object(cup).\n")
+    (tmp_path / "st.pl").write_text(":- consult('X.pl').\n" + (ROOT / "kb" / "tasks" / "coffee_structure.pl").read_text())
+    (tmp_path / "demo.csv").write_text("t,x,y,z\n")
+    r = run("learn", "demo.csv", "--structure", "st.pl", "-o", "X.pl", cwd=tmp_path)
+    assert r.returncode == 2 and "-o X.pl would overwrite an input file" in r.stderr, r.stderr
+    r = run("learn", "demo.csv", "--structure", "st.pl", "--task", "preparecoffee", "--motions", "X.pl", cwd=tmp_path)
+    assert r.returncode == 2 and "--motions X.pl would overwrite an input file" in r.stderr, r.stderr
+    # show and verify: a consulted file, and the same file through a hard link
+    (tmp_path / "inc.pl").write_text(":- [m].\n" + MIX.read_text())
+    (tmp_path / "m.pl").write_text("object(cup).\n")
+    os.link(tmp_path / "m.pl", tmp_path / "hard.pl")
+    for args in (("show", "inc.pl", "-o", "m.pl"), ("verify", "inc.pl", "-o", "hard.pl")):
+        r = run(*args, cwd=tmp_path)
+        assert r.returncode == 2 and "would overwrite an input file" in r.stderr, (args, r.stderr)
+    assert (tmp_path / "X.pl").read_text() == "object(cup).\n" == (tmp_path / "m.pl").read_text()
+
+
+# The write is made slow (it stops after the first kilobyte) so that the signal arrives during it.
+SLOW_WRITE = """
+import sys, time
+import schemalog.formats.documents as documents
+def slow(handle, text):
+    handle.write(text[:1000]); handle.flush(); time.sleep(60)
+documents._write_text = slow
+sys.argv[0] = "schemalog"
+from schemalog.cli.main import run
+run()
+"""
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
+def test_a_signal_during_a_write_leaves_no_temporary_file(tmp_path, signum):
+    p = subprocess.Popen([sys.executable, "-c", SLOW_WRITE, "generate", "--depth", "4", "--children", "3", "-o", "out.pl"],
+                         cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not any(n.endswith(".tmp") for n in os.listdir(tmp_path)) and p.poll() is None:
+        assert time.monotonic() < deadline
+        time.sleep(0.02)
+    p.send_signal(signum)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 128 + signum, err
+    assert os.listdir(tmp_path) == [] and "Traceback" not in err
+
+
+def test_sigterm_while_generating_a_large_output_exits_143_and_leaves_nothing(tmp_path):
+    p = subprocess.Popen([sys.executable, "-m", "schemalog", "generate", "--depth", "8", "--children", "4",
+                          "-o", "big.pl"], cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(1.0)
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 143 and "Traceback" not in err, err
+    assert not any(n.endswith(".tmp") for n in os.listdir(tmp_path))
+
+
+def _zero_device(path):
+    os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, 5))   # the zero device, inside tmp_path
+    return path
+
+
+def test_inputs_that_never_end_are_read_only_up_to_the_limit(tmp_path):
+    zero = _zero_device(tmp_path / "zero")
+    (tmp_path / "inc.pl").write_text(":- consult('zero').\n")
+    (tmp_path / "st.pl").write_text((ROOT / "kb" / "tasks" / "coffee_structure.pl").read_text())
+    for args in (("check", "zero"), ("check", "inc.pl"), ("run", MIX, "--scene", "zero"),
+                 ("simulate-demo", MIX, "--scene", "zero"), ("learn", "zero", "--structure", "st.pl")):
+        start = time.monotonic()
+        r = run(*args, "--max-bytes", "5000", cwd=tmp_path)   # the task files are smaller
+        assert r.returncode == 1, (args, r.stderr)
+        assert "zero" in r.stderr and "5,000 bytes limit" in r.stderr, (args, r.stderr)
+        assert "Traceback" not in r.stderr and "internal error" not in r.stderr
+        assert time.monotonic() - start < 20

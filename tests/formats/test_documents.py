@@ -1,6 +1,8 @@
 """Knowledge files: pl <-> YAML round trips exactly; YAML errors have positions; writes are atomic."""
 
 import os
+import stat
+import threading
 
 import pytest
 from hypothesis import given, settings
@@ -107,3 +109,102 @@ def test_written_files_follow_the_umask_or_keep_the_mode_they_replace(tmp_path):
         assert kept.stat().st_mode & 0o777 == 0o640 and kept.read_text() == "task(b).\n"
     finally:
         os.umask(mask)
+
+
+# --- special files: written into, never replaced (docs/formats.md, Outputs) ------------------
+
+def _null_device(path):
+    os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, 3))   # the null device, inside tmp_path
+    return path
+
+
+def _read_fifo_in_thread(fifo):
+    """Start reading `fifo` from a thread; join() and then got[0] is what was read."""
+    got = []
+    reader = threading.Thread(target=lambda: got.append(open(fifo, "rb").read()), daemon=True)
+    reader.start()
+    return reader, got
+
+
+def test_a_fifo_is_written_into_not_replaced(tmp_path):
+    fifo = tmp_path / "out.pl"
+    os.mkfifo(fifo)
+    reader, got = _read_fifo_in_thread(fifo)
+    write_atomically(fifo, "task(a).\n")
+    reader.join(10)
+    assert got == [b"task(a).\n"]
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode) and os.listdir(tmp_path) == ["out.pl"]
+
+
+def test_a_character_device_is_written_into_not_replaced(tmp_path):
+    null = _null_device(tmp_path / "null")
+    write_atomically(null, "task(a).\n")
+    info = os.lstat(null)
+    assert stat.S_ISCHR(info.st_mode) and info.st_rdev == os.makedev(1, 3)
+    assert os.listdir(tmp_path) == ["null"]
+
+
+def test_a_symlink_is_followed_never_replaced(tmp_path):
+    real = tmp_path / "real.pl"
+    real.write_text("old.\n")
+    link = tmp_path / "link.pl"
+    link.symlink_to("real.pl")
+    write_atomically(link, "new.\n")
+    assert link.is_symlink() and real.read_text() == "new.\n"
+    dangling = tmp_path / "dangling.pl"
+    dangling.symlink_to("made.pl")                 # a link to nothing yet: the file it names is made
+    write_atomically(dangling, "made.\n")
+    assert dangling.is_symlink() and (tmp_path / "made.pl").read_text() == "made.\n"
+    to_device = tmp_path / "to_null"
+    to_device.symlink_to(_null_device(tmp_path / "null"))
+    write_atomically(to_device, "gone.\n")          # in place through the link
+    assert to_device.is_symlink() and stat.S_ISCHR(os.lstat(tmp_path / "null").st_mode)
+    assert sorted(os.listdir(tmp_path)) == ["dangling.pl", "link.pl", "made.pl", "null", "real.pl", "to_null"]
+
+
+@pytest.mark.parametrize("name", ["newdir/", "missing/x.pl", "adir", "adir/"])
+def test_a_directory_or_a_missing_one_is_refused_and_nothing_made(tmp_path, name):
+    (tmp_path / "adir").mkdir()
+    with pytest.raises(SchemalogError, match="directory"):
+        write_atomically(f"{tmp_path}/{name}", "a.\n")
+    assert os.listdir(tmp_path) == ["adir"] and os.listdir(tmp_path / "adir") == []
+
+
+# --- inputs that never end: --max-bytes bounds the bytes read ---------------------------------
+
+def test_a_device_that_never_ends_is_read_up_to_the_limit(tmp_path):
+    from schemalog.learn.demo import read_demonstration
+    from schemalog.run.scene import read_scene
+
+    zero = tmp_path / "zero.pl"
+    os.mknod(zero, stat.S_IFCHR | 0o666, os.makedev(1, 5))   # the zero device, inside tmp_path
+    for reader in (read_document, read_scene, read_demonstration):
+        with pytest.raises(SchemalogError, match=r"zero\.pl.*over the 1,000 bytes limit"):
+            reader(zero, max_bytes=1000)
+    (tmp_path / "inc.pl").write_text(":- consult('zero.pl').\n")
+    from schemalog.logic.kb import KnowledgeBase
+    kb = KnowledgeBase()
+    kb.max_bytes = 1000
+    with pytest.raises(SchemalogError, match=r"zero\.pl.*over the 1,000 bytes limit"):
+        read_document(tmp_path / "inc.pl").to_kb(kb)
+
+
+def test_a_fifo_input_is_read_within_the_limit(tmp_path):
+    fifo = tmp_path / "in.pl"
+    os.mkfifo(fifo)
+
+    def feed(text):
+        try:
+            with open(fifo, "w") as handle:
+                handle.write(text)
+        except BrokenPipeError:      # the reader stopped at the limit
+            pass
+
+    writer = threading.Thread(target=feed, args=("task(a).\n",), daemon=True)
+    writer.start()
+    assert len(read_document(fifo).items) == 1
+    writer.join(10)
+    writer = threading.Thread(target=lambda: feed("a." * 1000), daemon=True)
+    writer.start()
+    with pytest.raises(SchemalogError, match="over the 100 bytes limit"):
+        read_document(fifo, max_bytes=100)

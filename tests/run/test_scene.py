@@ -77,5 +77,5 @@ def test_more_bad_scenes_are_located(text, where, message):
 def test_a_scene_over_the_size_limit_is_refused(tmp_path):
     big = tmp_path / "big.yaml"
     big.write_text("end_effector: [0, 0]\n" + "# padding\n" * 500)
-    with pytest.raises(SchemalogError, match="more than the limit"):
+    with pytest.raises(SchemalogError, match="over the 1,000 bytes limit"):
         read_scene(big, max_bytes=1000)

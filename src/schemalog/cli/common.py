@@ -7,12 +7,14 @@ The commands import this module when they run, not when the command line is buil
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
 from .. import defaults
 from ..errors import SchemalogError, UsageError
-from ..formats.documents import Document, check_writable, read_document, write_atomically
+from ..formats.documents import Document, output_target, read_document, write_atomically
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import parse_term
 from ..logic.terms import Struct, Term, Var, term_to_text
@@ -24,7 +26,12 @@ from ..task.tree import Behaviour, declared_tasks, instantiate, walk
 
 
 def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]:
+    """The files of the command line in one knowledge base; -o is checked against them before
+    they are read and against every file they consulted once they are."""
+    output = getattr(args, "output", None)
+    check_output(output, inputs_of(args))
     kb = KnowledgeBase()
+    kb.max_bytes = args.max_bytes
     docs = []
     for path in args.files:
         doc = read_document(path, args.max_bytes)
@@ -32,6 +39,7 @@ def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]
         docs.append(doc)
     for warning in kb.warnings:
         print(warning, file=sys.stderr)
+    check_output(output, inputs_of(args, kb.files))
     return kb, docs
 
 
@@ -78,28 +86,61 @@ def instantiate_task(kb: KnowledgeBase, task: Term, args: argparse.Namespace) ->
     return instantiate(kb, task, max_depth=args.max_depth, max_nodes=args.max_nodes)
 
 
-def emit(text: str, output: str | None, inputs: list[str]) -> None:
+# The options that name a file a command reads. (generate's --scene is written, not read:
+# generate reads nothing and passes no inputs.)
+INPUT_OPTIONS = ("files", "input", "demo", "structure", "scene")
+
+
+def inputs_of(args: argparse.Namespace, *more: Iterable[str]) -> list[str]:
+    """Every file the command reads, as far as known: its file arguments, --scene, learn's
+    demonstration and --structure, and `more` (a knowledge base's `files`: the consulted ones)."""
+    found: list[str] = []
+    for key in INPUT_OPTIONS:
+        value = getattr(args, key, None)
+        for name in [value] if isinstance(value, str) else value or []:
+            found.append(str(name))
+    for names in more:
+        found.extend(str(n) for n in names)
+    return found
+
+
+def emit(text: str, output: str | None, inputs: Iterable[str]) -> None:
     """Print, or write atomically to `output`, which must not be any file read."""
     if output is None or output == "-":
         sys.stdout.write(text)
         return
-    refuse_overwriting(output, inputs)
+    check_output(output, inputs)
     write_atomically(output, text)
 
 
-def check_output(output: str) -> None:
-    """Refuse, before any work is written, an output that could not be written."""
+def check_output(output: str | None, inputs: Iterable[str], option: str = "-o") -> None:
+    """Refuse (exit 2), before any work is written, an output that is one of the `inputs`
+    (inputs_of) or that could not be written (output_target: a directory, `name/`, no such
+    directory). Standard output (None, `-`) is always fine."""
+    if output is None or output == "-":
+        return
+    refuse_overwriting(output, inputs, option)
     try:
-        check_writable(output)
+        output_target(output)
     except SchemalogError as err:
         raise UsageError(err.message) from None
 
 
-def refuse_overwriting(output: str, inputs: list[str]) -> None:
-    """Refuse an output file that is one of the files read (through links too)."""
+def refuse_overwriting(output: str, inputs: Iterable[str], option: str = "-o") -> None:
+    """Refuse an output file that is one of the files read (through links and hard links too)."""
     out = Path(output).resolve()
-    if any(not i.startswith("<") and Path(i).resolve() == out for i in inputs):
-        raise UsageError(f"-o {output} would overwrite an input file; choose another name")
+    for name in inputs:
+        if name.startswith("<"):
+            continue
+        if Path(name).resolve() == out or _same_file(name, output):
+            raise UsageError(f"{option} {output} would overwrite an input file; choose another name")
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
 
 
 def term_option(text: str, option: str) -> Term:

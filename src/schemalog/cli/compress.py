@@ -39,11 +39,12 @@ def run(args: argparse.Namespace) -> int:
     from ..formats.render import carried_clauses, compare_dot, rich_tree, tree_document, tree_json
     from ..task.compress import compress, protected_labels
     from ..task.conditions import Simplifier
-    from .common import choose_tasks, emit, instantiate_task, load_files
+    from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
     from .output import output_format, print_rich
     from .verify import INCONCLUSIVE, verify_json, verify_lines
 
     kb, _ = load_files(args)
+    inputs = inputs_of(args, kb.files)
     tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
     task = tree.label
     result = compress(tree, args.propagate, protected_labels(kb, tree),
@@ -67,17 +68,17 @@ def run(args: argparse.Namespace) -> int:
                 "notes": result.notes, "tree": tree_json(result.tree)}
         if report is not None:
             data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after)
-        emit(json.dumps(data, indent=2) + "\n", args.output, kb.files)
+        emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
         return code
     elif fmt == "dot":
         emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
-              args.output, kb.files)
+              args.output, inputs)
     elif fmt in ("pl", "yaml"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
                   f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
-        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, kb.files)
+        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs)
     else:
         from rich.console import Console, Group
         from rich.table import Table
@@ -94,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
             view = Group(table, "", figures)
         else:
             view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
-        print_rich(view, args.output, kb.files)
+        print_rich(view, args.output, inputs)
     if report is not None:
         # After the compressed task (or alone, when that went to a file): what verify would print.
         print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default")))

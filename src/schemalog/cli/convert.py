@@ -25,8 +25,9 @@ def run(args: argparse.Namespace) -> int:
     from ..formats.documents import Document, YAML_SUFFIXES, read_document, to_pl, to_yaml
     from ..logic.parse import Clause
     from ..task.schema import check_schemas
-    from .common import emit, task_term
+    from .common import check_output, emit, inputs_of, task_term
 
+    check_output(args.output, inputs_of(args))
     doc = read_document(args.input, args.max_bytes)
     for note in doc.notes:
         print(note, file=sys.stderr)
@@ -42,5 +43,5 @@ def run(args: argparse.Namespace) -> int:
         origin = "the SEED long-term memory" if doc.seed else ""
         header = f"Converted by schemalog from {origin + ' ' if origin else ''}{doc.file}."
         text = to_pl(doc, header=header)
-    emit(text, args.output, [args.input, *loaded.files])
+    emit(text, args.output, inputs_of(args, loaded.files))
     return 0

@@ -42,20 +42,23 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Segment a demonstration, teach it to a task structure, and write the learned knowledge."""
-    from ..formats.documents import file_mode
-    from .common import check_output, refuse_overwriting, task_term
+    from ..formats.documents import read_document
+    from .common import check_output, inputs_of, task_term
 
     from ..learn.learn import learn, lesson_lines, motions_json
 
-    inputs = [args.demo, args.structure]
-    outputs = [o for o in (args.output, args.plot, args.motions) if o and o != "-"]
-    for out in outputs:
-        refuse_overwriting(out, inputs)
-        check_output(out)
+    named = [(o, option) for o, option in ((args.output, "-o"), (args.plot, "--plot"), (args.motions, "--motions"))
+             if o and o != "-"]
+    outputs = [o for o, _ in named]
+    for out, option in named:                        # the demonstration and the structure, before reading
+        check_output(out, inputs_of(args), option)
     if len(set(map(os.path.abspath, outputs))) < len(outputs):
         raise UsageError("-o, --plot and --motions must name different files")
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".svg", ".pdf"):
         raise UsageError(f"--plot {args.plot}: name a .png, .svg or .pdf file")
+    consulted = read_document(args.structure).to_kb().files  # the files the structure consults
+    for out, option in named:
+        check_output(out, inputs_of(args, consulted), option)
     task = task_term(args.task) if args.task else None
     lesson = learn(args.demo, args.structure, task, radius=args.radius, hysteresis=args.hysteresis,
                    min_motion=args.min_motion, max_bytes=args.max_bytes, bases=args.bases)
@@ -77,11 +80,8 @@ def run(args: argparse.Namespace) -> int:
             Path(_stage(args.motions, staged)).write_text(motions_text, encoding="utf-8")
         if not to_stdout:
             Path(_stage(args.output, staged)).write_text(lesson.text, encoding="utf-8")
-        for temporary, target in staged:
-            os.chmod(temporary, file_mode(Path(target)))
-        for temporary, target in staged:
-            os.replace(temporary, target)
-            report.append(f"wrote {target}")
+        _commit(staged)
+        report.extend(f"wrote {target}" for _, target in staged)
     except OSError as err:
         temporaries = {t: target for t, target in staged}
         name = temporaries.get(err.filename, err.filename) if err.filename else (staged[-1][1] if staged else "")
@@ -97,12 +97,33 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _stage(target: str, staged: list[tuple[str, str]]) -> str:
-    """A temporary file beside `target`, with its suffix, to be renamed onto it (see cmd_learn)."""
-    path = Path(target)
+    """A temporary file beside `target`, with its suffix, to be renamed onto it (see run); for a
+    FIFO or a device, one in the temporary directory, to be copied into it."""
+    from ..formats.documents import output_target
+
+    path = output_target(target)
     try:
-        fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
+        fd, temporary = tempfile.mkstemp(prefix=f".{path.path.name}.", suffix=Path(target).suffix,
+                                         dir=None if path.in_place else path.path.parent)
     except OSError as err:
         raise OSError(err.errno, err.strerror, target) from None
     os.close(fd)
     staged.append((temporary, target))
     return temporary
+
+
+def _commit(staged: list[tuple[str, str]]) -> None:
+    """Rename the staged files onto their targets (through links), together; then write the
+    special ones (FIFO, device) in place."""
+    from ..formats.documents import file_mode, output_target, write_in_place
+
+    targets = [(temporary, output_target(target)) for temporary, target in staged]
+    for temporary, target in targets:
+        if not target.in_place:
+            os.chmod(temporary, file_mode(target.path))
+    for temporary, target in targets:
+        if not target.in_place:
+            os.replace(temporary, target.path)
+    for temporary, target in targets:
+        if target.in_place:
+            write_in_place(target.path, Path(temporary).read_bytes())

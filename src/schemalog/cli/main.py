@@ -14,6 +14,7 @@ import argparse
 import gc
 import importlib
 import os
+import signal
 import sys
 
 from .. import __version__
@@ -23,6 +24,27 @@ from .options import shared_parents
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
 COMMANDS = ("check", "show", "compress", "decompress", "run", "verify", "generate", "bench", "learn",
             "simulate_demo", "query", "repl", "convert")
+
+
+class Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived: unwinds like KeyboardInterrupt, so what cleans up after
+    Ctrl-C (write_atomically's temporary file, learn's staged files) cleans up after these."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _terminate(signum: int, frame) -> None:
+    raise Terminated(signum)
+
+
+def catch_termination() -> None:
+    """Turn SIGTERM and SIGHUP into Terminated, unless they are ignored (nohup)."""
+    for name in ("SIGTERM", "SIGHUP"):
+        number = getattr(signal, name, None)
+        if number is not None and signal.getsignal(number) is signal.SIG_DFL:
+            signal.signal(number, _terminate)
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
@@ -78,6 +100,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except Terminated as stop:
+        print(f"terminated ({signal.Signals(stop.signum).name})", file=sys.stderr)
+        return 128 + stop.signum
     except BrokenPipeError:
         return 0
     except Exception as err:  # an internal error must still not dump a traceback on users
@@ -99,7 +124,11 @@ def run() -> None:
     """Console-script entry point."""
     tune_gc()
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
-    code = main()
+    catch_termination()
+    try:
+        code = main()
+    except Terminated as stop:      # before main's own handlers are in place (parsing the command line)
+        code = 128 + stop.signum
     try:
         sys.stdout.flush()
     except BrokenPipeError:

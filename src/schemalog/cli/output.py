@@ -13,7 +13,7 @@ from ..formats.render import carried_clauses, rich_tree, show_json, to_dot, tree
 from ..logic.kb import KnowledgeBase
 from ..logic.terms import Term, term_to_text
 from ..task.tree import Behaviour, count_nodes, depth
-from .common import emit
+from .common import emit, inputs_of
 
 
 SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml"}
@@ -51,7 +51,7 @@ def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: s
                  kb: KnowledgeBase | None = None) -> None:
     """Print or write one tree in the requested format (show, decompress)."""
     fmt = output_format(args)
-    inputs = kb.files if kb is not None else args.files
+    inputs = inputs_of(args, kb.files if kb is not None else ())
     if fmt == "json":
         emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs)
     elif fmt == "dot":

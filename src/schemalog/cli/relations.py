@@ -122,6 +122,7 @@ class Workspace:
     # -- building ---------------------------------------------------------------
     def _build(self) -> None:
         kb = KnowledgeBase()
+        kb.max_bytes = self.options.max_bytes
         for path in self.files:
             read_document(path, self.options.max_bytes).to_kb(kb)
         self.notes = list(kb.warnings)

@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     from ..task.compress import compress, original_of, protected_labels
     from ..task.conditions import Simplifier
     from ..task.tree import count_nodes, walk
-    from .common import atoms_option, choose_tasks, emit, instantiate_task, load_files, refuse_overwriting, scene_of
+    from .common import atoms_option, check_output, choose_tasks, emit, inputs_of, instantiate_task, load_files, scene_of
 
     kb, _ = load_files(args)
     tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
@@ -103,9 +103,8 @@ def run(args: argparse.Namespace) -> int:
     header = (f"run {term_to_text(task)}: {kind} tree of {count_nodes(tree)} behaviours; "
               f"selector {args.selector}; scene {scene.name}")
     fmt = "json" if args.json else "text"
-    inputs = [*kb.files, *([args.scene] if args.scene else [])]
-    if args.output and args.output != "-":
-        refuse_overwriting(args.output, inputs)   # refuse before running, not after
+    inputs = inputs_of(args, kb.files)
+    check_output(args.output, inputs)   # refuse before running, not after
     if fmt == "json":
         outcome = executive.run()
         data = run_json(executive, task, kind, initial, args)

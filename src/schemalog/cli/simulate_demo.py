@@ -38,25 +38,27 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Write a synthetic demonstration of a task in a scene (smooth motions with noise)."""
-    from ..formats.documents import read_document, write_atomically
+    from ..formats.documents import read_document
     from ..logic.kb import KnowledgeBase
     from ..run.scene import read_scene
-    from .common import check_output, choose_tasks, refuse_overwriting
+    from .common import check_output, choose_tasks, emit, inputs_of
 
     from ..learn.demo import demonstration_csv, demonstration_json
     from ..learn.simulate import simulate
 
+    check_output(args.output, inputs_of(args))   # the scene and the files named, before reading them
     scene = read_scene(args.scene, args.max_bytes)
     files = args.files or ([scene.knowledge] if scene.knowledge else [])
     if not files:
         raise UsageError(f"which task knowledge? {args.scene} names none (knowledge: in the scene): "
                          f"give the task file, e.g. kb/tasks/prepare_coffee_and_tea.pl")
-    if args.output and args.output != "-":
-        refuse_overwriting(args.output, [*files, args.scene])
-        check_output(args.output)
+    check_output(args.output, inputs_of(args, files))
     kb = KnowledgeBase()
+    kb.max_bytes = args.max_bytes
     for path in files:
         read_document(path, args.max_bytes).to_kb(kb)
+    inputs = inputs_of(args, files, kb.files)
+    check_output(args.output, inputs)            # and every file they consult, before simulating
     task = choose_tasks(kb, args.task)[0]
     if args.jitter:
         scene = scene.jittered(args.seed, args.jitter)
@@ -72,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
     summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
                f"{commands} gripper commands")
     if args.output and args.output != "-":
-        write_atomically(args.output, text)
+        emit(text, args.output, inputs)
         print(f"{summary}; wrote {args.output}")
     else:
         sys.stdout.write(text)

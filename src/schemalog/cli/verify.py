@@ -55,8 +55,9 @@ def run(args: argparse.Namespace) -> int:
     from ..run.verify import Verifier, verify_by_parts
     from ..run.world import World
     from ..task.tree import count_nodes
-    from .common import emit, scene_of
+    from .common import check_output, emit, inputs_of, scene_of
 
+    check_output(args.output, inputs_of(args))   # before anything is read
     kb, original, compressed, how, inputs = _verify_inputs(args)
     task = original.label
     world = World(original)
@@ -72,10 +73,10 @@ def run(args: argparse.Namespace) -> int:
         report = verifier.verify(initial, scene, task)
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
-              args.output, inputs)
+              args.output, inputs_of(args, inputs))
     else:
         lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states)
-        emit("\n".join(lines) + "\n", args.output, inputs)
+        emit("\n".join(lines) + "\n", args.output, inputs_of(args, inputs))
     if report.violated:
         return 1
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
@@ -95,6 +96,7 @@ def _verify_inputs(args: argparse.Namespace):
     if len(args.files) == 2:
         first, second = (KnowledgeBase(), KnowledgeBase())
         for kb, path in ((first, args.files[0]), (second, args.files[1])):
+            kb.max_bytes = args.max_bytes
             read_document(path, args.max_bytes).to_kb(kb)
         task = choose_tasks(first, args.task)[0]
         other_tasks = declared_tasks(second) or [task]

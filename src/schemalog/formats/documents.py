@@ -23,6 +23,7 @@ Variables are shared by name within a record, as within a clause.
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -275,33 +276,82 @@ def file_mode(target: Path) -> int:
         return 0o666 & ~mask
 
 
-def check_writable(path: str | Path) -> Path:
-    """The directory `path` would be written in; an error if it is missing or not writable,
-    or if `path` is a directory."""
-    target = Path(path)
-    directory = target.parent if str(target.parent) else Path(".")
+@dataclass(frozen=True)
+class Target:
+    """Where an output goes: `path` is written through a temporary file and a rename, or,
+    when `in_place` (a FIFO, a device, /dev/stdout), opened and written into as `> path` does."""
+
+    path: Path
+    in_place: bool = False
+
+
+def output_target(path: str | Path) -> Target:
+    """Where writing `path` goes, or an error if it could not be written: a directory, a name
+    ending in `/`, a missing or unwritable directory. A symbolic link is followed, never
+    replaced: the file it points to is written (a new one if it dangles)."""
+    name = str(path)
+    if name.endswith(("/", os.sep)) or Path(name).name in ("", ".", ".."):
+        raise SchemalogError(f"{name} names a directory; name a file")
+    try:
+        info = os.stat(name)                         # through links
+    except FileNotFoundError:
+        info = None
+    except OSError as err:
+        raise SchemalogError(f"cannot write {name}: {err.strerror or err}") from None
+    if info is not None and stat.S_ISDIR(info.st_mode):
+        raise SchemalogError(f"{name} is a directory; name a file")
+    if info is not None and not stat.S_ISREG(info.st_mode):
+        if stat.S_ISSOCK(info.st_mode):
+            raise SchemalogError(f"{name} is a socket; name a file")
+        if not os.access(name, os.W_OK):
+            raise SchemalogError(f"{name} is not writable")
+        return Target(Path(name), in_place=True)     # the name itself: /dev/stdout -> /proc/self/fd/1
+    target = Path(os.path.realpath(name))            # a link is written through, not replaced
+    directory = target.parent
     if not directory.is_dir():
-        raise SchemalogError(f"{path}: no such directory {directory}")
-    if target.is_dir():
-        raise SchemalogError(f"{path} is a directory; name a file")
+        shown = directory if os.path.islink(name) else (Path(name).parent if str(Path(name).parent) else ".")
+        raise SchemalogError(f"{name}: no such directory {shown}")
     if not os.access(directory, os.W_OK):
-        raise SchemalogError(f"{path}: the directory {directory} is not writable")
-    return directory
+        raise SchemalogError(f"{name}: the directory {directory} is not writable")
+    return Target(target)
+
+
+def check_writable(path: str | Path) -> Path:
+    """The directory `path` would be written in (see output_target); an error if it could not be."""
+    target = output_target(path)
+    return target.path.parent
+
+
+def write_in_place(path: str | Path, data: bytes) -> None:
+    """Write into an existing special file (FIFO, device) as `> path` does: it stays what it is."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NOCTTY)   # no O_CREAT: never make a regular file
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+    except OSError as err:
+        raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
+
+
+def _write_text(handle, text: str) -> None:
+    handle.write(text)
 
 
 def write_atomically(path: str | Path, text: str) -> None:
-    """Write `text` to `path` through a temporary file and a rename: never a partial file."""
-    target = Path(path)
-    directory = check_writable(path)
+    """Write `text` to `path` through a temporary file and a rename: never a partial file.
+    A special file (FIFO, device) is written into instead (output_target)."""
+    target = output_target(path)
+    if target.in_place:
+        write_in_place(target.path, text.encode("utf-8"))
+        return
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
     except OSError as err:
         raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        os.chmod(tmp, file_mode(target))
-        os.replace(tmp, target)
+            _write_text(handle, text)
+        os.chmod(tmp, file_mode(target.path))
+        os.replace(tmp, target.path)
     except BaseException as err:
         try:
             os.unlink(tmp)

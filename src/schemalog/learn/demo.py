@@ -39,6 +39,7 @@ import numpy as np
 from .. import defaults
 from ..formats.documents import write_atomically
 from ..errors import SchemalogError, SourcePos
+from ..inputs import read_limited
 
 COMMANDS = ("open", "close")
 POSITION = ("x", "y", "z")
@@ -102,14 +103,9 @@ class Demonstration:
 def read_demonstration(path: str | Path, max_bytes: int = MAX_BYTES) -> Demonstration:
     """Read a CSV or JSON demonstration (by suffix; JSON if the text starts with `{`)."""
     file = str(path)
+    data = read_limited(path, max_bytes)
     try:
-        size = Path(path).stat().st_size
-        if size > max_bytes:
-            raise SchemalogError(f"{file} has {size:,} bytes, more than the limit of {max_bytes:,} "
-                                 f"(raise it with --max-bytes)")
-        text = Path(path).read_text(encoding="utf-8-sig")     # spreadsheets write a byte-order mark
-    except OSError as err:
-        raise SchemalogError(f"cannot read {file}: {err.strerror or err}") from None
+        text = data.decode("utf-8-sig")     # spreadsheets write a byte-order mark
     except UnicodeDecodeError as err:
         raise SchemalogError(f"{file} is not UTF-8 text (byte {err.start})") from None
     if file.lower().endswith(".json") or text.lstrip().startswith("{"):

@@ -378,6 +378,7 @@ class KnowledgeBase:
         self.predicates: dict[tuple[str, int], Predicate] = {}
         self.warnings: list[str] = []
         self.files: list[str] = []  # every file read, consulted ones included
+        self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
         self._consulting: list[Path] = []
         if prelude:
             for clause in _prelude():
@@ -537,7 +538,7 @@ class KnowledgeBase:
                     path = path.with_suffix(".pl")
                 if not path.exists():
                     raise SchemalogError(f"consult: no such file {name!r}", d.pos)
-                self.consult(path, pos=d.pos)
+                self.consult(path, self.max_bytes, pos=d.pos)
             return
         if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
                 or isinstance(goal, Atom) and goal.name == "use_module":

@@ -25,6 +25,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from .. import defaults
 from ..cache import cache_file
 from ..errors import SchemalogError, SourcePos
+from ..inputs import read_limited
 from ..shipped import shipped_text
 from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, make_list
 
@@ -389,23 +390,10 @@ def parse_term(text: str, file: str = "<argument>") -> Term:
 
 def read_source(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
     """Read a text file, refusing missing, oversized and binary files clearly."""
-    p = Path(path)
     name = str(path)
-    try:
-        size = p.stat().st_size
-    except FileNotFoundError:
-        raise SchemalogError(f"{name}: no such file") from None
-    except OSError as err:
-        raise SchemalogError(f"{name}: cannot read: {err.strerror}") from None
-    if p.is_dir():
+    if Path(path).is_dir():
         raise SchemalogError(f"{name}: is a directory, not a knowledge file")
-    if size > max_bytes:
-        raise SchemalogError(f"{name}: file is {size / 2**20:.1f} MiB, over the "
-                             f"{max_bytes / 2**20:.1f} MiB limit (raise it with --max-bytes)")
-    try:
-        data = p.read_bytes()
-    except OSError as err:
-        raise SchemalogError(f"{name}: cannot read: {err.strerror}") from None
+    data = read_limited(path, max_bytes)
     nul = data.find(b"\0")
     if nul >= 0:
         line = data.count(b"\n", 0, nul) + 1

@@ -27,7 +27,9 @@ import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from .. import defaults
 from ..errors import SchemalogError, SourcePos
+from ..inputs import read_limited
 from ..logic.terms import Atom, Term, term_to_text
 
 Position = tuple[float, ...]
@@ -95,14 +97,9 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 def read_scene(path: str | Path, max_bytes: int | None = None) -> Scene:
     """Read and check a scene file; every error names file:line:column."""
     file = str(path)
+    data = read_limited(path, defaults.MAX_BYTES if max_bytes is None else max_bytes, f"scene {file}")
     try:
-        size = Path(path).stat().st_size
-        if max_bytes is not None and size > max_bytes:
-            raise SchemalogError(f"scene {file} has {size:,} bytes, more than the limit of {max_bytes:,} "
-                                 f"(raise it with --max-bytes)")
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as err:
-        raise SchemalogError(f"cannot read scene {file}: {err.strerror or err}") from None
+        text = data.decode("utf-8")
     except UnicodeDecodeError as err:
         raise SchemalogError(f"scene {file} is not UTF-8 text (byte {err.start})") from None
     return scene_from_yaml(text, file)

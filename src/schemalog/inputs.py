@@ -1,0 +1,50 @@
+"""Reading input files within a byte limit, whatever they are: regular files, FIFOs, devices.
+
+    read_limited(path, max_bytes, label) -> bytes   at most max_bytes bytes, or an error naming the file
+
+Every reader of a user's file (knowledge files and consulted ones, scenes, demonstrations)
+reads through it, so `--max-bytes` bounds what is read, not only what `stat` reports.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import stat
+from pathlib import Path
+
+from .errors import SchemalogError
+
+
+def size_text(n: int) -> str:
+    """A size as users read it: MiB from one MiB up, else bytes."""
+    return f"{n / 2**20:.1f} MiB" if n >= 2**20 else f"{n:,} bytes"
+
+
+def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> bytes:
+    """The bytes of a file, at most `max_bytes` of them, or an error naming the file (`label`).
+
+    The limit holds for the bytes actually read, not only for the size the file system
+    reports: a FIFO, a device (/dev/zero) or a file that grows while it is read is read
+    up to the limit and refused past it, never read into memory without end."""
+    p = Path(path)
+    label = label or str(path)
+    try:
+        with open(p, "rb") as handle:
+            info = os.fstat(handle.fileno())
+            if stat.S_ISDIR(info.st_mode):
+                raise IsADirectoryError(errno.EISDIR, "is a directory")
+            if stat.S_ISREG(info.st_mode) and info.st_size > max_bytes:
+                raise SchemalogError(f"{label}: file is {size_text(info.st_size)}, over the "
+                                     f"{size_text(max_bytes)} limit (raise it with --max-bytes)")
+            data = handle.read(max_bytes + 1)
+    except FileNotFoundError:
+        raise SchemalogError(f"{label}: no such file") from None
+    except IsADirectoryError:
+        raise SchemalogError(f"{label}: is a directory, not a file to read") from None
+    except OSError as err:
+        raise SchemalogError(f"{label}: cannot read: {err.strerror or err}") from None
+    if len(data) > max_bytes:
+        raise SchemalogError(f"{label}: over the {size_text(max_bytes)} limit (reading stopped there; "
+                             f"raise it with --max-bytes)")
+    return data
