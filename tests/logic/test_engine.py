@@ -363,3 +363,16 @@ def test_consult_loads_and_reloads_a_file_as_swi_does(tmp_path):
     assert ask("", f"catch(consult('{stem}.nope'), error(E, _), true), E = existence_error(source_sink, _)")
     with pytest.raises(PrologError, match="instantiation_error"):
         ask("", "consult(_)")
+
+
+def test_a_deep_dot_chain_prints_in_linear_work(monkeypatch):
+    # Each '.' node used to decide `a.b` against '.'(a,1) by re-walking the rest of the
+    # chain: quadratic, and recursive (3,000 levels took 17 s, 1,000 hit the recursion limit).
+    # Count the first-character look-ups instead of timing them: a constant per node.
+    from schemalog.logic import terms
+    calls = []
+    real = terms._first_char
+    monkeypatch.setattr(terms, "_first_char", lambda *a: calls.append(1) or real(*a))
+    chain = ".".join(f"a{i}" for i in range(3000))
+    assert ask("", f"X = {chain}") == [f"{chain}={chain}"]
+    assert len(calls) < 10 * 3000

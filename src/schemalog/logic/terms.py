@@ -278,13 +278,16 @@ def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = Non
 class _Style:
     """How to write: variable print names, and whether to quote atoms and strings."""
 
-    __slots__ = ("names", "quoted", "spaced", "comma")
+    __slots__ = ("names", "quoted", "spaced", "comma", "dots")
 
     def __init__(self, names: Names, quoted: bool, spaced: bool = False, next_argument: bool = False) -> None:
         self.names = names
         self.quoted = quoted
         self.spaced = spaced
         self.comma = ", " if next_argument else ","
+        # id(a '.'/2 term) -> whether it is written infix (obj.prop); the term is alive
+        # for the whole write, so its id is stable. See _dot_infix.
+        self.dots: dict[int, bool] = {}
 
 
 def variable_names(terms: Iterable[Term]) -> Names:
@@ -402,8 +405,7 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         stack.append((args[0], 1200))
         return
     # obj.prop reads back only when prop starts with a letter: else '.'(a,1).
-    if len(args) == 2 and name in INFIX_OPS and not (
-            name == "." and not _starts_name(_first_char(args[1], INFIX_OPS["."][0], style))):
+    if len(args) == 2 and name in INFIX_OPS and (name != "." or _dot_infix(term, style)):
         priority, kind = INFIX_OPS[name]
         left_max = priority if kind == "yfx" else priority - 1
         right_max = priority if kind == "xfy" else priority - 1
@@ -448,6 +450,27 @@ def _starts_name(char: str) -> bool:
     return char == "_" or char.isascii() and char.isalpha()
 
 
+def _dot_infix(term: Struct, style: _Style) -> bool:
+    """Whether `'.'(A, B)` is written `A.B`: when B's text starts with a name.
+
+    B's first character depends on whether B, if a '.' term too, is written infix, and so
+    on down the right spine of a chain `a.b.c...`. Deciding each node by walking the rest
+    of the chain made printing quadratic (and recursive); instead the spine is decided
+    once, from its far end, and each node's answer kept in `style.dots`."""
+    dots = style.dots
+    known = dots.get(id(term))
+    if known is not None:
+        return known
+    spine = []
+    node: Term = term
+    while isinstance(node, Struct) and node.name == "." and len(node.args) == 2 and id(node) not in dots:
+        spine.append(node)
+        node = node.args[1]
+    for node in reversed(spine):  # node.args[1] is decided already: _first_char stops there
+        dots[id(node)] = _starts_name(_first_char(node.args[1], INFIX_OPS["."][0], style))
+    return dots[id(term)]
+
+
 def _first_char(term: Term, max_priority: int, style: _Style) -> str:
     """The first character `term` will be written with, found down its left spine."""
     while True:
@@ -458,7 +481,7 @@ def _first_char(term: Term, max_priority: int, style: _Style) -> str:
             if name == "{}" and len(args) == 1:
                 return "{"
             if len(args) == 2 and name in INFIX_OPS:
-                if name == "." and not _starts_name(_first_char(args[1], INFIX_OPS["."][0], style)):
+                if name == "." and not _dot_infix(term, style):
                     return "'"  # written '.'(A,B): see _expand_struct
                 priority, kind = INFIX_OPS[name]
                 if priority > max_priority:
