@@ -433,3 +433,12 @@ def test_an_integer_past_the_bound_is_a_resource_error_before_it_is_computed(exp
     answers = ask("", f"catch(X is {expr}, error(E, _), true)")
     assert len(answers) == 1 and "error(resource_error(stack)," in answers[0]
 
+
+def test_integers_past_pythons_digit_limit_print_and_read_back():
+    # Python's str(int) refuses more than 4,300 digits; 10**5000 has 5,001.
+    big = "1" + "0" * 5000
+    assert ask("", "X is 10 ** 5000, atom_length(X, N)") == [f"{big} is 10**5000,atom_length({big},5001)"]
+    answers = ask("", "X is -(7 ** 9000), number_codes(X, L), number_codes(Y, L), Y == X, "
+                      "atom_number(A, X), atom_number(A, Z), Z == X, atom_length(A, N)")
+    assert len(answers) == 1 and answers[0].endswith(",7607)")  # 7 ** 9000 has 7,606 digits, and a sign
+    assert ask("", f"X = {big}, Y is X // 10 ** 4999") == [f"{big}={big},10 is {big}//10**4999"]
