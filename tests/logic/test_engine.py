@@ -442,3 +442,19 @@ def test_integers_past_pythons_digit_limit_print_and_read_back():
                       "atom_number(A, X), atom_number(A, Z), Z == X, atom_length(A, N)")
     assert len(answers) == 1 and answers[0].endswith(",7607)")  # 7 ** 9000 has 7,606 digits, and a sign
     assert ask("", f"X = {big}, Y is X // 10 ** 4999") == [f"{big}={big},10 is {big}//10**4999"]
+
+
+def test_quoting_a_long_atom_takes_memory_linear_in_its_text():
+    # Quoting joined one string per character: a list of 8-byte pointers besides the text
+    # (a 10 MB atom took 104 MB to print). Now escapes are whole-text replaces.
+    import tracemalloc
+    from schemalog.logic.terms import Atom, Struct
+    name = "it's\n" * 400_000
+    tracemalloc.start()
+    try:
+        text = term_to_text(Struct("f", (Atom(name),)))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert text == "f('" + "it\\'s\\n" * 400_000 + "')"
+    assert peak < 4 * len(text)

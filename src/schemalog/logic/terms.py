@@ -222,6 +222,18 @@ _SOLO = re.compile(r"[a-z][A-Za-z0-9_]*\Z")
 _SYMBOL = re.compile(r"[+\-*/\\^<>=~:?@#&$]+\Z")
 _ESCAPES = {"\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r", "\a": "\\a",
             "\b": "\\b", "\f": "\\f", "\v": "\\v", "\0": "\\0\\", "\x1b": "\\e"}
+# Quoting replaces each character that needs an escape in one str.replace pass, the
+# backslash first: linear, in C, and only the text's copies in memory. (Joining a string per
+# character held an 8-byte pointer per character besides: 80 MB more for a 10 MB atom.)
+_IN_QUOTES = tuple(_ESCAPES.items()) + (("'", "\\'"),)
+_IN_DOUBLE_QUOTES = tuple(_ESCAPES.items()) + (('"', '\\"'),)
+
+
+def _escape(text: str, escapes: tuple) -> str:
+    for char, escape in escapes:
+        if char in text:
+            text = text.replace(char, escape)
+    return text
 
 
 def quote_atom(name: str) -> str:
@@ -232,13 +244,11 @@ def quote_atom(name: str) -> str:
         return name
     if _SYMBOL.match(name) and not name.startswith("/*"):
         return name
-    body = "".join(_ESCAPES.get(c, c) for c in name).replace("'", "\\'")
-    return f"'{body}'"
+    return f"'{_escape(name, _IN_QUOTES)}'"
 
 
 def _quote_string(value: str) -> str:
-    body = "".join(_ESCAPES.get(c, c) for c in value).replace('"', '\\"')
-    return f'"{body}"'
+    return f'"{_escape(value, _IN_DOUBLE_QUOTES)}"'
 
 
 def _float_text(value: float) -> str:
