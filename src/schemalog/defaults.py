@@ -12,6 +12,10 @@ MAX_NODES = 2_000_000         # the largest task tree instantiated
 
 # The engine (logic/engine.py)
 MAX_STEPS = 10_000_000        # resolution steps one query may take
+MAX_INTEGER_BITS = 1 << 23    # bits in one integer result (~1 MB, 2.5 million digits): `is` raises
+                              # resource_error(stack) past it, as swipl does past its 1 GB stack,
+                              # before computing (2**10000000000 would never return); such an
+                              # integer prints in ~1 s, and multiplying two takes ~0.05 s
 
 # Compression (task/compress.py, task/conditions.py)
 PROPAGATE_MODES = ("none", "pre", "full")

@@ -363,3 +363,98 @@ def test_consult_loads_and_reloads_a_file_as_swi_does(tmp_path):
     assert ask("", f"catch(consult('{stem}.nope'), error(E, _), true), E = existence_error(source_sink, _)")
     with pytest.raises(PrologError, match="instantiation_error"):
         ask("", "consult(_)")
+
+
+def test_a_deep_dot_chain_prints_in_linear_work(monkeypatch):
+    # Each '.' node used to decide `a.b` against '.'(a,1) by re-walking the rest of the
+    # chain: quadratic, and recursive (3,000 levels took 17 s, 1,000 hit the recursion limit).
+    # Count the first-character look-ups instead of timing them: a constant per node.
+    from schemalog.logic import terms
+    calls = []
+    real = terms._first_char
+    monkeypatch.setattr(terms, "_first_char", lambda *a: calls.append(1) or real(*a))
+    chain = ".".join(f"a{i}" for i in range(3000))
+    assert ask("", f"X = {chain}") == [f"{chain}={chain}"]
+    assert len(calls) < 10 * 3000
+
+
+# Arithmetic never answers a number Prolog lacks (a complex, or an infinity or NaN that
+# an operation made): each expected error is swipl 9.0.4's.
+@pytest.mark.parametrize("expr, formal", [
+    ("(-8) ** (1/3)", "evaluation_error(undefined)"),
+    ("(-8) ^ (1/3)", "evaluation_error(undefined)"),
+    ("(-8.0) ** 0.5", "evaluation_error(undefined)"),
+    ("(-1) ** (1.0/3)", "evaluation_error(undefined)"),
+    ("0.0 ** -1", "evaluation_error(zero_divisor)"),
+    ("0 ** -1.5", "evaluation_error(zero_divisor)"),
+    ("1 / 0.0", "evaluation_error(zero_divisor)"),
+    ("0 / 0.0", "evaluation_error(undefined)"),
+    ("log(0)", "evaluation_error(float_overflow)"),
+    ("log(-1)", "evaluation_error(undefined)"),
+    ("sqrt(-1)", "evaluation_error(undefined)"),
+    ("asin(2)", "evaluation_error(undefined)"),
+    ("inf + 1", "evaluation_error(float_overflow)"),
+    ("inf - inf", "evaluation_error(undefined)"),
+    ("inf * 0", "evaluation_error(undefined)"),
+    ("nan + 1", "evaluation_error(undefined)"),
+    ("sqrt(inf)", "evaluation_error(float_overflow)"),
+    ("exp(-inf)", "evaluation_error(float_overflow)"),
+    ("cos(inf)", "evaluation_error(float_overflow)"),
+    ("2 ** inf", "evaluation_error(float_overflow)"),
+    ("infinite", "type_error(evaluable,infinite/0)"),
+])
+def test_arithmetic_raises_where_swi_does_instead_of_answering_complex_or_nan(expr, formal):
+    answers = ask("", f"catch(X is {expr}, error(E, _), true)")
+    assert len(answers) == 1 and f"error({formal}," in answers[0]
+
+
+@pytest.mark.parametrize("query, swipl", [
+    ("X is inf", ["1.0Inf is inf"]),
+    ("X is -inf", ["-1.0Inf is -inf"]),
+    ("X is nan", ["1.5NaN is nan"]),
+    ("X is abs(-inf)", ["1.0Inf is abs(-inf)"]),
+    ("X is sign(nan)", ["1.5NaN is sign(nan)"]),
+    ("X is min(nan, 1)", ["1 is min(nan,1)"]),
+    ("X is max(1, nan)", ["1 is max(1,nan)"]),
+    ("X is 1 / inf", ["0.0 is 1/inf"]),
+    ("X is float_fractional_part(inf)", ["0.0 is float_fractional_part(inf)"]),
+    ("X is (-8.0) ** 3", ["-512.0 is -8.0**3"]),
+    ("X is 1 >> -3", ["8 is 1>> -3"]),
+    ("X is 1 << -1", ["0 is 1<< -1"]),
+])
+def test_infinities_pass_only_where_swi_passes_them(query, swipl):
+    assert ask("", query) == swipl
+
+
+@pytest.mark.parametrize("expr", ["2 ** 10000000000", "2 ^ 10000000000", "1 << 100000000000",
+                                  "(-3) ** 100000000", "(2 ** 8000000) * (2 ** 8000000)"])
+def test_an_integer_past_the_bound_is_a_resource_error_before_it_is_computed(expr):
+    # swipl 9.0.4 runs out of its global stack here: error(resource_error(stack), _).
+    answers = ask("", f"catch(X is {expr}, error(E, _), true)")
+    assert len(answers) == 1 and "error(resource_error(stack)," in answers[0]
+
+
+def test_integers_past_pythons_digit_limit_print_and_read_back():
+    # Python's str(int) refuses more than 4,300 digits; 10**5000 has 5,001.
+    big = "1" + "0" * 5000
+    assert ask("", "X is 10 ** 5000, atom_length(X, N)") == [f"{big} is 10**5000,atom_length({big},5001)"]
+    answers = ask("", "X is -(7 ** 9000), number_codes(X, L), number_codes(Y, L), Y == X, "
+                      "atom_number(A, X), atom_number(A, Z), Z == X, atom_length(A, N)")
+    assert len(answers) == 1 and answers[0].endswith(",7607)")  # 7 ** 9000 has 7,606 digits, and a sign
+    assert ask("", f"X = {big}, Y is X // 10 ** 4999") == [f"{big}={big},10 is {big}//10**4999"]
+
+
+def test_quoting_a_long_atom_takes_memory_linear_in_its_text():
+    # Quoting joined one string per character: a list of 8-byte pointers besides the text
+    # (a 10 MB atom took 104 MB to print). Now escapes are whole-text replaces.
+    import tracemalloc
+    from schemalog.logic.terms import Atom, Struct
+    name = "it's\n" * 400_000
+    tracemalloc.start()
+    try:
+        text = term_to_text(Struct("f", (Atom(name),)))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert text == "f('" + "it\\'s\\n" * 400_000 + "')"
+    assert peak < 4 * len(text)

@@ -20,7 +20,7 @@ from ..errors import SchemalogError
 from .arith import _num, evaluate
 from .exceptions import PrologError, instantiation_error, iso_error, type_error
 from .terms import (NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
-                    is_ground, list_items, make_list, term_to_text)
+                    int_text, is_ground, list_items, make_list, term_to_text)
 from .unify import Bindings, rename, variant
 
 
@@ -404,7 +404,7 @@ def _format(e: Machine, a: tuple, b: Bindings) -> bool:
         elif d == "d":
             if not isinstance(arg, Int):
                 raise type_error("integer", arg)
-            text = str(abs(arg.value))
+            text = int_text(abs(arg.value))
             if digits and int(digits) > 0:  # ~Nd: N digits after a decimal point
                 places = int(digits)
                 text = text.rjust(places + 1, "0")

@@ -27,7 +27,7 @@ from ..cache import cache_file
 from ..errors import SchemalogError, SourcePos
 from ..inputs import read_limited
 from ..shipped import shipped_text
-from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, make_list
+from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, int_of_digits, make_list
 
 MAX_NESTING = 2_000
 MAX_BYTES = defaults.MAX_BYTES
@@ -243,7 +243,7 @@ class _ToTerms(Transformer):
             return Int(sign * ord(_unescape(digits[2:], "'")))
         if digits[:2] in ("0x", "0o", "0b"):
             return Int(sign * int(digits, 0))
-        return Int(sign * int(digits))
+        return Int(sign * int_of_digits(digits.replace("_", "")))
 
     def float(self, c):
         text = str(c[0])

@@ -11,6 +11,8 @@ Atoms, numbers and strings compare by value; a variable is equal only to itself
 
 from __future__ import annotations
 
+import decimal
+import functools
 import itertools
 import re
 from decimal import Decimal
@@ -220,6 +222,18 @@ _SOLO = re.compile(r"[a-z][A-Za-z0-9_]*\Z")
 _SYMBOL = re.compile(r"[+\-*/\\^<>=~:?@#&$]+\Z")
 _ESCAPES = {"\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r", "\a": "\\a",
             "\b": "\\b", "\f": "\\f", "\v": "\\v", "\0": "\\0\\", "\x1b": "\\e"}
+# Quoting replaces each character that needs an escape in one str.replace pass, the
+# backslash first: linear, in C, and only the text's copies in memory. (Joining a string per
+# character held an 8-byte pointer per character besides: 80 MB more for a 10 MB atom.)
+_IN_QUOTES = tuple(_ESCAPES.items()) + (("'", "\\'"),)
+_IN_DOUBLE_QUOTES = tuple(_ESCAPES.items()) + (('"', '\\"'),)
+
+
+def _escape(text: str, escapes: tuple) -> str:
+    for char, escape in escapes:
+        if char in text:
+            text = text.replace(char, escape)
+    return text
 
 
 def quote_atom(name: str) -> str:
@@ -230,13 +244,11 @@ def quote_atom(name: str) -> str:
         return name
     if _SYMBOL.match(name) and not name.startswith("/*"):
         return name
-    body = "".join(_ESCAPES.get(c, c) for c in name).replace("'", "\\'")
-    return f"'{body}'"
+    return f"'{_escape(name, _IN_QUOTES)}'"
 
 
 def _quote_string(value: str) -> str:
-    body = "".join(_ESCAPES.get(c, c) for c in value).replace('"', '\\"')
-    return f'"{body}"'
+    return f'"{_escape(value, _IN_DOUBLE_QUOTES)}"'
 
 
 def _float_text(value: float) -> str:
@@ -262,6 +274,48 @@ def _float_text(value: float) -> str:
     return text
 
 
+# Python refuses str(int) past 4,300 digits (its guard against quadratic conversion), and
+# its int <-> str conversions are quadratic beyond. Larger integers convert by halves, through
+# decimal's fast multiplication one way and int's Karatsuba the other: the largest integer
+# `is` makes (defaults.MAX_INTEGER_BITS, 2.5 million digits) prints in ~1 s and reads in ~8 s.
+_SMALL_BITS = 12_000     # about 3,600 digits: plain str()
+_SMALL_DIGITS = 3_000
+
+
+def int_text(value: int) -> str:
+    """The decimal text of an integer of any size."""
+    if value.bit_length() <= _SMALL_BITS:
+        return str(value)
+    context = decimal.Context(prec=decimal.MAX_PREC, Emax=decimal.MAX_EMAX, Emin=decimal.MIN_EMIN)
+    power = functools.lru_cache(None)(lambda bits: context.power(context.create_decimal(2), bits))
+
+    def convert(v: int, bits: int) -> Decimal:
+        if bits <= _SMALL_BITS:
+            return context.create_decimal(v)
+        half = bits >> 1
+        high, low = v >> half, v & ((1 << half) - 1)
+        return context.add(context.multiply(convert(high, bits - half), power(half)), convert(low, half))
+
+    magnitude = abs(value)
+    text = format(convert(magnitude, magnitude.bit_length()), "f")
+    return "-" + text if value < 0 else text
+
+
+def int_of_digits(digits: str) -> int:
+    """The integer a string of decimal digits denotes, of any length (see int_text)."""
+    if len(digits) <= _SMALL_DIGITS:
+        return int(digits)
+    ten = functools.lru_cache(None)(lambda k: 10 ** k)
+
+    def convert(text: str) -> int:
+        if len(text) <= _SMALL_DIGITS:
+            return int(text)
+        k = len(text) >> 1
+        return convert(text[:-k]) * ten(k) + convert(text[-k:])
+
+    return convert(digits)
+
+
 Names = dict  # dict[Var, str]: print names for variables (see `variable_names`)
 
 
@@ -278,13 +332,16 @@ def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = Non
 class _Style:
     """How to write: variable print names, and whether to quote atoms and strings."""
 
-    __slots__ = ("names", "quoted", "spaced", "comma")
+    __slots__ = ("names", "quoted", "spaced", "comma", "dots")
 
     def __init__(self, names: Names, quoted: bool, spaced: bool = False, next_argument: bool = False) -> None:
         self.names = names
         self.quoted = quoted
         self.spaced = spaced
         self.comma = ", " if next_argument else ","
+        # id(a '.'/2 term) -> whether it is written infix (obj.prop); the term is alive
+        # for the whole write, so its id is stable. See _dot_infix.
+        self.dots: dict[int, bool] = {}
 
 
 def variable_names(terms: Iterable[Term]) -> Names:
@@ -367,7 +424,7 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
     elif isinstance(term, Var):
         out.append(style.names.get(term) or str(term))
     elif isinstance(term, Int):
-        out.append(str(term.value))
+        out.append(int_text(term.value))
     elif isinstance(term, Float):
         out.append(_float_text(term.value))
     elif isinstance(term, Str):
@@ -402,8 +459,7 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         stack.append((args[0], 1200))
         return
     # obj.prop reads back only when prop starts with a letter: else '.'(a,1).
-    if len(args) == 2 and name in INFIX_OPS and not (
-            name == "." and not _starts_name(_first_char(args[1], INFIX_OPS["."][0], style))):
+    if len(args) == 2 and name in INFIX_OPS and (name != "." or _dot_infix(term, style)):
         priority, kind = INFIX_OPS[name]
         left_max = priority if kind == "yfx" else priority - 1
         right_max = priority if kind == "xfy" else priority - 1
@@ -448,6 +504,27 @@ def _starts_name(char: str) -> bool:
     return char == "_" or char.isascii() and char.isalpha()
 
 
+def _dot_infix(term: Struct, style: _Style) -> bool:
+    """Whether `'.'(A, B)` is written `A.B`: when B's text starts with a name.
+
+    B's first character depends on whether B, if a '.' term too, is written infix, and so
+    on down the right spine of a chain `a.b.c...`. Deciding each node by walking the rest
+    of the chain made printing quadratic (and recursive); instead the spine is decided
+    once, from its far end, and each node's answer kept in `style.dots`."""
+    dots = style.dots
+    known = dots.get(id(term))
+    if known is not None:
+        return known
+    spine = []
+    node: Term = term
+    while isinstance(node, Struct) and node.name == "." and len(node.args) == 2 and id(node) not in dots:
+        spine.append(node)
+        node = node.args[1]
+    for node in reversed(spine):  # node.args[1] is decided already: _first_char stops there
+        dots[id(node)] = _starts_name(_first_char(node.args[1], INFIX_OPS["."][0], style))
+    return dots[id(term)]
+
+
 def _first_char(term: Term, max_priority: int, style: _Style) -> str:
     """The first character `term` will be written with, found down its left spine."""
     while True:
@@ -458,7 +535,7 @@ def _first_char(term: Term, max_priority: int, style: _Style) -> str:
             if name == "{}" and len(args) == 1:
                 return "{"
             if len(args) == 2 and name in INFIX_OPS:
-                if name == "." and not _starts_name(_first_char(args[1], INFIX_OPS["."][0], style)):
+                if name == "." and not _dot_infix(term, style):
                     return "'"  # written '.'(A,B): see _expand_struct
                 priority, kind = INFIX_OPS[name]
                 if priority > max_priority:
