@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
 
 import pytest
@@ -37,3 +38,11 @@ def kb_of():
         kb.consult_text(text, "test.pl")
         return kb
     return make
+
+
+def read_fifo_in_thread(fifo):
+    """Start reading `fifo` from a thread; join() and then got[0] is what was read."""
+    got = []
+    reader = threading.Thread(target=lambda: got.append(open(fifo, "rb").read()), daemon=True)
+    reader.start()
+    return reader, got

@@ -6,12 +6,11 @@ import signal
 import stat
 import subprocess
 import sys
-import threading
 import time
 
 import pytest
 
-from conftest import COFFEE, MIX, ROOT, SEED_COFFEE
+from conftest import COFFEE, MIX, ROOT, SEED_COFFEE, read_fifo_in_thread
 
 
 def run(*args, cwd=None):
@@ -515,17 +514,10 @@ def test_run_decompresses_a_merged_behaviour_that_fails_part_way():
 
 # --- outputs that never destroy anything (docs/formats.md, Outputs) -----------------------------
 
-def _read_fifo_in_thread(fifo):
-    got = []
-    reader = threading.Thread(target=lambda: got.append(open(fifo, "rb").read()), daemon=True)
-    reader.start()
-    return reader, got
-
-
 def test_output_onto_a_fifo_a_device_or_a_link_writes_into_it(tmp_path):
     fifo = tmp_path / "fifo.json"
     os.mkfifo(fifo)
-    reader, got = _read_fifo_in_thread(fifo)
+    reader, got = read_fifo_in_thread(fifo)
     r = run("show", MIX, "--json", "-o", fifo)
     reader.join(30)
     assert r.returncode == 0, r.stderr
@@ -537,7 +529,7 @@ def test_output_onto_a_fifo_a_device_or_a_link_writes_into_it(tmp_path):
     assert stat.S_ISCHR(os.lstat(null).st_mode) and os.lstat(null).st_rdev == os.makedev(1, 3)
     link = tmp_path / "link.json"
     link.symlink_to(fifo)
-    reader, got = _read_fifo_in_thread(fifo)
+    reader, got = read_fifo_in_thread(fifo)
     r = run("show", MIX, "--json", "-o", link)
     reader.join(30)
     assert r.returncode == 0 and json.loads(got[0])["task"] == "use(spoon)"
@@ -623,7 +615,7 @@ def _zero_device(path):
 
 
 def test_inputs_that_never_end_are_read_only_up_to_the_limit(tmp_path):
-    zero = _zero_device(tmp_path / "zero")
+    _zero_device(tmp_path / "zero")
     (tmp_path / "inc.pl").write_text(":- consult('zero').\n")
     (tmp_path / "st.pl").write_text((ROOT / "kb" / "tasks" / "coffee_structure.pl").read_text())
     for args in (("check", "zero"), ("check", "inc.pl"), ("run", MIX, "--scene", "zero"),

@@ -12,7 +12,7 @@ from schemalog.formats.documents import (document_from_text, document_from_yaml,
                                  write_atomically)
 from schemalog.errors import SchemalogError
 
-from conftest import COFFEE, MIX, SEED_COFFEE
+from conftest import COFFEE, MIX, SEED_COFFEE, read_fifo_in_thread
 
 
 @pytest.mark.parametrize("path", [MIX, COFFEE, SEED_COFFEE])
@@ -118,18 +118,10 @@ def _null_device(path):
     return path
 
 
-def _read_fifo_in_thread(fifo):
-    """Start reading `fifo` from a thread; join() and then got[0] is what was read."""
-    got = []
-    reader = threading.Thread(target=lambda: got.append(open(fifo, "rb").read()), daemon=True)
-    reader.start()
-    return reader, got
-
-
 def test_a_fifo_is_written_into_not_replaced(tmp_path):
     fifo = tmp_path / "out.pl"
     os.mkfifo(fifo)
-    reader, got = _read_fifo_in_thread(fifo)
+    reader, got = read_fifo_in_thread(fifo)
     write_atomically(fifo, "task(a).\n")
     reader.join(10)
     assert got == [b"task(a).\n"]
