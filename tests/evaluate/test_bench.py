@@ -128,3 +128,9 @@ def test_the_py_trees_peer_has_the_same_shape_and_reads_the_same_state():
     state.update(lit.atom for n in walk(tree) for lit in cond.literals(n.post))
     peer.tick_once()
     assert peer.status == Status.SUCCESS
+
+
+def test_bench_refuses_an_empty_out_before_measuring(tmp_path):
+    refused = run("bench", "--quick", "--out", "", cwd=tmp_path)
+    assert refused.returncode == 2 and "--out needs a directory name" in refused.stderr
+    assert list(tmp_path.iterdir()) == []

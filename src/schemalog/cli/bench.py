@@ -43,6 +43,8 @@ def run(args: argparse.Namespace) -> int:
     changes = {k: v for k, v in (("runs", args.runs), ("seed", args.seed), ("max_states", args.max_states))
                if v is not None}
     plan = dataclasses.replace(plan, **changes)
+    if not args.out.strip():             # Path('') is '.': the results would land among the user's files
+        raise UsageError("--out needs a directory name (it is empty)")
     out = Path(args.out)
     try:                                 # make sure the results can be written before measuring
         out.mkdir(parents=True, exist_ok=True)
