@@ -287,3 +287,27 @@ def test_a_fifo_input_is_read_without_a_note_when_stderr_is_not_a_terminal(tmp_p
         writer.write(FIG2_SCENE.read_text())
     out, err = p.communicate(timeout=60)
     assert p.returncode == 0 and "waiting" not in err, err
+
+
+# sympy's simplify_logic of 16 variables runs for many minutes (defaults.MAX_SYMPY_BUDGET).
+SYMPY = """
+import sys
+import schemalog.cli.check as check
+def simplify(args):
+    import sympy
+    names = sympy.symbols("a0:16")
+    expr = sympy.Or(*[sympy.And(names[i], ~names[(i * 7 + 3) % 16], names[(i * 5 + 1) % 16]) for i in range(16)])
+    sympy.simplify_logic(expr, form="dnf", force=True)
+    return 0
+check.run = simplify
+from schemalog.cli.main import main
+sys.exit(main(["check", sys.argv[1], "--timeout", "2"]))
+"""
+
+
+def test_the_time_limit_stops_sympy_and_the_verifier(tmp_path):
+    r = python(SYMPY, MIX)
+    assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
+    assert run("generate", "--depth", 4, "--children", 4, "--rd", "0.5", "--seed", 1, "-o", tmp_path / "t.pl").returncode == 0
+    r = run("verify", tmp_path / "t.pl", "--no-split", "--max-states", 10**9, "--timeout", 2)
+    assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
