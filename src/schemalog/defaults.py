@@ -10,6 +10,13 @@ MAX_BYTES = 16 * 1024 * 1024  # lark reads ~0.45 MB/s: refuse what would take mi
 MAX_DEPTH = 256               # the deepest task tree instantiated
 MAX_NODES = 2_000_000         # the largest task tree instantiated
 
+# The process (cli/limits.py)
+MEMORY_FRACTION = 0.5         # of physical memory: the default ceiling on the memory one run may use
+MEMORY_ENV = "SCHEMALOG_MAX_MEMORY"   # the environment's ceiling (a size, or off), under --max-memory
+MIN_TIMEOUT = 0.001           # seconds: --timeout's timer has microseconds, and below one it would not start
+MAX_TIMEOUT = 365 * 24 * 3600 # seconds: setitimer overflows past the platform's time_t
+MIN_MEMORY = 64 * 2**20       # a smaller ceiling would stop Python and the engine from starting
+
 # The engine (logic/engine.py)
 MAX_STEPS = 10_000_000        # resolution steps one query may take
 MAX_INTEGER_BITS = 1 << 23    # bits in one integer result (~1 MB, 2.5 million digits): `is` raises

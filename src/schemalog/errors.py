@@ -47,3 +47,19 @@ class UsageError(SchemalogError):
 
     def __init__(self, message: str) -> None:
         super().__init__(message, exit_code=2)
+
+
+def shown_name(name: str, most: int = 160) -> str:
+    """A file name as a message shows it: whole, or its two ends when it is too long to read."""
+    if len(name) <= most:
+        return name
+    half = most // 2 - 10
+    return f"{name[:half]}...{name[-half:]} (a name of {len(name):,} characters)"
+
+
+class CannotWrite(SchemalogError):
+    """The system refused to write an output (a name too long, no permission, a full device):
+    `cannot write FILE: reason`, exit status 1 (a name that cannot be a file is a UsageError)."""
+
+    def __init__(self, name: str, reason: str) -> None:
+        super().__init__(f"cannot write {shown_name(str(name))}: {reason}")

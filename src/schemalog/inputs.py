@@ -3,7 +3,10 @@
     read_limited(path, max_bytes, label) -> bytes   at most max_bytes bytes, or an error naming the file
 
 Every reader of a user's file (knowledge files and consulted ones, scenes, demonstrations)
-reads through it, so `--max-bytes` bounds what is read, not only what `stat` reports.
+reads through it, so `--max-bytes` bounds what is read, not only what `stat` reports, and
+one rule holds for every input: a FIFO or a terminal is read like a file, and when standard
+error is a terminal a note says so before the read waits for a writer (or for typing), so
+a run never waits without a word; `--timeout` bounds the wait.
 """
 
 from __future__ import annotations
@@ -11,6 +14,7 @@ from __future__ import annotations
 import errno
 import os
 import stat
+import sys
 from pathlib import Path
 
 from .errors import SchemalogError
@@ -30,8 +34,15 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
     p = Path(path)
     label = label or str(path)
     try:
+        if stat.S_ISFIFO(os.stat(p).st_mode):      # opening it waits for a writer
+            _note(f"reading {label}: waiting for input (a FIFO)")
+    except OSError:
+        pass                                       # open says what is wrong
+    try:
         with open(p, "rb") as handle:
             info = os.fstat(handle.fileno())
+            if os.isatty(handle.fileno()):
+                _note(f"reading {label}: waiting for input (a terminal: end it with Ctrl-D)")
             if stat.S_ISDIR(info.st_mode):
                 raise IsADirectoryError(errno.EISDIR, "is a directory")
             if stat.S_ISREG(info.st_mode) and info.st_size > max_bytes:
@@ -48,3 +59,13 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
         raise SchemalogError(f"{label}: over the {size_text(max_bytes)} limit (reading stopped there; "
                              f"raise it with --max-bytes)")
     return data
+
+
+def _note(text: str) -> None:
+    """Tell a user at a terminal what the process waits for (a script's stderr stays clean:
+    `schemalog check <(cat f)` reads a FIFO too)."""
+    try:
+        if sys.stderr is not None and sys.stderr.isatty():
+            print(text, file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass

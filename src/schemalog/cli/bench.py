@@ -13,8 +13,9 @@ from .options import Parents, positive
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog bench` and its arguments to the command line."""
-    p = sub.add_parser("bench", help="reproduce the paper's evaluation (Sec. IV) beside py_trees: "
-                                     "CSV, Markdown and figures")
+    p = sub.add_parser("bench", parents=[parents.resources],
+                      help="reproduce the paper's evaluation (Sec. IV) beside py_trees: "
+                           "CSV, Markdown and figures")
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--paper", action="store_true",
                        help="the whole grid: depth 4-6 x 2-4 children x RD 0, 0.3, 0.5, 0.7, 10 runs each, "

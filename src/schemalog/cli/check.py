@@ -10,7 +10,7 @@ from .options import Parents
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog check` and its arguments to the command line."""
-    p = sub.add_parser("check", parents=[parents.limits], help="parse and validate knowledge files")
+    p = sub.add_parser("check", parents=[parents.limits, parents.resources], help="parse and validate knowledge files")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="instantiate this task (default: every task/1)")
     p.set_defaults(run=run)

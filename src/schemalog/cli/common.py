@@ -13,7 +13,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from .. import defaults
-from ..errors import SchemalogError, UsageError
+from ..errors import CannotWrite, SchemalogError, UsageError
 from ..formats.documents import Document, output_target, read_document, write_atomically
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import parse_term
@@ -114,14 +114,17 @@ def emit(text: str, output: str | None, inputs: Iterable[str]) -> None:
 
 
 def check_output(output: str | None, inputs: Iterable[str], option: str = "-o") -> None:
-    """Refuse (exit 2), before any work is written, an output that is one of the `inputs`
-    (inputs_of) or that could not be written (output_target: a directory, `name/`, no such
-    directory). Standard output (None, `-`) is always fine."""
+    """Refuse, before any work is written, an output that is one of the `inputs` (inputs_of)
+    or that names no file (output_target: a directory, `name/`, no such directory), exit 2,
+    or that the system would refuse (a name too long, a directory not writable), exit 1.
+    Standard output (None, `-`) is always fine."""
     if output is None or output == "-":
         return
     refuse_overwriting(output, inputs, option)
     try:
         output_target(output)
+    except CannotWrite:
+        raise
     except SchemalogError as err:
         raise UsageError(err.message) from None
 

@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # for annotations only: these load when the command runs
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog compress` and its arguments to the command line."""
-    p = sub.add_parser("compress", parents=[parents.limits, parents.output],
+    p = sub.add_parser("compress", parents=[parents.limits, parents.resources, parents.output],
                        help="merge sequential behaviours (Definition 1, Algorithm 1)")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="the task to compress (default: the first task/1)")

@@ -11,7 +11,7 @@ from .options import Parents
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog convert` and its arguments to the command line."""
-    p = sub.add_parser("convert", parents=[parents.limits],
+    p = sub.add_parser("convert", parents=[parents.limits, parents.resources],
                        help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")
     p.add_argument("input", metavar="FILE")
     p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml) picks the format")

@@ -11,7 +11,7 @@ from .options import Parents
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog decompress` and its arguments to the command line."""
-    p = sub.add_parser("decompress", parents=[parents.limits, parents.output],
+    p = sub.add_parser("decompress", parents=[parents.limits, parents.resources, parents.output],
                        help="restore the original tree of a compressed task file")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="the task (default: the first task/1)")

@@ -14,7 +14,8 @@ from .options import Parents, fraction, positive
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog generate` and its arguments to the command line."""
-    p = sub.add_parser("generate", help="write a task in the shape of the paper's evaluation (Sec. IV-B)")
+    p = sub.add_parser("generate", parents=[parents.resources],
+                      help="write a task in the shape of the paper's evaluation (Sec. IV-B)")
     p.add_argument("--depth", type=positive, required=True,
                    help=f"levels of the tree (the paper: 4, 5, 6; at most {defaults.MAX_DEPTH})")
     p.add_argument("--children", type=positive, required=True,

@@ -16,7 +16,8 @@ from .options import Parents, bounded, distance, length, positive
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog learn` and its arguments to the command line."""
-    p = sub.add_parser("learn", help="learn task knowledge from a demonstration (Sec. II-C, II-D; docs/learning.md)")
+    p = sub.add_parser("learn", parents=[parents.resources],
+                      help="learn task knowledge from a demonstration (Sec. II-C, II-D; docs/learning.md)")
     p.add_argument("demo", metavar="DEMO", help="the demonstration, CSV or JSON (docs/learning.md)")
     p.add_argument("--structure", required=True, metavar="FILE",
                    help="the partially specified task structure: schema knowledge whose sub-tasks have no actions")
@@ -113,17 +114,18 @@ def _stage(target: str, staged: list[tuple[str, str]]) -> str:
 
 
 def _commit(staged: list[tuple[str, str]]) -> None:
-    """Rename the staged files onto their targets (through links), together; then write the
-    special ones (FIFO, device) in place."""
+    """Write the special ones (FIFO, device) in place, then rename the staged files onto their
+    targets (through links), together: a device that refuses (/dev/full) is found before any
+    file is replaced, since it cannot be checked beforehand."""
     from ..formats.documents import file_mode, output_target, write_in_place
 
     targets = [(temporary, output_target(target)) for temporary, target in staged]
+    for temporary, target in targets:
+        if target.in_place:
+            write_in_place(target.path, Path(temporary).read_bytes())
     for temporary, target in targets:
         if not target.in_place:
             os.chmod(temporary, file_mode(target.path))
     for temporary, target in targets:
         if not target.in_place:
             os.replace(temporary, target.path)
-    for temporary, target in targets:
-        if target.in_place:
-            write_in_place(target.path, Path(temporary).read_bytes())

@@ -19,6 +19,8 @@ import sys
 
 from .. import __version__
 from ..errors import SchemalogError
+from .limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling, memory_ceiling, out_of_memory_text,
+                     time_limit)
 from .options import shared_parents
 
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
@@ -84,33 +86,72 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "run", None):
         parser.print_help(sys.stderr)
         return 2
+    ceiling = None
     try:
-        return args.run(args)
+        ceiling = apply_memory_ceiling(memory_ceiling(getattr(args, "max_memory", None), os.environ))
+        # The timer is disarmed as the command returns, before any handler below prints.
+        with time_limit(getattr(args, "timeout", None)):
+            return args.run(args)
     except SchemalogError as err:
         print(str(err), file=sys.stderr)
         if err.exit_code == 2:
             print(f"(see: schemalog {args.command} --help)", file=sys.stderr)
         return err.exit_code
     except PrologError as err:
-        print(f"error: uncaught Prolog exception: {err}", file=sys.stderr)
+        from .toplevel import error_text     # the ISO errors in plain words, resource errors' limits
+
+        print(error_text(err), file=sys.stderr)
         return 1
     except RecursionError:
         print("error: the input nests too deeply to process", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
-    except Terminated as stop:
-        print(f"terminated ({signal.Signals(stop.signum).name})", file=sys.stderr)
-        return 128 + stop.signum
+    except MemoryError:     # not bound: the frames holding the memory go with the traceback
+        print(out_of_memory_text(ceiling), file=sys.stderr)
+        return 1
+    except OverflowError as err:
+        print(f"error: a number is too large to process ({err})", file=sys.stderr)
+        return 1
+    except (TimeLimitExceeded, KeyboardInterrupt, Terminated) as stop:
+        return _stopped(stop)
     except BrokenPipeError:
         return 0
     except Exception as err:  # an internal error must still not dump a traceback on users
+        cause = _wrapped_stop(err)
+        if isinstance(cause, MemoryError):
+            print(out_of_memory_text(ceiling), file=sys.stderr)
+            return 1
+        if cause is not None:
+            return _stopped(cause)
         if os.environ.get("SCHEMALOG_DEBUG"):
             raise
         print(f"internal error: {type(err).__name__}: {err} (please report it; "
               f"SCHEMALOG_DEBUG=1 shows the traceback)", file=sys.stderr)
         return 70
+
+
+def _stopped(stop: BaseException) -> int:
+    """Say why the run stopped early (the time limit, Ctrl-C, a signal); its exit status."""
+    if isinstance(stop, TimeLimitExceeded):
+        print(str(stop), file=sys.stderr)
+        return TIMEOUT_EXIT
+    if isinstance(stop, Terminated):
+        print(f"terminated ({signal.Signals(stop.signum).name})", file=sys.stderr)
+        return 128 + stop.signum
+    print("interrupted", file=sys.stderr)
+    return 130
+
+
+def _wrapped_stop(err: BaseException) -> BaseException | None:
+    """The time limit, a signal or MemoryError that `err` wraps: Python turns what a class
+    body's __set_name__ raises into RuntimeError, so the time limit arriving while a module
+    is imported would otherwise read as an internal error."""
+    seen = set()
+    while err is not None and id(err) not in seen:
+        seen.add(id(err))
+        if isinstance(err, (TimeLimitExceeded, KeyboardInterrupt, Terminated, MemoryError)):
+            return err
+        err = err.__cause__ or err.__context__
+    return None
 
 
 def tune_gc() -> None:

@@ -10,6 +10,7 @@ import argparse
 from dataclasses import dataclass
 
 from .. import defaults
+from .limits import TIMEOUT_EXIT
 
 
 def whole(minimum: int):
@@ -61,6 +62,17 @@ def length(text: str) -> float:
     return value
 
 
+def seconds(text: str) -> float:
+    """An argparse type: a time limit in seconds, from a millisecond to a year."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not defaults.MIN_TIMEOUT <= value <= defaults.MAX_TIMEOUT:     # NaN and inf too
+        raise argparse.ArgumentTypeError(f"must be from {defaults.MIN_TIMEOUT:g} to {defaults.MAX_TIMEOUT:,} seconds")
+    return value
+
+
 def fraction(text: str) -> float:
     """An argparse type: a number from 0 to 1."""
     try:
@@ -88,6 +100,7 @@ class Parents:
     limits: argparse.ArgumentParser   # --max-bytes, --max-depth, --max-nodes: every command that reads knowledge
     output: argparse.ArgumentParser   # --format, --json, -o: commands that print a tree
     ask: argparse.ArgumentParser      # --task, --compressed, --state, ...: query and repl
+    resources: argparse.ArgumentParser   # --timeout, --max-memory: every command but repl (cli/limits.py)
 
 
 def shared_parents() -> Parents:
@@ -120,4 +133,10 @@ def shared_parents() -> Parents:
     ask.add_argument("--max-steps", type=positive, default=defaults.MAX_STEPS, metavar="N",
                      help=f"resolution steps one query may take (default {defaults.MAX_STEPS:,})")
     ask.set_defaults(seed=None, jitter=None)
-    return Parents(limits, output, ask)
+    resources = argparse.ArgumentParser(add_help=False)
+    resources.add_argument("--timeout", type=seconds, metavar="SECONDS",
+                           help=f"stop after this much wall-clock time (exit {TIMEOUT_EXIT}; default: none)")
+    resources.add_argument("--max-memory", metavar="SIZE",
+                           help=f"memory ceiling, e.g. 512M, 4G or off (default: ${defaults.MEMORY_ENV}, "
+                                f"else {defaults.MEMORY_FRACTION * 100:.0f}%% of physical memory)")
+    return Parents(limits, output, ask, resources)

@@ -11,7 +11,7 @@ from .options import Parents
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog query` and its arguments to the command line."""
-    p = sub.add_parser("query", parents=[parents.limits, parents.ask],
+    p = sub.add_parser("query", parents=[parents.limits, parents.resources, parents.ask],
                        help="answer a Prolog query over knowledge files (docs/queries.md)")
     p.add_argument("files", nargs="*", metavar="FILE")
     p.add_argument("query", metavar="QUERY", help="a goal, e.g. 'sequential(X, Y)' (the final '.' is optional)")

@@ -19,7 +19,7 @@ if TYPE_CHECKING:  # for annotations only: these load when the command runs
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog run` and its arguments to the command line."""
-    p = sub.add_parser("run", parents=[parents.limits],
+    p = sub.add_parser("run", parents=[parents.limits, parents.resources],
                        help="execute a task with the attentional executive against an emulated robot")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="the task to run (default: the first task/1)")

@@ -10,7 +10,8 @@ from .options import Parents
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog show` and its arguments to the command line."""
-    p = sub.add_parser("show", parents=[parents.limits, parents.output], help="instantiate a task and print its tree")
+    p = sub.add_parser("show", parents=[parents.limits, parents.resources, parents.output],
+                      help="instantiate a task and print its tree")
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--task", help="the task to instantiate (default: the first task/1)")
     p.set_defaults(run=run)

@@ -13,7 +13,8 @@ from .options import Parents, bounded, distance, length, positive
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog simulate-demo` and its arguments to the command line."""
-    p = sub.add_parser("simulate-demo", help="write a synthetic demonstration of a task in a scene")
+    p = sub.add_parser("simulate-demo", parents=[parents.resources],
+                      help="write a synthetic demonstration of a task in a scene")
     p.add_argument("files", nargs="*", metavar="FILE",
                    help="the task knowledge (default: the scene's knowledge: entry)")
     p.add_argument("--scene", required=True, metavar="FILE", help="object positions (YAML)")

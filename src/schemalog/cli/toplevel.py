@@ -17,6 +17,7 @@ import sys
 from dataclasses import dataclass
 from typing import Callable, Iterator, TextIO
 
+from .. import defaults
 from ..errors import SchemalogError
 from ..logic.builtins import compare_terms
 from ..logic.exceptions import PrologError, StepLimitExceeded
@@ -127,7 +128,17 @@ def _explain(ball: Term) -> str:
             return f"{text}\n  {term_to_text(args[0])} expected, found {term_to_text(args[1])}"
         if name == "evaluation_error" and len(args) == 1:
             return f"{text}\n  arithmetic: {term_to_text(args[0])}"
+        if name == "resource_error" and len(args) == 1:
+            return f"{text}\n  {RESOURCES.get(term_to_text(args[0]), 'resource: ' + term_to_text(args[0]))}"
     return text
+
+
+# What each resource error means here, and the limit behind it.
+RESOURCES = {
+    "memory": "out of memory: raise the ceiling with --max-memory or SCHEMALOG_MAX_MEMORY",
+    "stack": (f"an integer result would exceed {defaults.MAX_INTEGER_BITS:,} bits (a fixed limit, "
+              f"as swipl's 1 GB stack is: docs/syntax.md)"),
+}
 
 
 def answers(workspace: Workspace, query: Query, output: Callable[[str], None] | None = None,

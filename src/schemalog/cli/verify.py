@@ -23,7 +23,7 @@ INCONCLUSIVE = 3    # verify: no counterexample, but no proof either (state limi
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog verify` and its arguments to the command line."""
-    p = sub.add_parser("verify", parents=[parents.limits],
+    p = sub.add_parser("verify", parents=[parents.limits, parents.resources],
                        help="prove a compressed task against its original, with counterexamples")
     p.add_argument("files", nargs="+", metavar="FILE",
                    help="a task file (compressed here), or an original and a compressed file")

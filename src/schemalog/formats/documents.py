@@ -29,7 +29,7 @@ from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import SchemalogError, SourcePos
+from ..errors import CannotWrite, SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import MAX_BYTES, Clause, Directive, parse_text, read_source
 from ..task import conditions as cond
@@ -297,14 +297,14 @@ def output_target(path: str | Path) -> Target:
     except FileNotFoundError:
         info = None
     except OSError as err:
-        raise SchemalogError(f"cannot write {name}: {err.strerror or err}") from None
+        raise CannotWrite(name, err.strerror or str(err)) from None
     if info is not None and stat.S_ISDIR(info.st_mode):
         raise SchemalogError(f"{name} is a directory; name a file")
     if info is not None and not stat.S_ISREG(info.st_mode):
         if stat.S_ISSOCK(info.st_mode):
             raise SchemalogError(f"{name} is a socket; name a file")
         if not os.access(name, os.W_OK):
-            raise SchemalogError(f"{name} is not writable")
+            raise CannotWrite(name, "it is not writable")
         return Target(Path(name), in_place=True)     # the name itself: /dev/stdout -> /proc/self/fd/1
     target = Path(os.path.realpath(name))            # a link is written through, not replaced
     directory = target.parent
@@ -312,7 +312,7 @@ def output_target(path: str | Path) -> Target:
         shown = directory if os.path.islink(name) else (Path(name).parent if str(Path(name).parent) else ".")
         raise SchemalogError(f"{name}: no such directory {shown}")
     if not os.access(directory, os.W_OK):
-        raise SchemalogError(f"{name}: the directory {directory} is not writable")
+        raise CannotWrite(name, f"the directory {directory} is not writable")
     return Target(target)
 
 
@@ -329,7 +329,7 @@ def write_in_place(path: str | Path, data: bytes) -> None:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
     except OSError as err:
-        raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
+        raise CannotWrite(path, err.strerror or str(err)) from None
 
 
 def _write_text(handle, text: str) -> None:
@@ -346,7 +346,7 @@ def write_atomically(path: str | Path, text: str) -> None:
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
     except OSError as err:
-        raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
+        raise CannotWrite(path, err.strerror or str(err)) from None
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             _write_text(handle, text)
@@ -358,5 +358,5 @@ def write_atomically(path: str | Path, text: str) -> None:
         except OSError:
             pass
         if isinstance(err, OSError):
-            raise SchemalogError(f"cannot write {path}: {err.strerror or err}") from None
+            raise CannotWrite(path, err.strerror or str(err)) from None
         raise

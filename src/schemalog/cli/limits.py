@@ -1,0 +1,141 @@
+"""The process's resource limits: a wall-clock time limit and a memory ceiling.
+
+    time_limit(seconds)        a context: past `seconds` (None: no limit), TimeLimitExceeded is raised
+                               wherever the process is (the engine, sympy, a blocking read)
+    memory_ceiling(text, env)  the ceiling in bytes (None: none) from --max-memory, else the
+                               environment's SCHEMALOG_MAX_MEMORY, else a fraction of physical memory
+    apply_memory_ceiling(n)    set it as the process's RLIMIT_DATA soft limit
+
+The ceiling is RLIMIT_DATA, not RLIMIT_AS: RLIMIT_AS counts address space that is only
+reserved, and glibc reserves 64 MiB per thread for its malloc arenas (16 threads with numpy
+imported: 1.2 GiB of VmSize for 0.2 GiB of VmData), so a thread pool would hit it long before
+memory is short. RLIMIT_DATA counts the memory that can actually be written, large
+allocations (mmap) included, and Python raises MemoryError at it.
+
+Nothing here loads the engine; signal and resource are built into the interpreter.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import signal
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+
+from .. import defaults
+from ..errors import UsageError
+
+TIMEOUT_EXIT = 124          # as GNU timeout(1) exits
+
+
+class TimeLimitExceeded(BaseException):
+    """--timeout's time ran out. A BaseException, like KeyboardInterrupt, so that no
+    `except Exception` swallows it and what cleans up after Ctrl-C cleans up after it."""
+
+    def __init__(self, seconds: float):
+        super().__init__(seconds)
+        self.seconds = seconds
+
+    def __str__(self) -> str:
+        return f"error: time limit of {self.seconds:g} s exceeded (raise it with --timeout)"
+
+
+@contextmanager
+def time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise TimeLimitExceeded in the main thread once `seconds` of wall-clock time have passed
+    inside the context; disarmed on leaving it, so it never fires after the work is done."""
+    if seconds is None or not hasattr(signal, "setitimer"):
+        yield
+        return
+    armed = [True]
+
+    def expire(signum, frame) -> None:
+        if armed[0]:             # a signal already pending as the context closes does nothing
+            armed[0] = False
+            raise TimeLimitExceeded(seconds)
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        armed[0] = False
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+_UNITS = {"": 1, "b": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
+_OFF = ("off", "none", "unlimited")
+
+
+def parse_size(text: str, source: str) -> int | None:
+    """A size as written on the command line: bytes, or with K, M, G or T (binary units, an
+    optional `iB`/`B`); `off` for no ceiling (None). A UsageError naming `source` otherwise."""
+    cleaned = text.strip().lower()
+    if cleaned in _OFF:
+        return None
+    found = re.fullmatch(r"(\d+(?:\.\d+)?)\s*([kmgt]?)(?:i?b)?", cleaned)
+    if not found:
+        raise UsageError(f"{source} {text!r} is not a size: write bytes, or e.g. 512M, 4G, or off")
+    value = int(float(found.group(1)) * _UNITS[found.group(2)])
+    if value < defaults.MIN_MEMORY:
+        raise UsageError(f"{source} {text!r}: at least {size_text(defaults.MIN_MEMORY)} "
+                         f"(Python and the engine need that much to start)")
+    return value
+
+
+def size_text(n: int) -> str:
+    """A memory size as users read it: GiB from one GiB up, else MiB."""
+    return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / 2**20:.0f} MiB"
+
+
+def physical_memory() -> int | None:
+    """The machine's physical memory in bytes, when the system says."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def memory_ceiling(option: str | None, environ: Mapping[str, str]) -> int | None:
+    """The ceiling asked for: --max-memory, else $SCHEMALOG_MAX_MEMORY, else
+    defaults.MEMORY_FRACTION of physical memory; None for none."""
+    if option is not None:
+        return parse_size(option, "--max-memory")
+    if environ.get(defaults.MEMORY_ENV):
+        return parse_size(environ[defaults.MEMORY_ENV], defaults.MEMORY_ENV)
+    physical = physical_memory()
+    return int(physical * defaults.MEMORY_FRACTION) if physical else None
+
+
+def apply_memory_ceiling(ceiling: int | None) -> int | None:
+    """Lower the process's RLIMIT_DATA to `ceiling` (never raise it past the hard limit, never
+    above a lower limit already set); return the ceiling in force, None for none."""
+    try:
+        import resource
+    except ImportError:          # not a POSIX system: no ceiling
+        return None
+    soft, hard = resource.getrlimit(resource.RLIMIT_DATA)
+    inherited = None if soft == resource.RLIM_INFINITY else soft
+    if ceiling is None:
+        return inherited
+    if hard != resource.RLIM_INFINITY and ceiling > hard:
+        raise UsageError(f"--max-memory {size_text(ceiling)} is above this process's hard limit "
+                         f"of {size_text(hard)} (ulimit -d)")
+    if inherited is not None and inherited < ceiling:
+        return inherited
+    resource.setrlimit(resource.RLIMIT_DATA, (ceiling, hard))
+    return ceiling
+
+
+def out_of_memory_text(ceiling: int | None) -> str:
+    """What to say when memory ran out."""
+    if ceiling is None:
+        return "error: out of memory (the system refused more)"
+    return (f"error: out of memory: the {size_text(ceiling)} ceiling was reached (raise it with "
+            f"--max-memory or {defaults.MEMORY_ENV}, or set it to off)")
+
+
+__all__ = ["TimeLimitExceeded", "TIMEOUT_EXIT", "time_limit", "parse_size", "memory_ceiling",
+           "apply_memory_ceiling", "out_of_memory_text", "size_text"]

@@ -1,0 +1,313 @@
+"""End to end: the process's limits (--timeout, --max-memory) and the resource and OS errors
+a user meets, as one-line messages with their exit statuses (cli/limits.py, cli/main.py)."""
+
+import os
+import pty
+import resource
+import stat
+import subprocess
+import sys
+
+import pytest
+
+from conftest import COFFEE, MIX, ROOT
+
+STRUCTURE = ROOT / "kb" / "tasks" / "coffee_structure.pl"
+FIG2_SCENE = ROOT / "kb" / "scenes" / "mix_with_spoon.yaml"
+ENV = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+
+
+def run(*args, cwd=None, env=None):
+    return subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd or ROOT, timeout=120, env=env or ENV)
+
+
+def python(code, *args, cwd=None):
+    """Run `code` in a fresh interpreter (schemalog from this tree)."""
+    return subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True, text=True,
+                          cwd=cwd or ROOT, timeout=120, env=ENV)
+
+
+def clean(r):
+    return "Traceback" not in r.stderr and "internal error" not in r.stderr
+
+
+# --- --timeout ------------------------------------------------------------------------------
+
+def test_a_query_that_loops_stops_at_the_time_limit():
+    r = run("query", MIX, "repeat, fail", "--max-steps", 10**12, "--timeout", 1)
+    assert r.returncode == 124, r.stderr
+    assert r.stderr.strip() == "error: time limit of 1 s exceeded (raise it with --timeout)" and clean(r)
+    r = run("query", MIX, "repeat, fail", "--max-steps", 10**12, "--timeout", 1, "--json")
+    assert r.returncode == 124 and r.stdout == ""     # no partial JSON list
+
+
+@pytest.mark.parametrize("args", [("check", "f"), ("verify", "f"), ("run", "f"), ("show", "f"),
+                                  ("query", "f", "true"), ("run", MIX, "--scene", "f"),
+                                  ("learn", "f", "--structure", STRUCTURE), ("check", "inc.pl")])
+def test_a_read_that_blocks_on_a_fifo_stops_at_the_time_limit(tmp_path, args):
+    os.mkfifo(tmp_path / "f")                              # nobody ever writes it
+    (tmp_path / "inc.pl").write_text(":- consult(f).\n")
+    r = run(*args, "--timeout", "0.5", cwd=tmp_path)
+    assert r.returncode == 124 and "time limit of 0.5 s exceeded" in r.stderr and clean(r), (args, r.stderr)
+
+
+# The write is made slow (it stops after the first kilobyte) so that the time runs out during it.
+SLOW_WRITE = """
+import sys, time
+import schemalog.formats.documents as documents
+def slow(handle, text):
+    handle.write(text[:1000]); handle.flush(); time.sleep(60)
+documents._write_text = slow
+sys.argv[0] = "schemalog"
+from schemalog.cli.main import run
+run()
+"""
+
+
+def test_a_time_limit_during_a_write_leaves_no_file(tmp_path):
+    r = python(SLOW_WRITE, "generate", "--depth", 3, "--children", 3, "-o", "out.pl", "--timeout", 1, cwd=tmp_path)
+    assert r.returncode == 124 and "time limit of 1 s exceeded" in r.stderr and clean(r), r.stderr
+    assert os.listdir(tmp_path) == []
+
+
+# A handler that catches every Exception, as library code may, around a loop that never ends.
+SWALLOWING = """
+import sys
+import schemalog.cli.check as check
+def greedy(args):
+    while True:
+        try:
+            sum(range(1000))
+        except Exception:
+            pass
+check.run = greedy
+from schemalog.cli.main import main
+sys.exit(main(["check", sys.argv[1], "--timeout", "0.5"]))
+"""
+
+
+def test_the_time_limit_is_not_swallowed_by_except_exception():
+    r = python(SWALLOWING, MIX)
+    assert r.returncode == 124 and "time limit of 0.5 s exceeded" in r.stderr, r.stderr
+
+
+# The command's work is made instant, so that it surely ends within the limit.
+FINISHED = """
+import sys, time
+import schemalog.cli.check as check
+check.run = lambda args: print("done") or 0
+from schemalog.cli.main import main
+code = main(["check", sys.argv[1], "--timeout", "0.2"])
+time.sleep(1)                    # past the limit: the timer must be disarmed by now
+print("after", code)
+"""
+
+
+def test_the_time_limit_never_fires_after_the_command_finished():
+    r = python(FINISHED, MIX)
+    assert r.returncode == 0 and r.stdout.splitlines() == ["done", "after 0"], (r.stdout, r.stderr)
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "1e400", "soon", "1e9"])
+def test_bad_time_limits_are_usage_errors(value):
+    r = run("check", MIX, "--timeout", value)
+    assert r.returncode == 2 and "--timeout" in r.stderr and clean(r), r.stderr
+
+
+def test_every_command_but_repl_takes_the_resource_options():
+    for command in ("check", "show", "compress", "decompress", "run", "verify", "generate", "bench",
+                    "learn", "simulate-demo", "query", "convert"):
+        out = run(command, "--help").stdout
+        assert "--timeout SECONDS" in out and "--max-memory SIZE" in out, command
+
+
+# --- --max-memory -----------------------------------------------------------------------------
+
+RUNAWAY = "length(L, 100000000)"     # 100 million cells: gigabytes, far past the ceilings below
+
+
+def test_a_runaway_term_is_refused_at_the_memory_ceiling():
+    r = run("query", MIX, RUNAWAY, "--max-memory", "300M")
+    assert r.returncode == 1 and clean(r), r.stderr
+    assert r.stderr.strip() == ("error: out of memory: the 300 MiB ceiling was reached (raise it with "
+                                "--max-memory or SCHEMALOG_MAX_MEMORY, or set it to off)")
+    r = run("query", MIX, RUNAWAY, env={**ENV, "SCHEMALOG_MAX_MEMORY": "256MiB"})
+    assert r.returncode == 1 and "the 256 MiB ceiling was reached" in r.stderr and clean(r), r.stderr
+    # the option wins over the environment
+    r = run("query", MIX, RUNAWAY, "--max-memory", "200M", env={**ENV, "SCHEMALOG_MAX_MEMORY": "off"})
+    assert r.returncode == 1 and "the 200 MiB ceiling was reached" in r.stderr, r.stderr
+
+
+def test_sympy_numpy_and_the_verifier_work_under_a_modest_ceiling(tmp_path):
+    # RLIMIT_DATA, not RLIMIT_AS: thread pools' reserved address space does not count
+    assert run("compress", COFFEE, "--max-memory", "400M").returncode == 0        # sympy
+    assert run("verify", COFFEE, "--task", "prepareboth", "--max-memory", "400M").returncode == 0
+    r = run("simulate-demo", MIX, "--scene", FIG2_SCENE, "-o", tmp_path / "d.csv", "--max-memory", "400M")
+    assert r.returncode == 0, r.stderr                                             # numpy
+
+
+CEILING = """
+import resource, sys
+from schemalog.cli.main import main
+main(sys.argv[1:])
+print(resource.getrlimit(resource.RLIMIT_DATA)[0])
+"""
+
+
+def test_the_default_ceiling_is_half_of_physical_memory():
+    half = os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") // 2
+    inherited = resource.getrlimit(resource.RLIMIT_DATA)[0]
+    expected = half if inherited == resource.RLIM_INFINITY else min(half, inherited)
+    r = python(CEILING, "check", MIX)
+    assert int(r.stdout.splitlines()[-1]) == expected, r.stdout
+    r = python(CEILING, "check", MIX, "--max-memory", "1G")
+    assert int(r.stdout.splitlines()[-1]) == min(2**30, expected)
+
+
+@pytest.mark.parametrize("value", ["lots", "12Q", "-5M", "1K"])
+def test_bad_ceilings_are_usage_errors(value):
+    r = run("check", MIX, "--max-memory", value)
+    assert r.returncode == 2 and "--max-memory" in r.stderr and clean(r), r.stderr
+    r = run("check", MIX, env={**ENV, "SCHEMALOG_MAX_MEMORY": value})
+    assert r.returncode == 2 and "SCHEMALOG_MAX_MEMORY" in r.stderr and clean(r), r.stderr
+
+
+def test_prolog_resource_errors_name_their_limit():
+    r = run("query", MIX, "throw(error(resource_error(memory), _))")
+    assert r.returncode == 2 and "--max-memory" in r.stderr, r.stderr
+    r = run("query", MIX, "X is 2 ** (1 << 30)")
+    assert r.returncode == 2 and "resource_error(stack)" in r.stderr and "8,388,608 bits" in r.stderr
+
+
+OVERFLOW = """
+import sys
+import schemalog.cli.check as check
+def overflow(args):
+    return int(float("1e308") ** 2)
+check.run = overflow
+from schemalog.cli.main import main
+sys.exit(main(["check", sys.argv[1]]))
+"""
+
+
+def test_an_overflow_is_a_message_not_an_internal_error():
+    r = python(OVERFLOW, MIX)
+    assert r.returncode == 1 and r.stderr.startswith("error: a number is too large to process") and clean(r)
+
+
+# --- outputs the system refuses ---------------------------------------------------------------
+
+WRITERS = [("show", MIX), ("compress", MIX), ("convert", MIX), ("run", MIX), ("verify", MIX),
+           ("generate", "--depth", "2", "--children", "2"), ("simulate-demo", MIX, "--scene", FIG2_SCENE)]
+
+
+def _full_device(path):
+    os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, 7))   # /dev/full, inside tmp_path
+    return path
+
+
+@pytest.mark.parametrize("args", WRITERS)
+def test_outputs_the_system_refuses_are_one_line_messages(tmp_path, args):
+    _full_device(tmp_path / "full")
+    deep = "/".join(["d"] * 3000) + "/x.pl"
+    for name, says in (("a" * 300 + ".pl", "File name too long"), (deep, "File name too long"),
+                       ("full", "No space left on device")):
+        r = run(*args, "-o", name, cwd=tmp_path)
+        assert r.returncode == 1 and clean(r), (args, r.stderr)
+        line = [line for line in r.stderr.splitlines() if line.startswith("error:")]
+        assert len(line) == 1 and line[0].startswith("error: cannot write ") and line[0].endswith(says), r.stderr
+        assert len(line[0]) < 300                       # a long name is shown by its two ends
+        assert os.listdir(tmp_path) == ["full"]         # no temporary file
+
+
+@pytest.fixture
+def read_only_dir(tmp_path):
+    """A directory nobody can write into: for root, whom modes do not stop, a read-only mount."""
+    path = tmp_path / "ro"
+    path.mkdir()
+    if os.geteuid() != 0:
+        path.chmod(0o555)
+        yield path
+        path.chmod(0o755)
+        return
+    subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(path)], check=True)
+    try:
+        yield path
+    finally:
+        subprocess.run(["umount", str(path)], check=True)
+
+
+@pytest.mark.parametrize("args", WRITERS + [("learn", "demo.csv", "--structure", STRUCTURE, "--task", "preparecoffee")])
+def test_an_output_into_a_read_only_directory_is_refused(tmp_path, read_only_dir, args):
+    (tmp_path / "demo.csv").write_text("t,x,y,z\n")
+    r = run(*args, "-o", "ro/out.pl", cwd=tmp_path)
+    assert r.returncode == 1 and clean(r), (args, r.stderr)
+    assert "error: cannot write ro/out.pl: the directory" in r.stderr and "is not writable" in r.stderr
+    assert os.listdir(read_only_dir) == []
+
+
+def test_learn_writes_nothing_when_a_device_output_refuses(tmp_path):
+    _full_device(tmp_path / "full")
+    r = run("simulate-demo", "--scene", ROOT / "kb" / "scenes" / "kitchen.yaml", "--task", "preparecoffee",
+            "-o", "demo.csv", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    r = run("learn", "demo.csv", "--structure", STRUCTURE, "--task", "preparecoffee", "-o", "out.pl",
+            "--motions", "full", cwd=tmp_path)
+    assert r.returncode == 1 and "cannot write full: No space left on device" in r.stderr and clean(r)
+    assert sorted(os.listdir(tmp_path)) == ["demo.csv", "full"]
+
+
+# --- inputs that wait: FIFOs and terminals ----------------------------------------------------
+
+def test_a_fifo_input_says_it_waits_when_stderr_is_a_terminal(tmp_path):
+    fifo = tmp_path / "f"
+    os.mkfifo(fifo)
+    master, slave = pty.openpty()
+    p = subprocess.Popen([sys.executable, "-m", "schemalog", "check", "f"], cwd=tmp_path, env=ENV,
+                         stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    said = b""
+    while b"\n" not in said:
+        said += os.read(master, 1000)
+    assert said.decode().strip() == "reading f: waiting for input (a FIFO)"
+    with open(fifo, "w") as writer:       # opening it releases the reader's open
+        writer.write(MIX.read_text())
+    out, _ = p.communicate(timeout=60)
+    os.close(master)
+    assert p.returncode == 0 and out.startswith("ok: f: 12 schemas")
+
+
+def test_a_fifo_input_is_read_without_a_note_when_stderr_is_not_a_terminal(tmp_path):
+    fifo = tmp_path / "scene.yaml"
+    os.mkfifo(fifo)
+    p = subprocess.Popen([sys.executable, "-m", "schemalog", "run", MIX, "--scene", "scene.yaml", "--json"],
+                         cwd=tmp_path, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    with open(fifo, "w") as writer:
+        writer.write(FIG2_SCENE.read_text())
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 0 and "waiting" not in err, err
+
+
+# sympy's simplify_logic of 16 variables runs for many minutes (defaults.MAX_SYMPY_BUDGET).
+SYMPY = """
+import sys
+import schemalog.cli.check as check
+def simplify(args):
+    import sympy
+    names = sympy.symbols("a0:16")
+    expr = sympy.Or(*[sympy.And(names[i], ~names[(i * 7 + 3) % 16], names[(i * 5 + 1) % 16]) for i in range(16)])
+    sympy.simplify_logic(expr, form="dnf", force=True)
+    return 0
+check.run = simplify
+from schemalog.cli.main import main
+sys.exit(main(["check", sys.argv[1], "--timeout", "2"]))
+"""
+
+
+def test_the_time_limit_stops_sympy_and_the_verifier(tmp_path):
+    r = python(SYMPY, MIX)
+    assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
+    assert run("generate", "--depth", 4, "--children", 4, "--rd", "0.5", "--seed", 1, "-o", tmp_path / "t.pl").returncode == 0
+    r = run("verify", tmp_path / "t.pl", "--no-split", "--max-states", 10**9, "--timeout", 2)
+    assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
