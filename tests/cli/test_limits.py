@@ -149,9 +149,14 @@ def test_sympy_numpy_and_the_verifier_work_under_a_modest_ceiling(tmp_path):
 
 CEILING = """
 import resource, sys
+import schemalog.cli.check as check
 from schemalog.cli.main import main
+checked = check.run
+def spy(args):       # the ceiling in force while the command runs (main restores it after)
+    print(resource.getrlimit(resource.RLIMIT_DATA)[0])
+    return checked(args)
+check.run = spy
 main(sys.argv[1:])
-print(resource.getrlimit(resource.RLIMIT_DATA)[0])
 """
 
 
@@ -160,9 +165,9 @@ def test_the_default_ceiling_is_half_of_physical_memory():
     inherited = resource.getrlimit(resource.RLIMIT_DATA)[0]
     expected = half if inherited == resource.RLIM_INFINITY else min(half, inherited)
     r = python(CEILING, "check", MIX)
-    assert int(r.stdout.splitlines()[-1]) == expected, r.stdout
+    assert int(r.stdout.splitlines()[0]) == expected, r.stdout
     r = python(CEILING, "check", MIX, "--max-memory", "1G")
-    assert int(r.stdout.splitlines()[-1]) == min(2**30, expected)
+    assert int(r.stdout.splitlines()[0]) == min(2**30, expected)
 
 
 @pytest.mark.parametrize("value", ["lots", "12Q", "-5M", "1K"])
@@ -311,3 +316,13 @@ def test_the_time_limit_stops_sympy_and_the_verifier(tmp_path):
     assert run("generate", "--depth", 4, "--children", 4, "--rd", "0.5", "--seed", 1, "-o", tmp_path / "t.pl").returncode == 0
     r = run("verify", tmp_path / "t.pl", "--no-split", "--max-states", 10**9, "--timeout", 2)
     assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
+
+
+def test_main_in_process_leaves_the_memory_limit_as_it_found_it():
+    import resource
+
+    from schemalog.cli.main import main
+
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    assert main(["query", "--max-memory", "256M", "X = 1"]) == 0
+    assert resource.getrlimit(resource.RLIMIT_DATA) == before

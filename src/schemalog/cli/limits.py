@@ -5,6 +5,9 @@
     memory_ceiling(text, env)  the ceiling in bytes (None: none) from --max-memory, else the
                                environment's SCHEMALOG_MAX_MEMORY, else a fraction of physical memory
     apply_memory_ceiling(n)    set it as the process's RLIMIT_DATA soft limit
+    restored_memory_limit()    a context that puts the soft limit back as it was on leaving
+                               (main() called in-process, by tests or a host program, leaves
+                               no ceiling behind)
 
 The ceiling is RLIMIT_DATA, not RLIMIT_AS: RLIMIT_AS counts address space that is only
 reserved, and glibc reserves 64 MiB per thread for its malloc arenas (16 threads with numpy
@@ -129,6 +132,21 @@ def apply_memory_ceiling(ceiling: int | None) -> int | None:
     return ceiling
 
 
+@contextmanager
+def restored_memory_limit() -> Iterator[None]:
+    """Restore RLIMIT_DATA's soft limit, as it was on entry, when the context closes."""
+    try:
+        import resource
+    except ImportError:
+        yield
+        return
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_DATA, before)
+
+
 def out_of_memory_text(ceiling: int | None) -> str:
     """What to say when memory ran out."""
     if ceiling is None:
@@ -138,4 +156,4 @@ def out_of_memory_text(ceiling: int | None) -> str:
 
 
 __all__ = ["TimeLimitExceeded", "TIMEOUT_EXIT", "time_limit", "parse_size", "memory_ceiling",
-           "apply_memory_ceiling", "out_of_memory_text", "size_text"]
+           "apply_memory_ceiling", "restored_memory_limit", "out_of_memory_text", "size_text"]

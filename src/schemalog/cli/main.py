@@ -20,7 +20,7 @@ import sys
 from .. import __version__
 from ..errors import SchemalogError
 from .limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling, memory_ceiling, out_of_memory_text,
-                     time_limit)
+                     restored_memory_limit, time_limit)
 from .options import shared_parents
 
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
@@ -71,8 +71,6 @@ def _named_command(argv: list[str]) -> str | None:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    from ..logic.exceptions import PrologError
-
     argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(_named_command(argv))
     args, extra = parser.parse_known_args(argv)
@@ -86,6 +84,14 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "run", None):
         parser.print_help(sys.stderr)
         return 2
+    with restored_memory_limit():
+        return _run_command(args, parser)
+
+
+def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """Run the parsed command under its limits; turn whatever stops it into a message and a status."""
+    from ..logic.exceptions import PrologError
+
     ceiling = None
     try:
         ceiling = apply_memory_ceiling(memory_ceiling(getattr(args, "max_memory", None), os.environ))
