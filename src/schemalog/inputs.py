@@ -48,7 +48,7 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
             if stat.S_ISREG(info.st_mode) and info.st_size > max_bytes:
                 raise SchemalogError(f"{label}: file is {size_text(info.st_size)}, over the "
                                      f"{size_text(max_bytes)} limit (raise it with --max-bytes)")
-            data = handle.read(max_bytes + 1)
+            data = _read_at_most(handle, max_bytes + 1)
     except FileNotFoundError:
         raise SchemalogError(f"{label}: no such file") from None
     except IsADirectoryError:
@@ -59,6 +59,19 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
         raise SchemalogError(f"{label}: over the {size_text(max_bytes)} limit (reading stopped there; "
                              f"raise it with --max-bytes)")
     return data
+
+
+def _read_at_most(handle, n: int, chunk: int = 1 << 20) -> bytes:
+    """Up to `n` bytes, read a chunk at a time: one read(n) allocates n bytes at once, and
+    fails outright for an n past the C size type (`--max-bytes 99999999999999999999`)."""
+    parts, total = [], 0
+    while total < n:
+        part = handle.read(min(chunk, n - total))
+        if not part:
+            break
+        parts.append(part)
+        total += len(part)
+    return b"".join(parts)
 
 
 def _note(text: str) -> None:
