@@ -519,8 +519,13 @@ def _float_format(value: int | float, places: int, kind: str) -> str:
             return format(Decimal(value), f".{places}f")
         try:
             value = float(value)
-        except OverflowError:
-            return format(Decimal(value), f".{places}{kind}")
+        except OverflowError:  # past 1.8e308: printed as C's printf would print it
+            if kind == "e":
+                return format(Decimal(value), f".{places}e")
+            mantissa, exponent = format(Decimal(value), f".{max(places - 1, 0)}e").split("e")
+            if "." in mantissa:  # %g drops trailing zeros
+                mantissa = mantissa.rstrip("0").rstrip(".")
+            return f"{mantissa}e{exponent}"
     return f"{value:.{places}{kind}}"
 
 

@@ -111,7 +111,7 @@ class Engine:
         """The instances of `goal`, one per proof, resolved (at most `limit`)."""
         out = []
         for b in self.solve(goal):
-            out.append(b.resolve(goal))
+            out.append(b.resolve_finite(goal))  # a cyclic answer (X = f(X)) in its finite form
             if limit is not None and len(out) >= limit:
                 break
         return out
