@@ -259,6 +259,9 @@ def _text_of(t: Term) -> str:
         raise instantiation_error()
     items, tail = list_items(t)
     if tail == NIL and all(isinstance(i, (Int, Atom)) for i in items):
+        for i in items:
+            if isinstance(i, Atom) and len(i.name) != 1:  # [ab] is no text: swipl's error
+                raise type_error("character_code", i)
         return "".join(code_char(i) if isinstance(i, Int) else i.name for i in items)
     raise type_error("atomic", t)
 
