@@ -3,6 +3,11 @@
     Builtin       = (machine, args, bindings) -> bool              deterministic: succeed or fail
     NondetBuiltin = (machine, args, bindings) -> Iterator[None]    one yield per solution
 
+A built-in that builds or walks a term of N cells, or writes N characters, first charges N
+steps (`Machine.charge`), so the step limit bounds its time and memory as it bounds
+resolution; a term it must see whole is resolved by `Bindings.resolve`, which raises
+CyclicTermError on a cyclic one (X = f(X)).
+
 A built-in sees the engine only through `Machine`, and the knowledge base only through
 `Database`: the two small interfaces this module states, so that the engine (which
 assembles the tables, engine.py) and the knowledge base (which consults files, kb.py)
@@ -13,13 +18,14 @@ from __future__ import annotations
 
 import functools
 import math
+from decimal import Decimal
 from typing import Callable, Iterator, Protocol
 
 from ..errors import SchemalogError
 
 from .arith import _num, evaluate
-from .exceptions import PrologError, instantiation_error, iso_error, type_error
-from .terms import (NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
+from .exceptions import CyclicTermError, PrologError, instantiation_error, iso_error, type_error
+from .terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
                     int_text, is_ground, list_items, make_list, term_to_text)
 from .unify import Bindings, rename, variant
 
@@ -46,6 +52,7 @@ class Machine(Protocol):
 
     def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]: ...
     def is_builtin(self, name: str, arity: int) -> bool: ...
+    def charge(self, work: int) -> None: ...
 
 
 Builtin = Callable[[Machine, tuple, Bindings], bool]
@@ -73,8 +80,10 @@ def compare_terms(x: Term, y: Term, b: Bindings | None = None) -> int:
     """-1, 0 or 1 by the standard order of terms (iteratively: deep terms are fine)."""
     walk = b.walk if b is not None else (lambda t: t)
     pairs = [(x, y)]
+    seen: set[tuple[int, int]] = set()  # compound pairs met through a binding: see Bindings.unify
     while pairs:
         p, q = pairs.pop()
+        via = type(p) is Var or type(q) is Var
         p, q = walk(p), walk(q)
         if p is q:
             continue
@@ -101,6 +110,11 @@ def compare_terms(x: Term, y: Term, b: Bindings | None = None) -> int:
             return -1 if len(p.args) < len(q.args) else 1
         if p.name != q.name:
             return -1 if p.name < q.name else 1
+        if via:  # cyclic terms (X = f(X)) equal where their unfoldings agree, as in SWI-Prolog
+            key = (id(p), id(q))
+            if key in seen:
+                continue
+            seen.add(key)
         pairs.extend(reversed(list(zip(p.args, q.args))))
     return 0
 
@@ -132,6 +146,7 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
             return b.unify(term, name)
         if not isinstance(name, Atom):
             raise type_error("atomic" if isinstance(name, Struct) else "atom", name)
+        e.charge(arity.value)
         return b.unify(term, Struct(name.name, tuple(Var("_") for _ in range(arity.value))))
     if isinstance(term, Struct):
         return b.unify(a[1], Atom(term.name)) and b.unify(a[2], Int(len(term.args)))
@@ -141,10 +156,11 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
 def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
     if isinstance(term, Struct):
+        e.charge(len(term.args))
         return b.unify(a[1], make_list([Atom(term.name), *term.args]))
     if not isinstance(term, Var):
         return b.unify(a[1], make_list([term]))
-    items, tail = list_items(b.resolve(a[1]))
+    items, tail = list_items(resolve_list(b, a[1]))
     if tail == NIL and not items:
         raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
     if tail != NIL or not items:
@@ -158,14 +174,24 @@ def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
 
 
 def _copy_term(e: Machine, a: tuple, b: Bindings) -> bool:
-    return b.unify(a[1], rename(b.resolve(a[0])))
+    return b.unify(a[1], b.copy(a[0]))
+
+
+def resolve_list(b: Bindings, t: Term) -> Term:
+    """`b.resolve(t)`, where a cyclic term is type_error(list, T), as SWI-Prolog says of a
+    cyclic list (X = [a|X])."""
+    try:
+        return b.resolve(t)
+    except CyclicTermError as err:
+        raise type_error("list", err.culprit) from None
 
 
 def _length(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
-    items, tail = list_items(b.resolve(a[0]))
+    whole = resolve_list(b, a[0])
+    items, tail = list_items(whole)
     n = b.walk(a[1])
     if not isinstance(tail, Var) and tail != NIL:
-        raise type_error("list", b.resolve(a[0]))
+        raise type_error("list", whole)
     if isinstance(n, Int) and n.value < 0:
         raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), n)))
     if tail == NIL:
@@ -173,20 +199,27 @@ def _length(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
             yield
         return
     if isinstance(n, Int):
-        if n.value >= len(items) and b.unify(tail, make_list([Var("_") for _ in range(n.value - len(items))])):
-            yield
+        if n.value >= len(items):
+            e.charge(n.value - len(items))  # before building: length(L, 10**8) stops at once
+            if b.unify(tail, make_list([Var("_") for _ in range(n.value - len(items))])):
+                yield
         return
     if not isinstance(n, Var):
         raise type_error("integer", n)
     if n is tail:           # length(L, L): L would have to be a list and its own length
         return
-    extra = 0
+    extra, cells = 0, NIL
     while True:  # enumerate longer and longer open lists, as SWI-Prolog does
+        # Each answer is a list one cell longer: charged whole (a caller walks it), so
+        # `length(L, N), fail` stops at the limit after ~4,500 answers. The cells of the last
+        # answer are reused (their variables are unbound again), so making one is O(1).
+        e.charge(extra)
         mark = b.mark()
-        if b.unify(tail, make_list([Var("_") for _ in range(extra)])) and b.unify(n, Int(len(items) + extra)):
+        if b.unify(tail, cells) and b.unify(n, Int(len(items) + extra)):
             yield
         b.undo(mark)
         extra += 1
+        cells = Struct(CONS, (Var("_"), cells))
 
 
 def _between(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
@@ -226,13 +259,38 @@ def _text_of(t: Term) -> str:
         raise instantiation_error()
     items, tail = list_items(t)
     if tail == NIL and all(isinstance(i, (Int, Atom)) for i in items):
-        return "".join(chr(i.value) if isinstance(i, Int) else i.name for i in items)
+        for i in items:
+            if isinstance(i, Atom) and len(i.name) != 1:  # [ab] is no text: swipl's error
+                raise type_error("character_code", i)
+        return "".join(code_char(i) if isinstance(i, Int) else i.name for i in items)
     raise type_error("atomic", t)
+
+
+def code_char(code: Int) -> str:
+    """The character of a code; type_error(character_code, Code), as SWI-Prolog raises, for
+    a negative code, one past Unicode (0x10FFFF), or a surrogate (0xD800-0xDFFF: no text
+    can be written with it)."""
+    value = code.value
+    if not 0 <= value <= 0x10FFFF or 0xD800 <= value <= 0xDFFF:
+        raise type_error("character_code", code)
+    return chr(value)
+
+
+def text_of(e: Machine, t: Term, b: Bindings) -> str:
+    """The text of an atomic term or a code or char list (resolved: cyclic is
+    type_error(list)); the list's cells and the text's characters are charged."""
+    t = b.walk(t)
+    if isinstance(t, Struct) and t.name == CONS and len(t.args) == 2:
+        text = _text_of(resolve_list(b, t))
+    else:
+        text = _text_of(t)
+    e.charge(len(text))
+    return text
 
 
 def _atom_length(e, a, b):
     length = b.walk(a[1])
-    text = _text_of(b.walk(a[0]))
+    text = text_of(e, a[0], b)
     if not isinstance(length, (Var, Int)):
         raise type_error("integer", length)
     return b.unify(length, Int(len(text)))
@@ -241,26 +299,26 @@ def _atom_length(e, a, b):
 def _atom_codes(e, a, b):
     t = b.walk(a[0])
     if not isinstance(t, Var):
-        return b.unify(a[1], make_list([Int(ord(c)) for c in _text_of(t)]))
-    return b.unify(t, Atom(_text_of(b.resolve(a[1]))))
+        return b.unify(a[1], make_list([Int(ord(c)) for c in text_of(e, t, b)]))
+    return b.unify(t, Atom(text_of(e, a[1], b)))
 
 
 def _atom_chars(e, a, b):
     t = b.walk(a[0])
     if not isinstance(t, Var):
-        return b.unify(a[1], make_list([Atom(c) for c in _text_of(t)]))
-    return b.unify(t, Atom(_text_of(b.resolve(a[1]))))
+        return b.unify(a[1], make_list([Atom(c) for c in text_of(e, t, b)]))
+    return b.unify(t, Atom(text_of(e, a[1], b)))
 
 
 def _atom_string(e, a, b):
     t = b.walk(a[0])
     if not isinstance(t, Var):
-        return b.unify(a[1], Str(_text_of(t)))
-    return b.unify(t, Atom(_text_of(b.walk(a[1]))))
+        return b.unify(a[1], Str(text_of(e, t, b)))
+    return b.unify(t, Atom(text_of(e, a[1], b)))
 
 
 def _split_string(e, a, b):
-    text, seps, pad = (_text_of(b.walk(x)) for x in a[:3])
+    text, seps, pad = (text_of(e, x, b) for x in a[:3])
     if seps:
         parts, current = [], []
         for ch in text:
@@ -278,11 +336,13 @@ def _split_string(e, a, b):
 def _term_text(e, a, b, make):
     t = b.walk(a[0])
     if not isinstance(t, Var):
-        return b.unify(a[1], make(term_to_text(b.resolve(t))))
+        text = term_to_text(b.resolve_finite(t))
+        e.charge(len(text))
+        return b.unify(a[1], make(text))
     from .parse import parse_term  # lark is loaded only when text is read as a term
     from ..errors import SchemalogError as _Err
     try:
-        return b.unify(t, parse_term(_text_of(b.walk(a[1]))))
+        return b.unify(t, parse_term(text_of(e, a[1], b)))
     except _Err as err:
         raise iso_error(Struct("syntax_error", (Atom(err.message),))) from None
 
@@ -305,15 +365,17 @@ def _atom_number(e, a, b):
         if isinstance(number, Var):
             raise instantiation_error()
         return b.unify(atom, Atom(term_to_text(number)))
-    value = _read_number(_text_of(atom))
+    value = _read_number(text_of(e, atom, b))
     return value is not None and b.unify(a[1], value)
 
 
 def _number_codes(e, a, b):
     number = b.walk(a[0])
     if not isinstance(number, Var):
-        return b.unify(a[1], make_list([Int(ord(c)) for c in term_to_text(number)]))
-    value = _read_number(_text_of(b.resolve(a[1])))
+        text = term_to_text(number)
+        e.charge(len(text))
+        return b.unify(a[1], make_list([Int(ord(c)) for c in text]))
+    value = _read_number(text_of(e, a[1], b))
     if value is None:
         raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
     return b.unify(number, value)
@@ -321,7 +383,7 @@ def _number_codes(e, a, b):
 
 def _assert(front: bool) -> Builtin:
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
-        clause = rename(b.resolve(a[0]))
+        clause = rename(b.resolve(a[0]))  # cyclic: representation_error(cyclic_term), as SWI
         head, body = (clause.args if isinstance(clause, Struct) and clause.name == ":-"
                       and len(clause.args) == 2 else (clause, TRUE))
         if isinstance(head, Var):
@@ -331,6 +393,10 @@ def _assert(front: bool) -> Builtin:
         if isinstance(body, (Int, Float, Str)):
             raise type_error("callable", body)
         key = (head.name, len(head.args) if isinstance(head, Struct) else 0)
+        # Adding a clause copies the predicate's clause list (the logical update view keeps
+        # the old one for calls in progress): 64 pointers copied cost about one step.
+        pred = e.kb.predicates.get(key)
+        e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))
         if e.is_builtin(*key) or key in e.kb.library_predicates():
             raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
                                                         Struct("/", (Atom(key[0]), Int(key[1]))))))
@@ -348,6 +414,8 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         (head.name, 0) if isinstance(head, Atom) else None)
     if ind is None:
         raise instantiation_error() if isinstance(head, Var) else type_error("callable", head)
+    pred = e.kb.predicates.get(ind)
+    e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))  # the copy below: see assert
     for clause in list(e.kb.clauses(*ind)):
         mark = b.mark()
         h, bd = clause.renamed()
@@ -359,17 +427,33 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
 
 def _write(quoted: bool) -> Builtin:
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
-        e.write(term_to_text(b.resolve(a[0]), quoted=quoted))
+        e.write(_written(e, b.resolve_finite(a[0]), quoted))
         return True
     return run
 
 
+def _written(e: Machine, term: Term, quoted: bool) -> str:
+    """The text write/print/format write for `term` (a cyclic one in its finite form,
+    f(_G1) for X = f(X): docs/syntax.md), its length charged."""
+    text = term_to_text(term, quoted=quoted)
+    e.charge(len(text))
+    return text
+
+
 def _format(e: Machine, a: tuple, b: Bindings) -> bool:
-    fmt = _text_of(b.walk(a[0]))
-    args_term = b.resolve(a[1]) if len(a) > 1 else NIL
+    fmt = text_of(e, a[0], b)
+    args_term = b.resolve_finite(a[1]) if len(a) > 1 else NIL
     items, tail = list_items(args_term)
     args = items if tail == NIL and (items or args_term == NIL) else [args_term]
     out, i, n = [], 0, 0
+
+    def next_arg() -> Term:
+        nonlocal n
+        if n >= len(args):
+            raise iso_error(Struct("format", (Str("not enough arguments"),)))
+        n += 1
+        return args[n - 1]
+
     while i < len(fmt):
         c = fmt[i]
         if c != "~":
@@ -378,47 +462,74 @@ def _format(e: Machine, a: tuple, b: Bindings) -> bool:
             continue
         i += 1
         digits = ""
+        if i < len(fmt) and fmt[i] == "*":  # ~*c: the numeric argument is the next argument
+            count = next_arg()
+            if not isinstance(count, Int) or count.value < 0:
+                raise iso_error(Struct("format", (Str("no or negative integer for `*' argument"),)))
+            digits = str(count.value) if count.value < 10 ** 18 else "1" + "0" * 18
+            i += 1
         while i < len(fmt) and fmt[i].isdigit():
             digits += fmt[i]
             i += 1
+        # The numeric argument is a count of characters written: charged before they are
+        # made, so ~1000000000d stops at the step limit instead of building a gigabyte.
+        count = (int(digits) if len(digits) < 19 else 10 ** 18) if digits else 0
+        e.charge(count)
         d = fmt[i] if i < len(fmt) else "~"
         i += 1
         if d == "n":
-            out.append("\n" * (int(digits) if digits else 1))
+            out.append("\n" * (count if digits else 1))
             continue
         if d == "~":
             out.append("~")
             continue
-        if n >= len(args):
-            raise iso_error(Struct("format", (Str("not enough arguments"),)))
-        arg = args[n]
-        n += 1
+        arg = next_arg()
         if d == "a":
             out.append(_text_of(arg))
         elif d == "w":
-            out.append(term_to_text(arg, quoted=False))
-        elif d == "p":
-            out.append(term_to_text(arg))
-        elif d == "q":
-            out.append(term_to_text(arg))
+            out.append(_written(e, arg, False))
+        elif d in "pq":
+            out.append(_written(e, arg, True))
+        elif d == "c":
+            if not isinstance(arg, Int):
+                raise type_error("integer", arg)
+            out.append(code_char(arg) * (count if digits else 1))
         elif d == "d":
             if not isinstance(arg, Int):
                 raise type_error("integer", arg)
             text = int_text(abs(arg.value))
-            if digits and int(digits) > 0:  # ~Nd: N digits after a decimal point
-                places = int(digits)
-                text = text.rjust(places + 1, "0")
-                text = f"{text[:-places]}.{text[-places:]}"
+            if digits and count > 0:  # ~Nd: N digits after a decimal point
+                text = text.rjust(count + 1, "0")
+                text = f"{text[:-count]}.{text[-count:]}"
             out.append(("-" if arg.value < 0 else "") + text)
         elif d in "fge":
-            value = evaluate(arg, b)
-            out.append(f"{value:.{int(digits) if digits else 6}{d}}")
+            out.append(_float_format(evaluate(arg, b), count if digits else 6, d))
         elif d == "s":
-            out.append(_text_of(arg))
+            out.append(text_of(e, arg, b))
         else:
             raise iso_error(Struct("format", (Str(f"unknown directive ~{d}"),)))
-    e.write("".join(out))
+    text = "".join(out)
+    e.charge(len(text))
+    e.write(text)
     return True
+
+
+def _float_format(value: int | float, places: int, kind: str) -> str:
+    """~Nf, ~Ne, ~Ng of a number. An integer is written exactly by ~f (10**400 has 401
+    digits, as in SWI-Prolog), and by ~e and ~g through decimal when no float holds it."""
+    if isinstance(value, int):
+        if kind == "f":
+            return format(Decimal(value), f".{places}f")
+        try:
+            value = float(value)
+        except OverflowError:  # past 1.8e308: printed as C's printf would print it
+            if kind == "e":
+                return format(Decimal(value), f".{places}e")
+            mantissa, exponent = format(Decimal(value), f".{max(places - 1, 0)}e").split("e")
+            if "." in mantissa:  # %g drops trailing zeros
+                mantissa = mantissa.rstrip("0").rstrip(".")
+            return f"{mantissa}e{exponent}"
+    return f"{value:.{places}{kind}}"
 
 
 def _forall(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -433,16 +544,36 @@ def _findall(e: Machine, a: tuple, b: Bindings) -> bool:
 
 
 def _variables(t: Term, b: Bindings, out: list[Var], seen: set[Var]) -> None:
-    """The variables of `t` left to right, each once (term_variables/2), without recursion."""
+    """The variables of `t` left to right, each once (term_variables/2), without recursion.
+    A bound variable's value is walked once: a cyclic term (X = f(X)) ends, a shared one
+    is not walked again."""
+    values = b.values
+    expanded: set[Var] = set()
     stack = [t]
     while stack:
-        t = b.walk(stack.pop())
-        if isinstance(t, Var):
+        t = stack.pop()
+        while type(t) is Var:
+            bound = values.get(t)
+            if bound is None:
+                break
+            if t in expanded:
+                t = NIL
+                break
+            expanded.add(t)
+            t = bound
+        if type(t) is Var:
             if t not in seen:
                 seen.add(t)
                 out.append(t)
-        elif isinstance(t, Struct):
+        elif type(t) is Struct:
             stack.extend(reversed(t.args))
+
+
+def _ground(e: Machine, a: tuple, b: Bindings) -> bool:
+    """ground(@Term): no unbound variable in it (a cyclic term may be ground)."""
+    found: list[Var] = []
+    _variables(a[0], b, found, set())
+    return not found
 
 
 def _bag(to_set: bool) -> NondetBuiltin:
@@ -503,7 +634,7 @@ def _sorted_set(items: list[Term]) -> list[Term]:
 
 
 def _throw(e: Machine, a: tuple, b: Bindings) -> bool:
-    ball = b.resolve(a[0])
+    ball = b.resolve_finite(a[0])
     if isinstance(ball, Var):
         raise instantiation_error()
     raise PrologError(ball)
@@ -522,7 +653,7 @@ def _compare(e, a, b):
 
 def _proper_list(t: Term, b: Bindings) -> list[Term]:
     """The items of a proper list; instantiation_error for a partial list, type_error(list) otherwise."""
-    whole = b.resolve(t)
+    whole = resolve_list(b, t)
     items, tail = list_items(whole)
     if isinstance(tail, Var):
         raise instantiation_error()
@@ -568,9 +699,9 @@ CORE: dict[tuple[str, int], Builtin] = {
     ("atomic", 1): _type_check(lambda t: isinstance(t, (Atom, Int, Float, Str))),
     ("compound", 1): _type_check(lambda t: isinstance(t, Struct)),
     ("callable", 1): _type_check(_is_callable),
-    ("is_list", 1): lambda e, a, b: list_items(b.resolve(a[0]))[1] == NIL,
+    ("is_list", 1): lambda e, a, b: not b.is_cyclic(a[0]) and list_items(b.resolve(a[0]))[1] == NIL,
     ("string", 1): _type_check(lambda t: isinstance(t, Str)),
-    ("ground", 1): lambda e, a, b: is_ground(b.resolve(a[0])),
+    ("ground", 1): _ground,
     ("functor", 3): _functor,
     ("=..", 2): _univ,
     ("copy_term", 2): _copy_term,

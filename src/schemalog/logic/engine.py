@@ -12,7 +12,10 @@ called); `catch/3` leaves a choicepoint that an exception unwinds to.
 The machine reads its knowledge base through `builtins.Database` (kb.py provides it) and
 assembles the built-in tables from builtins.py (the core) and library.py (the rest).
 ISO errors are raised as `PrologError(term)`; running past the step limit raises
-`StepLimitExceeded`, which catch/3 does not intercept.
+`StepLimitExceeded`, which catch/3 does not intercept. One step budget covers the whole
+query: each goal, each answer, the sub-machines of findall/forall, and the work built-ins
+charge (`Engine.charge`: a list of N cells costs N steps), so the limit bounds its time.
+A MemoryError inside a built-in becomes the catchable error(resource_error(memory), _).
 """
 
 from __future__ import annotations
@@ -22,7 +25,8 @@ from typing import Callable, Iterator
 from .. import defaults
 from ..errors import SchemalogError
 from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin
-from .exceptions import PrologError, StepLimitExceeded, existence_error, instantiation_error, type_error
+from .exceptions import (PrologError, StepLimitExceeded, existence_error, instantiation_error, iso_error,
+                         type_error)
 from .library import EXTRA, EXTRA_NONDET
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var
 from .unify import Bindings, rename
@@ -79,6 +83,9 @@ class Engine:
         self.write = output or (lambda text: print(text, end=""))
         self.interrupted = False  # set from another thread (Ctrl-C in the REPL)
         self.deterministic = False  # while an answer is yielded: no alternative is left
+        # Steps taken by the current query, sub-machines (findall, forall) and the work
+        # built-ins charge (`charge`) included: one budget bounds the query's whole time.
+        self.steps = 0
         self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
         self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
 
@@ -87,6 +94,7 @@ class Engine:
         """Yield once per proof of `goal`; the bindings hold that answer while yielded."""
         b = bindings if bindings is not None else Bindings()
         _check_body(goal, b)
+        self.steps = 0
         return self._run(goal, b)
 
     def first(self, goal: Term, bindings: Bindings | None = None) -> Bindings | None:
@@ -103,10 +111,25 @@ class Engine:
         """The instances of `goal`, one per proof, resolved (at most `limit`)."""
         out = []
         for b in self.solve(goal):
-            out.append(b.resolve(goal))
+            out.append(b.resolve_finite(goal))  # a cyclic answer (X = f(X)) in its finite form
             if limit is not None and len(out) >= limit:
                 break
         return out
+
+    def charge(self, work: int) -> None:
+        """Count `work` steps against the budget (a built-in about to build or walk that many
+        cells); raise StepLimitExceeded, before the work is done, when it would not fit."""
+        self.steps += work
+        if self.steps > self.max_steps:
+            raise self._over()
+
+    def _charge_work(self, b: Bindings) -> None:
+        work, b.work = b.work, 0
+        self.charge(work)
+
+    def _over(self) -> StepLimitExceeded:
+        return StepLimitExceeded(
+            f"step limit of {self.max_steps:,} resolution steps exceeded (runaway recursion?)")
 
     # -- the machine ----------------------------------------------------------
     def _run(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
@@ -117,25 +140,23 @@ class Engine:
         nondet = self.nondet
         predicates = kb.predicates
         max_steps = self.max_steps
-        steps = 0  # per query: each solve (and each findall inside it) has the whole budget
         while True:
             try:
                 if goals is None:
                     self.deterministic = not cps
                     yield b
-                    steps += 1  # an answer counts: between(1, inf, X) alone stops at the limit
-                    if steps > max_steps:
-                        raise StepLimitExceeded(
-                            f"step limit of {max_steps:,} resolution steps exceeded (runaway recursion?)")
+                    self.steps += 1  # an answer counts: between(1, inf, X) alone stops at the limit
+                    if self.steps > max_steps:
+                        raise self._over()
                     goals = self._backtrack(cps, b)
                     if goals is False:
                         return
                     continue
                 term, cutb, rest = goals
-                steps += 1
-                if steps > max_steps:
-                    raise StepLimitExceeded(
-                        f"step limit of {max_steps:,} resolution steps exceeded (runaway recursion?)")
+                # An attribute, not a local: built-ins and sub-machines add to the same count.
+                self.steps += 1
+                if self.steps > max_steps:
+                    raise self._over()
                 if self.interrupted:
                     self.interrupted = False
                     raise SchemalogError("interrupted")
@@ -237,7 +258,10 @@ class Engine:
                 fn = builtins.get(key)
                 if fn is not None:
                     mark = b.mark()
-                    if fn(self, args, b):
+                    ok = fn(self, args, b)
+                    if b.work:  # the cells the built-in resolved (a copy, an assert, a sort)
+                        self._charge_work(b)
+                    if ok:
                         goals = rest
                     else:
                         b.undo(mark)
@@ -280,6 +304,10 @@ class Engine:
                     return
             except PrologError as err:
                 goals = self._handle_throw(err, cps, b)
+            except MemoryError:
+                # A built-in ran out of memory; what it had built is garbage now, so the
+                # query can go on: as in SWI-Prolog, a catchable resource error.
+                goals = self._handle_throw(iso_error(Struct("resource_error", (Atom("memory"),))), cps, b)
 
     def _backtrack(self, cps: list, b: Bindings):
         """Resume the newest choicepoint; return the goals to continue with, or False."""
@@ -309,6 +337,8 @@ class Engine:
                 gen, rest = cp[2], cp[3]
                 try:
                     next(gen)
+                    if b.work:
+                        self._charge_work(b)
                     return rest
                 except StopIteration:
                     cps.pop()
@@ -318,7 +348,7 @@ class Engine:
         return False
 
     def _handle_throw(self, err: PrologError, cps: list, b: Bindings):
-        ball = b.resolve(err.ball)
+        ball = b.resolve_finite(err.ball)  # a cyclic ball (X = f(X), throw(X)) stays finite
         while cps:
             cp = cps.pop()
             if cp[0] != _CATCH or cp[2] is None:
@@ -354,11 +384,13 @@ def _check_body(goal: Term, b: Bindings) -> None:
     """A meta-called goal is checked whole first, as SWI-Prolog compiles it: a number or
     string where a goal should be (`call((fail, 1))`) is type_error(callable, Goal)."""
     stack = [goal]
+    seen: set[int] = set()  # a cyclic body, G = (a, G), is checked once round
     while stack:
         t = b.walk(stack.pop())
         if isinstance(t, (Int, Float, Str)):
-            raise type_error("callable", b.resolve(goal))
-        if isinstance(t, Struct) and (t.name, len(t.args)) in _CONTROL_ARGS:
+            raise type_error("callable", b.resolve_finite(goal))
+        if isinstance(t, Struct) and (t.name, len(t.args)) in _CONTROL_ARGS and id(t) not in seen:
+            seen.add(id(t))
             stack.extend(t.args)
 
 

@@ -21,6 +21,21 @@ class PrologError(Exception):
         self.ball = ball
 
 
+class CyclicTermError(PrologError):
+    """A built-in that needs a finite term met a cyclic one (X = f(X)): SWI-Prolog's
+    error(representation_error(cyclic_term), _); `culprit` is the term, written finitely."""
+
+    def __init__(self, ball: Term, culprit: Term | None = None) -> None:
+        super().__init__(ball)
+        self.culprit = culprit
+
+
+def cyclic_term_error(culprit: Term) -> CyclicTermError:
+    """Build the error a built-in raises for a cyclic argument."""
+    return CyclicTermError(Struct("error", (Struct("representation_error", (Atom("cyclic_term"),)), Var("_"))),
+                           culprit)
+
+
 class StepLimitExceeded(SchemalogError):
     """The query ran longer than its step budget (runaway recursion?)."""
 

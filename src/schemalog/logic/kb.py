@@ -22,10 +22,11 @@ from dataclasses import dataclass, field
 from typing import Iterator
 from pathlib import Path
 
+from .. import defaults
 from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
 from .engine import Engine, is_builtin
-from .exceptions import PrologError
+from .exceptions import PrologError, StepLimitExceeded
 from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, iter_vars, list_items, term_to_text
 from .unify import rename
@@ -379,6 +380,7 @@ class KnowledgeBase:
         self.warnings: list[str] = []
         self.files: list[str] = []  # every file read, consulted ones included
         self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
+        self.max_steps = defaults.MAX_STEPS  # the step limit each directive runs under (--max-steps)
         self._consulting: list[Path] = []
         if prelude:
             for clause in _prelude():
@@ -502,8 +504,12 @@ class KnowledgeBase:
         finally:
             self._consulting.pop()
 
-    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None) -> None:
-        """Load a knowledge file."""
+    def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None,
+                max_steps: int | None = None) -> None:
+        """Load a knowledge file; its directives (and those of the files it consults) run
+        under `max_steps` each (default: the knowledge base's `max_steps`)."""
+        if max_steps is not None:
+            self.max_steps = max_steps
         p = Path(path)
         with self.reading(p, pos):
             self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
@@ -545,10 +551,15 @@ class KnowledgeBase:
             self.warnings.append(f"{d.pos}: warning: directive {term_to_text(goal)} ignored")
             return
         try:
-            if Engine(self, max_steps=1_000_000).first(goal) is None:
+            if Engine(self, max_steps=self.max_steps).first(goal) is None:
                 self.warnings.append(f"{d.pos}: warning: directive failed: {term_to_text(goal)}")
         except PrologError as err:
             self.warnings.append(f"{d.pos}: warning: directive raised {err}")
+        except StepLimitExceeded:
+            # Stopped, as a failing directive is reported: the clauses it asserted stay.
+            self.warnings.append(f"{d.pos}: warning: directive exceeded the step limit of "
+                                 f"{self.max_steps:,} steps: {term_to_text(goal)} "
+                                 f"(raise it with --max-steps N)")
 
 
 

@@ -14,7 +14,8 @@ from pathlib import Path
 from typing import Iterator
 
 from .arith import evaluate
-from .builtins import Machine, _read_number, _text_of, _variables, compare_terms, standard_order_key
+from .builtins import (Machine, _read_number, _text_of, _variables, code_char, compare_terms, resolve_list,
+                       standard_order_key, text_of)
 from .exceptions import instantiation_error, iso_error, type_error
 from .terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
 from .unify import Bindings, rename
@@ -79,23 +80,21 @@ def _char_code(e: Machine, a: tuple, b: Bindings) -> bool:
     value = _integer(code)
     if value is None:
         raise instantiation_error()
-    if not 0 <= value <= 0x10FFFF:
-        raise iso_error(Struct("representation_error", (Atom("character_code"),)))
-    return b.unify(char, Atom(chr(value)))
+    return b.unify(char, Atom(code_char(Int(value))))
 
 
 def _convert(make, fn) -> callable:
     """A text-to-text relation such as upcase_atom/2: the first argument must be text."""
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
-        return b.unify(a[1], make(fn(_text_of(b.walk(a[0])))))
+        return b.unify(a[1], make(fn(text_of(e, a[0], b))))
     return run
 
 
 def _string_to_atom(e: Machine, a: tuple, b: Bindings) -> bool:
     s = b.walk(a[0])
     if not isinstance(s, Var):
-        return b.unify(a[1], Atom(_text_of(s)))
-    return b.unify(s, Str(_text_of(b.walk(a[1]))))
+        return b.unify(a[1], Atom(text_of(e, s, b)))
+    return b.unify(s, Str(text_of(e, a[1], b)))
 
 
 def _number_string(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -106,7 +105,7 @@ def _number_string(e: Machine, a: tuple, b: Bindings) -> bool:
         if isinstance(n, Var):
             raise instantiation_error()
         return b.unify(s, Str(term_to_text(n)))
-    value = _read_number(_text_of(s).strip())
+    value = _read_number(text_of(e, s, b).strip())
     if value is None:
         raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
     return b.unify(a[0], value)
@@ -115,7 +114,7 @@ def _number_string(e: Machine, a: tuple, b: Bindings) -> bool:
 def _string_code(e: Machine, a: tuple, b: Bindings) -> bool:
     """string_code(+I, +S, -C): the I-th (from 1) code of S; fails out of range."""
     index = _integer(b.walk(a[0]), allow_var=False)
-    text = _text_of(b.walk(a[1]))
+    text = text_of(e, a[1], b)
     if index < 0:
         raise type_error("not_less_than_zero", Int(index))
     return 1 <= index <= len(text) and b.unify(a[2], Int(ord(text[index - 1])))
@@ -124,12 +123,12 @@ def _string_code(e: Machine, a: tuple, b: Bindings) -> bool:
 def _sub_text(make) -> callable:
     """sub_atom/5 and sub_string/5: Sub is the text of length L after B characters, A after it."""
     def run(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
-        text = _text_of(b.walk(a[0]))
+        text = text_of(e, a[0], b)
         n = len(text)
         before, length, after = (_natural(b.walk(t)) for t in a[1:4])
         sub = b.walk(a[4])
         if not isinstance(sub, Var):                     # known Sub: each place it occurs
-            part = _text_of(sub)
+            part = text_of(e, sub, b)
             starts = [i for i in range(n - len(part) + 1) if text.startswith(part, i)]
             triples = [(i, len(part), n - i - len(part)) for i in starts]
         elif before is not None and length is not None:
@@ -139,16 +138,17 @@ def _sub_text(make) -> callable:
         elif length is not None and after is not None:
             triples = [(n - length - after, length, after)]
         elif before is not None:
-            triples = [(before, k, n - before - k) for k in range(n - before + 1)]
+            triples = ((before, k, n - before - k) for k in range(n - before + 1))
         elif length is not None:
-            triples = [(i, length, n - i - length) for i in range(n - length + 1)]
+            triples = ((i, length, n - i - length) for i in range(n - length + 1))
         elif after is not None:
-            triples = [(i, n - after - i, after) for i in range(n - after + 1)]
-        else:
-            triples = [(i, k, n - i - k) for i in range(n + 1) for k in range(n - i + 1)]
+            triples = ((i, n - after - i, after) for i in range(n - after + 1))
+        else:  # a generator: the n**2/2 answers are made one by one, as asked for
+            triples = ((i, k, n - i - k) for i in range(n + 1) for k in range(n - i + 1))
         for i, k, rest in triples:
             if i < 0 or k < 0 or rest < 0:
                 continue
+            e.charge(k + 1)  # the sub-text made
             mark = b.mark()
             if (b.unify(a[1], Int(i)) and b.unify(a[2], Int(k)) and b.unify(a[3], Int(rest))
                     and b.unify(a[4], make(text[i:i + k]))):
@@ -161,7 +161,7 @@ def _atom_to_term(e: Machine, a: tuple, b: Bindings) -> bool:
     """atom_to_term(+Atom, -Term, -Bindings): Bindings = ['X'=_A, ...] in order of appearance."""
     from .parse import parse_term
 
-    text = _text_of(b.walk(a[0]))
+    text = text_of(e, a[0], b)
     term = parse_term(text)
     names: dict[str, Var] = {}
     order: list[str] = []
@@ -190,14 +190,15 @@ def _concat(make) -> callable:
         left, right, whole = (b.walk(t) for t in a)
         if not isinstance(left, Var) and not isinstance(right, Var):
             mark = b.mark()
-            if b.unify(whole, make(_text_of(left) + _text_of(right))):
+            if b.unify(whole, make(text_of(e, left, b) + text_of(e, right, b))):
                 yield
             b.undo(mark)
             return
         if isinstance(whole, Var):
             raise instantiation_error()
-        text = _text_of(whole)
+        text = text_of(e, whole, b)
         for i in range(len(text) + 1):
+            e.charge(len(text))  # each split copies the whole text
             mark = b.mark()
             if b.unify(left, make(text[:i])) and b.unify(right, make(text[i:])):
                 yield
@@ -210,8 +211,8 @@ def _text_list(element) -> callable:
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
         s = b.walk(a[0])
         if not isinstance(s, Var):
-            return b.unify(a[1], make_list([element(c) for c in _text_of(s)]))
-        items, tail = list_items(b.resolve(a[1]))
+            return b.unify(a[1], make_list([element(c) for c in text_of(e, s, b)]))
+        items, tail = list_items(resolve_list(b, a[1]))
         if tail != NIL or any(isinstance(i, Var) for i in items):
             raise instantiation_error()
         return b.unify(s, Str(_text_of(make_list(items)) if items else ""))
@@ -221,13 +222,15 @@ def _text_list(element) -> callable:
 def _atomic_list_concat(e: Machine, a: tuple, b: Bindings) -> bool:
     """atomic_list_concat(+List, +Sep, -Atom), or with a non-empty Sep and a known Atom,
     split it: atomic_list_concat(L, '-', 'a-b') gives L = [a, b]."""
-    items, tail = list_items(b.resolve(a[0]))
-    sep = _text_of(b.walk(a[1])) if len(a) == 3 else ""
+    items, tail = list_items(resolve_list(b, a[0]))
+    sep = text_of(e, a[1], b) if len(a) == 3 else ""
     if tail == NIL and not any(isinstance(i, Var) for i in items):
-        return b.unify(a[-1], Atom(sep.join(_text_of(i) for i in items)))
+        text = sep.join(_text_of(i) for i in items)
+        e.charge(len(text))
+        return b.unify(a[-1], Atom(text))
     whole = b.walk(a[-1])
     if len(a) == 3 and sep and not isinstance(whole, Var):
-        return b.unify(a[0], make_list([Atom(part) for part in _text_of(whole).split(sep)]))
+        return b.unify(a[0], make_list([Atom(part) for part in text_of(e, whole, b).split(sep)]))
     raise instantiation_error()
 
 
@@ -266,11 +269,12 @@ def _term_variables(e: Machine, a: tuple, b: Bindings) -> bool:
 
 
 def _keysort(e: Machine, a: tuple, b: Bindings) -> bool:
-    items, tail = list_items(b.resolve(a[0]))
+    whole = resolve_list(b, a[0])
+    items, tail = list_items(whole)
     if isinstance(tail, Var):
         raise instantiation_error()
     if tail != NIL:
-        raise type_error("list", b.resolve(a[0]))
+        raise type_error("list", whole)
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()
@@ -290,11 +294,12 @@ def _sort4(e: Machine, a: tuple, b: Bindings) -> bool:
         raise instantiation_error()
     if not (isinstance(order, Atom) and order.name in ("@<", "@=<", "@>", "@>=")):
         raise _domain_error("order", order)
-    items, tail = list_items(b.resolve(a[2]))
+    whole = resolve_list(b, a[2])
+    items, tail = list_items(whole)
     if isinstance(tail, Var):
         raise instantiation_error()
     if tail != NIL:
-        raise type_error("list", b.resolve(a[2]))
+        raise type_error("list", whole)
 
     def key_of(t: Term) -> Term:
         if key == 0:
@@ -342,6 +347,9 @@ def _tab(e: Machine, a: tuple, b: Bindings) -> bool:
     count = evaluate(a[0], b)
     if not isinstance(count, int):
         raise type_error("integer", Float(count))
+    if count >= 1 << 63:  # SWI-Prolog's tab/1 takes a 64-bit integer
+        raise iso_error(Struct("evaluation_error", (Atom("int_overflow"),)))
+    e.charge(max(0, count))  # before the spaces are made: tab(10**12) stops at the step limit
     e.write(" " * max(0, count))
     return True
 
@@ -378,7 +386,7 @@ EXTRA = {
     ("downcase_atom", 2): _convert(Atom, str.lower),
     ("string_upper", 2): _convert(Str, str.upper),
     ("string_lower", 2): _convert(Str, str.lower),
-    ("string_length", 2): lambda e, a, b: b.unify(a[1], Int(len(_text_of(b.walk(a[0]))))),
+    ("string_length", 2): lambda e, a, b: b.unify(a[1], Int(len(text_of(e, a[0], b)))),
     ("string_to_atom", 2): _string_to_atom,
     ("number_string", 2): _number_string,
     ("string_code", 3): _string_code,

@@ -61,11 +61,24 @@ def lark_version() -> str:
 
 
 _ESCAPE_CHARS = {"n": "\n", "t": "\t", "r": "\r", "a": "\a", "b": "\b", "f": "\f",
-                 "v": "\v", "0": "\0", "\\": "\\", "'": "'", '"': '"', "`": "`", "e": "\x1b",
-                 "s": " ", "z": ""}
+                 "v": "\v", "\\": "\\", "'": "'", '"': '"', "`": "`", "e": "\x1b",
+                 "s": " "}
+_HEX = re.compile(r"[0-9a-fA-F]*")
+_OCTAL = re.compile(r"[0-7]*")
+
+
+class _BadEscape(Exception):
+    """An escape sequence that denotes no character, at `offset` in the quoted text."""
+
+    def __init__(self, offset: int, message: str) -> None:
+        super().__init__(message)
+        self.offset, self.message = offset, message
 
 
 def _unescape(body: str, quote: str) -> str:
+    """The text of a quoted item's body, as SWI-Prolog reads it: `\\xHH..\\` and `\\NNN\\`
+    take every hex or octal digit, the closing backslash optional ("\\x1b[2J" is ESC [2J);
+    an unknown escape (`\\z`, `\\q`) or a code that is no character is _BadEscape."""
     out, i = [], 0
     while i < len(body):
         c = body[i]
@@ -74,19 +87,24 @@ def _unescape(body: str, quote: str) -> str:
             i += 2
         elif c == "\\" and i + 1 < len(body):
             nxt = body[i + 1]
-            if nxt == "x" or nxt in "01234567" and body.find("\\", i + 1) > i + 1 and \
-                    body[i + 1:body.find("\\", i + 1)].isdigit():
-                # \xHH..\ (hex) and \NNN\ (octal): a character code
-                end = body.find("\\", i + 1 + (nxt == "x"))
-                end = len(body) if end < 0 else end
-                digits, base = (body[i + 2:end], 16) if nxt == "x" else (body[i + 1:end], 8)
-                out.append(chr(int(digits or "0", base)))
-                i = end + 1
+            if nxt == "x" or nxt in "01234567":
+                pattern, base, first = (_HEX, 16, i + 2) if nxt == "x" else (_OCTAL, 8, i + 1)
+                end = pattern.match(body, first).end()
+                if end == first:
+                    raise _BadEscape(i, "undefined escape sequence \\x (hex digits expected)")
+                code = int(body[first:end], base)
+                if code > 0x10FFFF or 0xD800 <= code <= 0xDFFF:
+                    raise _BadEscape(i, f"escape \\{body[i + 1:end]} is not a character code "
+                                        f"(0 to 0x10FFFF, no surrogates)")
+                out.append(chr(code))
+                i = end + 1 if end < len(body) and body[end] == "\\" else end
             elif nxt == "\n":  # a backslash before a newline continues the line
                 i += 2
-            else:
-                out.append(_ESCAPE_CHARS.get(nxt, nxt))
+            elif nxt in _ESCAPE_CHARS:
+                out.append(_ESCAPE_CHARS[nxt])
                 i += 2
+            else:
+                raise _BadEscape(i, f"undefined escape sequence \\{nxt}")
         else:
             out.append(c)
             i += 1
@@ -225,7 +243,21 @@ class _ToTerms(Transformer):
         return 1, 1
 
     # -- primaries ----------------------------------------------------------
-    def atom(self, c): return Atom(_atom_name(str(c[0])))
+    def _quoted(self, token: Token, read):
+        """`read(text)`; a bad escape in the token is a syntax error at its line:column."""
+        try:
+            return read(str(token))
+        except _BadEscape as bad:
+            text = str(token)
+            skip = 2 if text.lstrip("-").startswith("0'") else 1  # where the body starts in the token
+            skip += len(text) - len(text.lstrip("-"))
+            before = text[:bad.offset + skip]
+            line = token.line + before.count("\n")
+            column = len(before) - before.rfind("\n") if "\n" in before else token.column + len(before)
+            raise SchemalogError(f"syntax error: {bad.message}", SourcePos(self.file, line, column),
+                                 _source_line(self.text, line)) from None
+
+    def atom(self, c): return Atom(self._quoted(c[0], _atom_name))
 
     def var(self, c):
         name = str(c[0])
@@ -240,7 +272,11 @@ class _ToTerms(Transformer):
         text = str(c[0])
         sign, digits = (-1, text[1:]) if text.startswith("-") else (1, text)
         if digits.startswith("0'"):
-            return Int(sign * ord(_unescape(digits[2:], "'")))
+            char = self._quoted(c[0], lambda t: _unescape(digits[2:], "'"))
+            if len(char) != 1:
+                raise SchemalogError(f"syntax error: {text} is not one character",
+                                     SourcePos(self.file, c[0].line, c[0].column), _source_line(self.text, c[0].line))
+            return Int(sign * ord(char))
         if digits[:2] in ("0x", "0o", "0b"):
             return Int(sign * int(digits, 0))
         return Int(sign * int_of_digits(digits.replace("_", "")))
@@ -252,8 +288,8 @@ class _ToTerms(Transformer):
         if text.endswith("NaN"):
             return Float(float("nan"))
         return Float(float(text))
-    def string(self, c): return Str(_unescape(str(c[0])[1:-1], '"'))
-    def compound(self, c): return Struct(_atom_name(str(c[0])), tuple(c[1]))
+    def string(self, c): return Str(self._quoted(c[0], lambda t: _unescape(t[1:-1], '"')))
+    def compound(self, c): return Struct(self._quoted(c[0], _atom_name), tuple(c[1]))
     def args(self, c): return [a for a in c if not isinstance(a, Token)]
     def nil(self, c): return NIL
     def list(self, c): return make_list(c[0])
@@ -375,6 +411,8 @@ def _parse(text: str, file: str, start: str):
     except UnexpectedInput as err:
         raise _error_from_lark(err, text, file) from None
     except VisitError as err:  # a transformer callback failed, e.g. a bad character code
+        if isinstance(err.orig_exc, SchemalogError):
+            raise err.orig_exc from None
         raise SchemalogError(f"cannot read term: {err.orig_exc}", SourcePos(file, 1, 1)) from None
 
 

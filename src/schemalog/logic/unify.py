@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
+from .exceptions import CyclicTermError, cyclic_term_error
 from .terms import Struct, Term, Var
 
 Subst = dict[Var, Term]
@@ -25,11 +26,12 @@ def _rebuilt(node: Struct, args: list[Term]) -> Struct:
 class Bindings:
     """Variable bindings with a trail; the engine's only mutable state."""
 
-    __slots__ = ("values", "trail")
+    __slots__ = ("values", "trail", "work")
 
     def __init__(self, values: Mapping[Var, Term] | None = None) -> None:
         self.values: dict[Var, Term] = dict(values or {})
         self.trail: list[Var] = list(self.values)
+        self.work = 0  # cells `resolve` has built: the engine charges them to the step budget
 
     def mark(self) -> int:
         """Return a point to undo back to."""
@@ -57,29 +59,90 @@ class Bindings:
         return term
 
     def resolve(self, term: Term) -> Term:
-        """Apply the bindings all the way down (iteratively: deep terms are fine)."""
-        term = self.walk(term)
-        if not isinstance(term, Struct):
+        """Apply the bindings all the way down (iteratively: deep terms are fine).
+
+        A cyclic term (X = f(X), made without the occurs check) has no finite resolution:
+        CyclicTermError. The variables dereferenced on the path from the root are kept in
+        a set, so the check costs one set insertion per bound variable met, and a DAG's
+        shared subterms are not mistaken for cycles."""
+        values = self.values
+        original = term
+        chain: list[Var] = []
+        while type(term) is Var:
+            bound = values.get(term)
+            if bound is None:
+                return term
+            chain.append(term)
+            term = bound
+        if type(term) is not Struct:
             return term
+        active: set[Var] = set(chain)
         # Post-order rebuild with an explicit stack; shares unchanged subterms.
-        stack: list[tuple[Struct, list[Term]]] = [(term, [])]
+        stack: list[tuple[Struct, list[Term], list[Var] | None]] = [(term, [], None)]
         result: Term = term
+        work = 0
         while stack:
-            node, done = stack[-1]
-            if len(done) == len(node.args):
+            node, done, entered = stack[-1]
+            args = node.args
+            work += 1
+            if len(done) == len(args):
                 stack.pop()
+                if entered:
+                    active.difference_update(entered)
                 rebuilt = _rebuilt(node, done)
                 if stack:
                     stack[-1][1].append(rebuilt)
                 else:
                     result = rebuilt
                 continue
-            arg = self.walk(node.args[len(done)])
-            if isinstance(arg, Struct):
-                stack.append((arg, []))
+            arg = args[len(done)]
+            entered = None
+            while type(arg) is Var:
+                bound = values.get(arg)
+                if bound is None:
+                    break
+                if arg in active:
+                    raise cyclic_term_error(self.resolve_finite(original))
+                if entered is None:
+                    entered = [arg]
+                else:
+                    entered.append(arg)
+                arg = bound
+            if type(arg) is Struct:
+                if entered:
+                    active.update(entered)
+                stack.append((arg, [], entered))
             else:
                 done.append(arg)
+        self.work += work
         return result
+
+    def copy(self, term: Term) -> Term:
+        """A copy of `term` with fresh variables (copy_term/2). A cyclic term's copy is
+        cyclic too: the bindings are copied as a graph, each bound variable met getting a
+        fresh one bound here to the copy of its value (X = f(X) copies to Y = f(Y))."""
+        try:
+            return rename(self.resolve(term))
+        except CyclicTermError:
+            pass
+        values = self.values
+        mapping: dict[Var, Var] = {}
+        result = rename(term, mapping)
+        copied = 0
+        while copied < len(mapping):  # mapping grows as values are copied: each var once
+            v = list(mapping)[copied]
+            copied += 1
+            if v in values:
+                self.bind(mapping[v], rename(values[v], mapping))
+        return result
+
+    def is_cyclic(self, term: Term) -> bool:
+        """Whether `term` is cyclic under the bindings (cyclic_term/1)."""
+        try:
+            self.resolve(term)
+        except CyclicTermError:
+            return True
+        return False
 
     def resolve_finite(self, term: Term) -> Term:
         """Like `resolve`, but where a variable's value contains the variable itself
@@ -135,18 +198,26 @@ class Bindings:
         get = values.get
         pairs = [(x, y)]
         pop, push = pairs.pop, pairs.extend
+        # Two cyclic terms (X = f(X), Y = f(Y), X = Y) unfold forever: a pair of compound
+        # terms reached through a bound variable is compared once, and assumed to unify
+        # when met again (rational-tree unification). Only those pairs are recorded: a
+        # cycle always passes through a binding, and plain terms pay nothing.
+        seen: set | None = None
         while pairs:
             a, b = pop()
+            via = False
             while type(a) is Var:
                 bound = get(a)
                 if bound is None:
                     break
                 a = bound
+                via = True
             while type(b) is Var:
                 bound = get(b)
                 if bound is None:
                     break
                 b = bound
+                via = True
             if a is b:
                 continue
             if type(a) is Var:
@@ -158,6 +229,14 @@ class Bindings:
             elif type(a) is Struct:
                 if type(b) is not Struct or a.name != b.name or len(a.args) != len(b.args):
                     return False
+                if via:
+                    key = (id(a), id(b))
+                    if seen is None:
+                        seen = {key}
+                    elif key in seen:
+                        continue
+                    else:
+                        seen.add(key)
                 push(zip(a.args, b.args))
             elif type(a) is not type(b) or a != b:
                 return False
@@ -191,11 +270,13 @@ class Bindings:
     def occurs(self, var: Var, term: Term) -> bool:
         """Whether `var` occurs in `term` under the bindings."""
         stack = [term]
+        seen: set[int] = set()  # a cyclic term already bound elsewhere is walked once round
         while stack:
             t = self.walk(stack.pop())
             if t is var:
                 return True
-            if isinstance(t, Struct):
+            if isinstance(t, Struct) and id(t) not in seen:
+                seen.add(id(t))
                 stack.extend(t.args)
         return False
 

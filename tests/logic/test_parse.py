@@ -1,0 +1,63 @@
+"""The reader's escape sequences, as SWI-Prolog 9 reads them, and its one way of failing:
+on any text, `parse_term`/`parse_text` return terms or raise SchemalogError with a position."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from schemalog.errors import SchemalogError
+from schemalog.logic.parse import parse_term, parse_text
+from schemalog.logic.terms import Atom, Int, Str, Struct
+
+
+@pytest.mark.parametrize("text, value", [
+    ('"\\x41\\"', Str("A")),
+    ('"\\x41"', Str("A")),                 # the closing backslash is optional, as in SWI
+    ('"\\x1b[2J"', Str("\x1b[2J")),        # hex digits end at the first non-hex character
+    ('"\\101\\"', Str("A")),
+    ('"\\0\\"', Str("\0")),
+    ("'a\\sb'", Atom("a b")),
+    ('"\\e"', Str("\x1b")),
+    ("0'\\n", Int(10)),
+    ("0'a", Int(97)),
+])
+def test_escapes_read_as_in_swi(text, value):
+    assert parse_term(text) == value
+
+
+@pytest.mark.parametrize("text, column, message", [
+    ("X = 0'\\z", 7, "undefined escape sequence \\z"),
+    ("X = 'a\\qb'", 7, "undefined escape sequence \\q"),
+    ('X = "\\xD800\\"', 6, "not a character code"),
+    ('X = "\\x110000\\"', 6, "not a character code"),
+    ('X = "\\x"', 6, "hex digits expected"),
+    ("X = f('\\z')", 8, "undefined escape sequence \\z"),
+])
+def test_a_bad_escape_is_a_syntax_error_at_its_column(text, column, message):
+    with pytest.raises(SchemalogError) as err:
+        parse_term(text)
+    assert err.value.pos.line == 1 and err.value.pos.column == column
+    assert "syntax error" in err.value.message and message in err.value.message
+
+
+def test_a_bad_escape_on_a_later_line_names_that_line():
+    with pytest.raises(SchemalogError) as err:
+        parse_text("p(a).\n\nq(b, 'xy\\z').\n", "f.pl")
+    assert (err.value.pos.file, err.value.pos.line, err.value.pos.column) == ("f.pl", 3, 9)
+
+
+ALPHABET = list("aZ09 _'\"\\\n\t%.,()[]{}|`x\x1b\0/*-+=:;!0e") + ["0'", "\\x", "\\u", "\\1", "é", "\ud800"]
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.sampled_from(ALPHABET), max_size=14).map("".join) | st.text(max_size=12))
+def test_the_reader_returns_a_term_or_raises_a_syntax_error(text):
+    for read in (parse_term, parse_text):
+        try:
+            result = read(text)
+        except SchemalogError as err:
+            assert err.pos is not None
+        else:
+            assert isinstance(result, (list, Atom, Int, Str, Struct)) or result is not None
