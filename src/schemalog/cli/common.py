@@ -32,6 +32,7 @@ def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]
     check_output(output, inputs_of(args))
     kb = KnowledgeBase()
     kb.max_bytes = args.max_bytes
+    kb.max_steps = args.max_steps    # each directive's budget
     docs = []
     for path in args.files:
         doc = read_document(path, args.max_bytes)

@@ -97,7 +97,7 @@ def budget(text: str) -> int:
 class Parents:
     """The option groups commands take as argparse parents."""
 
-    limits: argparse.ArgumentParser   # --max-bytes, --max-depth, --max-nodes: every command that reads knowledge
+    limits: argparse.ArgumentParser   # --max-bytes, --max-depth, --max-nodes, --max-steps: every command that reads knowledge
     output: argparse.ArgumentParser   # --format, --json, -o: commands that print a tree
     ask: argparse.ArgumentParser      # --task, --compressed, --state, ...: query and repl
     resources: argparse.ArgumentParser   # --timeout, --max-memory: every command but repl (cli/limits.py)
@@ -112,6 +112,9 @@ def shared_parents() -> Parents:
                         help=f"deepest task tree to instantiate (default {defaults.MAX_DEPTH})")
     limits.add_argument("--max-nodes", type=positive, default=defaults.MAX_NODES,
                         help=f"largest task tree to instantiate (default {defaults.MAX_NODES:,})")
+    limits.add_argument("--max-steps", type=positive, default=defaults.MAX_STEPS, metavar="N",
+                        help=f"resolution steps one query, or one directive of a file, may take "
+                             f"(default {defaults.MAX_STEPS:,})")
 
     output = argparse.ArgumentParser(add_help=False)
     output.add_argument("--format", choices=["text", "json", "dot", "yaml", "pl"],
@@ -130,8 +133,6 @@ def shared_parents() -> Parents:
                      help="how compressed/2 and merged/3 propagate conditions (default full)")
     ask.add_argument("--sympy-budget", type=budget, default=defaults.SYMPY_BUDGET, metavar="N",
                      help=argparse.SUPPRESS)
-    ask.add_argument("--max-steps", type=positive, default=defaults.MAX_STEPS, metavar="N",
-                     help=f"resolution steps one query may take (default {defaults.MAX_STEPS:,})")
     ask.set_defaults(seed=None, jitter=None)
     resources = argparse.ArgumentParser(add_help=False)
     resources.add_argument("--timeout", type=seconds, metavar="SECONDS",

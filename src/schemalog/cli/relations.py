@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterator
 
 from ..errors import SchemalogError
-from ..formats.documents import read_document
+from ..formats.documents import load_kb
 from ..logic.engine import DEFAULT_MAX_STEPS, Engine
 from ..logic.exceptions import instantiation_error, iso_error, type_error
 from ..logic.kb import KnowledgeBase
@@ -121,10 +121,7 @@ class Workspace:
 
     # -- building ---------------------------------------------------------------
     def _build(self) -> None:
-        kb = KnowledgeBase()
-        kb.max_bytes = self.options.max_bytes
-        for path in self.files:
-            read_document(path, self.options.max_bytes).to_kb(kb)
+        kb = load_kb(self.files, self.options.max_bytes, self.options.max_steps)
         self.notes = list(kb.warnings)
         user_defined = {key for key, p in kb.predicates.items() if any(not c.library for c in p.clauses)}
         views: list[TaskView] = []

@@ -39,8 +39,7 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Write a synthetic demonstration of a task in a scene (smooth motions with noise)."""
-    from ..formats.documents import read_document
-    from ..logic.kb import KnowledgeBase
+    from ..formats.documents import load_kb
     from ..run.scene import read_scene
     from .common import check_output, choose_tasks, emit, inputs_of
 
@@ -54,10 +53,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"which task knowledge? {args.scene} names none (knowledge: in the scene): "
                          f"give the task file, e.g. kb/tasks/prepare_coffee_and_tea.pl")
     check_output(args.output, inputs_of(args, files))
-    kb = KnowledgeBase()
-    kb.max_bytes = args.max_bytes
-    for path in files:
-        read_document(path, args.max_bytes).to_kb(kb)
+    kb = load_kb(files, args.max_bytes)
     inputs = inputs_of(args, files, kb.files)
     check_output(args.output, inputs)            # and every file they consult, before simulating
     task = choose_tasks(kb, args.task)[0]

@@ -86,18 +86,14 @@ def _verify_inputs(args: argparse.Namespace):
     """(kb, original, compressed, how, inputs): one task file compressed here, or an original
     file and a compressed file someone else produced."""
     from ..task import conditions as cond
-    from ..formats.documents import read_document
-    from ..logic.kb import KnowledgeBase
+    from ..formats.documents import load_kb
     from ..task.compress import compress, original_of, protected_labels
     from ..task.conditions import Simplifier
     from ..task.tree import declared_tasks, walk
     from .common import choose_tasks, instantiate_task, load_files
 
     if len(args.files) == 2:
-        first, second = (KnowledgeBase(), KnowledgeBase())
-        for kb, path in ((first, args.files[0]), (second, args.files[1])):
-            kb.max_bytes = args.max_bytes
-            read_document(path, args.max_bytes).to_kb(kb)
+        first, second = (load_kb([path], args.max_bytes, args.max_steps) for path in args.files)
         task = choose_tasks(first, args.task)[0]
         other_tasks = declared_tasks(second) or [task]
         compressed = instantiate_task(second, other_tasks[0] if args.task is None else task, args)

@@ -87,9 +87,14 @@ def document_from_text(text: str, file: str = "<string>") -> Document:
     return Document(tuple(items), file)
 
 
-def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES) -> KnowledgeBase:
-    """Read every file into one knowledge base."""
+def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES,
+            max_steps: int | None = None) -> KnowledgeBase:
+    """Read every file into one knowledge base; files they consult are held to `max_bytes`
+    too, and every directive to `max_steps` resolution steps (default: the engine's)."""
     kb = KnowledgeBase()
+    kb.max_bytes = max_bytes
+    if max_steps is not None:
+        kb.max_steps = max_steps
     for p in paths:
         read_document(p, max_bytes).to_kb(kb)
     return kb
