@@ -123,7 +123,7 @@ class _Teacher:
         q1 = q0 if orientation is None else orientation
         distance = float(np.linalg.norm(target - start))
         duration = 0.3 + distance / self.speed
-        steps = self._budget(duration * self.rate)
+        steps = self._budget(duration * self.rate, minimum=2)
         s = np.arange(1, steps + 1) / steps
         blend = 10 * s ** 3 - 15 * s ** 4 + 6 * s ** 5
         self._samples(start + blend[:, None] * (target - start), _slerp(q0, q1, blend))
@@ -140,9 +140,9 @@ class _Teacher:
             self.move(np.array([*target[:2], max(self.safe, target[2])]), orientation)
         self.move(target, orientation)
 
-    def _budget(self, planned: float) -> int:
-        """The samples of the next motion (at least 1), within max_samples in all."""
-        steps = max(1, int(round(planned))) if planned < self.max_samples else self.max_samples + 1
+    def _budget(self, planned: float, minimum: int = 1) -> int:
+        """The samples of the next motion (at least `minimum`), within max_samples in all."""
+        steps = max(minimum, int(round(planned))) if planned < self.max_samples else self.max_samples + 1
         if self.count + steps > self.max_samples:
             raise SchemalogError(f"the demonstration would have more than {self.max_samples:,} samples at "
                                  f"{self.rate:g} Hz and {self.speed:g} m/s: lower --rate or raise --speed "
