@@ -83,3 +83,11 @@ def test_a_demonstration_over_the_sample_budget_is_refused_before_it_is_built():
     scene = read_scene(ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
     with pytest.raises(SchemalogError, match=r"more than 1,000 samples at 100 Hz and 0.25 m/s: lower --rate"):
         simulate(kb, parse_term("use(spoon)"), scene, max_samples=1000)
+
+
+def test_a_demonstration_learn_would_refuse_is_not_simulated():
+    # --noise is bounded to 1 cm on the command line; the library refuses what learn would
+    kb = load_kb([MIX])
+    scene = read_scene(ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
+    with pytest.raises(SchemalogError, match=r"would be refused by learn: the end-effector jumps .* lower --noise"):
+        simulate(kb, parse_term("use(spoon)"), scene, noise=0.2)
