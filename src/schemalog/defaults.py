@@ -50,4 +50,7 @@ SPEED = 0.25            # metres per second: the average speed of a long simulat
 BASES = 30              # basis functions of a motion primitive per segment
 MAX_BASES = 1000        # more is memory, not accuracy
 MAX_RATE = 10_000.0     # samples per second a simulated demonstration may ask for
+MAX_NOISE = 0.01        # metres: noisier, a simulated hand would jump faster than learn accepts
+MAX_JITTER = 1.0        # metres: a simulated object moved farther leaves the robot's reach
+MAX_SIMULATED = 1_000_000   # samples of a simulated demonstration (about 200 MB of CSV)
 MAX_DEMO_BYTES = 256 * 1024 * 1024   # a 3-minute recording at 1 kHz with 5 objects is about 40 MB

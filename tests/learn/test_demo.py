@@ -154,6 +154,26 @@ def test_implausible_positions_and_glitches_are_refused():
     assert glitch.startswith("d.csv:3:19: error: cup jumps 5 m in 0.1 s (50 m/s, more than 10 m/s)")
 
 
+def test_noise_at_a_high_rate_is_not_a_glitch_but_a_glitch_still_is():
+    # 1 mm of white noise at 10 kHz moves the hand about 2.4 mm between samples (24 m/s); over
+    # 10 ms it is still 2.4 mm (0.24 m/s): speeds are measured over at least 10 ms.
+    rng = np.random.default_rng(3)
+    n = 2000
+    times = np.arange(n) / 10_000
+    hand = np.array([0.5, 0.0, 0.2]) + rng.normal(0.0, 0.001, (n, 3))
+    lines = ["t,x,y,z,cup_x,cup_y,cup_z"] + [f"{t:.6f},{x:.6f},{y:.6f},{z:.6f},0.6,0.1,0.05"
+                                             for t, (x, y, z) in zip(times, hand)]
+    steps = np.linalg.norm(np.diff(hand, axis=0), axis=1) / np.diff(times)
+    assert steps.max() > 10                                     # per sample, faster than MAX_SPEED
+    assert len(demonstration_from_csv("\n".join(lines), "d.csv")) == n
+    lines[1001] = lines[1001].replace(",0.6,0.1,0.05", ",0.9,0.1,0.05")     # the cup, 30 cm off for a sample
+    message = error_of("\n".join(lines))
+    assert message.startswith("d.csv:1002:") and "cup jumps 0.3 m in 0.01 s (30 m/s, more than 10 m/s)" in message
+    lines[1001] = lines[1001].replace(",0.9,0.1,0.05", ",0.6,0.1,0.05")
+    lines[3] = lines[3].replace(",0.6,0.1,0.05", ",0.9,0.1,0.05")           # within the first 10 ms
+    assert "cup jumps 0.3 m in 0.0002 s (counted as 10 ms" in error_of("\n".join(lines))
+
+
 def test_a_byte_order_mark_is_skipped(tmp_path):
     path = tmp_path / "bom.csv"
     path.write_bytes("\ufeff".encode() + csv_text(*GOOD).encode())

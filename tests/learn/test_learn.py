@@ -181,3 +181,25 @@ def test_simulate_demo_option_ranges(tmp_path):
     assert r.returncode == 2 and "argument --rate: must be from 1 to 10,000" in r.stderr
     r = run("simulate-demo", "--scene", KITCHEN, "--speed", "100", cwd=tmp_path)
     assert r.returncode == 2 and "argument --speed: must be from 0.01 to 2" in r.stderr
+
+
+@pytest.mark.parametrize("args, expected", [
+    (["--jitter", "1e308"], "argument --jitter: must be from 0 to 1"),
+    (["--jitter", "nan"], "argument --jitter: must be from 0 to 1"),
+    (["--seed", "-1"], "argument --seed: must be at least 0"),
+    (["--noise", "inf"], "argument --noise: must be from 0 to 0.01"),
+    (["--noise", "nan"], "argument --noise: must be from 0 to 0.01"),
+])
+def test_simulate_demo_refuses_bad_numbers_as_usage_errors(tmp_path, args, expected):
+    r = run("simulate-demo", "--scene", KITCHEN, "-o", "d.csv", *args, cwd=tmp_path)
+    assert r.returncode == 2 and expected in r.stderr and "internal error" not in r.stderr
+    assert not (tmp_path / "d.csv").exists()
+
+
+def test_a_scene_with_a_coordinate_out_of_range_is_located(tmp_path):
+    scene = tmp_path / "far.yaml"
+    scene.write_text(KITCHEN.read_text().replace("../tasks/", f"{KITCHEN.parent.parent}/tasks/")
+                     .replace("[0.55, -0.30, 0.10]", "[1234567890123456789, -0.30, 0.10]"))
+    r = run("simulate-demo", "--scene", scene, "-o", "d.csv", cwd=tmp_path)
+    assert r.returncode == 1 and r.stderr.startswith(f"{scene}:13:12: error: a coordinate of the position of water")
+    assert "internal error" not in r.stderr and not (tmp_path / "d.csv").exists()

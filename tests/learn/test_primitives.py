@@ -316,3 +316,69 @@ def test_error_fields():
     assert isinstance(error, Error)
     assert error.rms == pytest.approx(5 * MM, abs=0.3 * MM)
     assert error.max >= error.rms and error.final == pytest.approx(5 * MM, abs=0.3 * MM)
+
+
+# -- cost: banded features and normal equations --------------------------------------------
+
+from schemalog.learn import primitives as P     # noqa: E402  (the internals the cost bounds are about)
+
+
+def dense_features(x, centers, widths):
+    log_psi = -widths[None, :] * (x[:, None] - centers[None, :]) ** 2
+    psi = np.exp(log_psi - log_psi.max(axis=1, keepdims=True))
+    return psi * (x / psi.sum(axis=1))[:, None]
+
+
+@FAST
+@given(parts=st.lists(st.floats(0.05, 20.0), min_size=1, max_size=6), per_cell=st.integers(1, 300),
+       samples=st.integers(2, 400))
+def test_banded_features_are_the_dense_ones_and_their_width_does_not_grow_with_the_bases(parts, per_cell, samples):
+    edges = np.concatenate([[0.0], np.cumsum(parts)]) / sum(parts)     # unequal merged parts
+    centers, widths = P._basis(P._cells(edges, per_cell), P.ALPHA_X)
+    x = np.exp(-P.ALPHA_X * np.linspace(0.0, 1.0, samples))
+    values, first = P._features(x, centers, widths)
+    dense = np.zeros((samples, len(centers)))
+    for a in range(values.shape[1]):
+        dense[np.arange(samples), first + a] = values[:, a]
+    assert np.allclose(dense, dense_features(x, centers, widths), rtol=0, atol=1e-15)
+    if len(parts) == 1:
+        assert values.shape[1] <= 13           # about 11 neighbours, for 1 or 300 bases alike
+
+
+@FAST
+@given(n=st.integers(1, 60), width=st.integers(1, 6), seed=st.integers(0, 2 ** 16))
+def test_the_banded_solver_solves(n, width, seed):
+    rng = np.random.default_rng(seed)
+    m = rng.normal(size=(n, n))
+    a = m @ m.T + n * np.eye(n)
+    a[np.abs(np.subtract.outer(np.arange(n), np.arange(n))) >= width] = 0.0
+    a += n * np.eye(n)                          # still positive definite after the cut
+    upper = np.zeros((width, n))
+    for o in range(width):
+        upper[o, :n - o] = np.diagonal(a, o)
+    rhs = rng.normal(size=(n, 3))
+    assert np.allclose(P._solve_banded(upper, rhs), np.linalg.solve(a, rhs), atol=1e-9)
+
+
+def test_a_thousand_bases_on_a_few_samples_allocate_per_sample_and_basis_not_per_basis_squared():
+    # The bug: 1000 bases per part on a 5-part merged action tried to allocate 3.73 GiB, the rollout
+    # grid (20 steps per basis) times every basis.
+    parts = [minimum_jerk([0.1 * k, 0, 0], [0.1 * (k + 1), 0.05, 0], 0.4, hz=20.0, t0=0.4 * k) for k in range(5)]
+    dmp = merge(parts, n_basis_per_part=1000)
+    assert dmp.n_basis == 5000
+    steps = 20 * dmp.n_basis
+    values, first = P._features(np.exp(-P.ALPHA_X * np.linspace(0, 1, steps + 1)), np.array(dmp.centers),
+                                np.array(dmp.widths))
+    assert values.shape[1] <= 13                # banded: steps x 13, not steps x 5000 (3.73 GiB)
+    out = rollout(dmp, concatenation(parts)[0])
+    assert np.all(np.isfinite(out))
+
+
+def test_many_samples_per_basis_are_binned_so_the_fit_sees_at_most_32_per_basis():
+    times, poses = minimum_jerk([0.1, 0.2, 0.3], [0.4, 0.0, 0.1], 2.0, hz=50_000.0)
+    t, p, counts = P._binned(times, poses, math.ceil(len(times) / 30 / P._PER_BASIS))
+    assert len(t) <= 30 * P._PER_BASIS + 2 and counts.sum() == len(times)
+    assert t[0] == times[0] and t[-1] == times[-1] and np.all(np.diff(t) > 0)
+    noisy = poses + np.random.default_rng(5).normal(scale=1 * MM, size=poses.shape)
+    error = reproduction_error(fit(times, noisy), times, poses)
+    assert error.rms < 0.5 * MM and error.final < 1 * MM      # 100k noisy samples average the noise away

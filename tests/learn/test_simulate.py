@@ -2,13 +2,14 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 from conftest import COFFEE, MIX, ROOT
 from schemalog.formats.documents import load_kb
 from schemalog.errors import SchemalogError
 from schemalog.logic.parse import parse_term
 from schemalog.run.scene import Scene, read_scene
+from schemalog.learn.demo import demonstration_csv, demonstration_from_csv
 from schemalog.learn.segment import segment
 from schemalog.learn.simulate import demonstrated_leaves, simulate
 from schemalog.logic.terms import term_to_text
@@ -57,3 +58,36 @@ def test_a_2d_scene_cannot_be_demonstrated():
     scene = Scene(objects={"spoon": (0.5, 0.0), "cup": (0.9, 0.0)}, end_effector=(0.4, 0.0), name="flat")
     with pytest.raises(SchemalogError, match="2-D"):
         simulate(kb, parse_term("use(spoon)"), scene)
+
+
+@settings(max_examples=8, deadline=None)
+@given(rate=st.sampled_from([1.0, 7.0, 100.0, 1000.0, 10_000.0]), seed=st.integers(0, 2 ** 16),
+       noise=st.sampled_from([0.0, 0.001, 0.01]))
+def test_what_simulate_demo_writes_learn_reads_at_every_rate(rate, seed, noise):
+    # The mismatch this guards against: at 10 kHz, 1 mm of noise per sample read as 21.8 m/s jumps.
+    kb = load_kb([MIX])
+    scene = read_scene(ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
+    try:
+        demo = simulate(kb, parse_term("use(spoon)"), scene, seed=seed, noise=noise, rate=rate, speed=2.0)
+    except SchemalogError as error:       # the simulation may refuse (too few samples to segment as planned)
+        assert "would segment as" in str(error) or "segments into" in str(error)
+        assume(False)
+    text = demonstration_csv(demo, "a comment")
+    back = demonstration_from_csv(text, "demo.csv")            # raises if learn would refuse it
+    assert len(back) == len(demo)
+    assert [s.label for s in segment(back)] == [s.label for s in segment(demo)]
+
+
+def test_a_demonstration_over_the_sample_budget_is_refused_before_it_is_built():
+    kb = load_kb([MIX])
+    scene = read_scene(ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
+    with pytest.raises(SchemalogError, match=r"more than 1,000 samples at 100 Hz and 0.25 m/s: lower --rate"):
+        simulate(kb, parse_term("use(spoon)"), scene, max_samples=1000)
+
+
+def test_a_demonstration_learn_would_refuse_is_not_simulated():
+    # --noise is bounded to 1 cm on the command line; the library refuses what learn would
+    kb = load_kb([MIX])
+    scene = read_scene(ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
+    with pytest.raises(SchemalogError, match=r"would be refused by learn: the end-effector jumps .* lower --noise"):
+        simulate(kb, parse_term("use(spoon)"), scene, noise=0.2)

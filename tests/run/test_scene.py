@@ -45,6 +45,11 @@ def test_jitter_is_reproducible_and_bounded():
     ("end_effector: [0, 0]\nmin_lambda: 2\n", (2, 13), "(0, 1]"),
     ("end_effector: [0, 0]\nobjects:\n  cup: [1, .nan]\n", (3, 12), "finite"),
     ("objects:\n  cup: [1, 2]\n", (1, 1), "no `end_effector`"),
+    ("end_effector: [0, 0]\nobjects:\n  cup: [1234567890123456789, 2]\n", (3, 9), "is 1.23e+18 m: positions are in "
+     "metres from the robot's base, within 1000 m"),
+    ("end_effector: [0, -1001]\n", (1, 19), "within 1000 m"),
+    ("end_effector: [0, 0]\nobjects:\n  cup: [1, -.inf]\n", (3, 12), "finite"),
+    ("end_effector: [0, 0]\nobjects:\n  cup: [1e400, 0]\n", (3, 9), "finite"),
     ("end_effector: [0, 0, 0]\nobjects:\n  cup: [1, 2]\n", (3, 3), "mix 2-D and 3-D"),
     ("end_effector: [0, 0\n", (2, 1), "YAML syntax error"),
     ("- 1\n- 2\n", (1, 1), "a mapping"),

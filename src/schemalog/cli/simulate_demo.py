@@ -8,7 +8,7 @@ import sys
 from .. import defaults
 from ..errors import UsageError
 from ..logic.terms import term_to_text
-from .options import Parents, bounded, distance, length, positive
+from .options import Parents, bounded, count, length, positive
 
 
 def register(sub, parents: Parents) -> None:
@@ -20,11 +20,14 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("--scene", required=True, metavar="FILE", help="object positions (YAML)")
     p.add_argument("--task", help="the task to demonstrate (default: the first task/1)")
     p.add_argument("-o", "--output", help="write here (atomically; .json for JSON, else CSV); default: standard output")
-    p.add_argument("--seed", type=int, default=0, help="seed of the noise and of --jitter (default 0)")
-    p.add_argument("--noise", type=distance, default=defaults.NOISE, metavar="M",
-                   help=f"standard deviation of the hand's position noise (default {defaults.NOISE} m)")
-    p.add_argument("--jitter", type=distance, default=0.0, metavar="M",
-                   help="move each object coordinate by up to M metres (with --seed; default 0)")
+    p.add_argument("--seed", type=count, default=0, help="seed of the noise and of --jitter, a whole number "
+                   "at least 0 (default 0)")
+    p.add_argument("--noise", type=bounded(0, defaults.MAX_NOISE, float), default=defaults.NOISE, metavar="M",
+                   help=f"standard deviation of the hand's position noise (default {defaults.NOISE} m, "
+                        f"at most {defaults.MAX_NOISE} m)")
+    p.add_argument("--jitter", type=bounded(0, defaults.MAX_JITTER, float), default=0.0, metavar="M",
+                   help=f"move each object coordinate by up to M metres (with --seed; default 0, at most "
+                        f"{defaults.MAX_JITTER:g} m)")
     p.add_argument("--rate", type=bounded(1, defaults.MAX_RATE, float), default=defaults.RATE, metavar="HZ",
                    help=f"samples per second (default {defaults.RATE:g}, at most {defaults.MAX_RATE:,g})")
     p.add_argument("--speed", type=bounded(0.01, 2.0, float), default=defaults.SPEED, metavar="M/S",

@@ -34,7 +34,16 @@ bases, still fit: the bases they leave free interpolate their neighbours). Quate
 normalised and made sign-continuous first (the first with qw >= 0); each component is
 otherwise an ordinary dimension, and rollout renormalises them. A rollout starts at (y0, v0)
 and integrates the linear system exactly on a fine grid (the matrix exponential, the forcing
-term linear between grid points), then reads the times asked for off cubic Hermite splines.
+term linear between grid points; the recurrence as a vectorised prefix scan), then reads the
+times asked for off cubic Hermite splines.
+
+Costs are linear in samples x bases and far below it: a sample touches only the K bases whose
+Gaussians reach it (about 11), so the features are banded (samples x K), the normal equations
+too (built in samples x K^2, solved by block elimination in bases x K^2), and the rollout's grid
+(20 steps per basis) costs steps x K. Over more than 32 samples per basis, the fit averages the
+inner samples in bins first (the first and last kept as they are): a basis cannot show detail
+finer than itself, and the smoothing window (a quarter of a basis) would otherwise grow with
+the samples, making the cost quadratic in a long recording's length.
 """
 
 from __future__ import annotations
@@ -53,6 +62,8 @@ RIDGE = 1e-6                       # relative ridge term of the weight regressio
 _STILL = 1e-6                      # |g - y0| below this: the forcing term is not scaled
 _GRID = 2000                       # integration steps per duration (at least 20 per basis)
 _OVERLAP = 0.7                     # basis width relative to the spacing of the centres
+_SUPPORT = 50.0                    # a basis counts where its exponent is above -50 (e^-50 = 2e-22)
+_PER_BASIS = 32                    # fit points per basis: more samples are averaged into bins
 
 
 @dataclass(frozen=True)
@@ -150,7 +161,8 @@ def _continuous(q: np.ndarray) -> np.ndarray:
     return q * np.cumprod(signs)[:, None]
 
 
-def _smooth(t: np.ndarray, y: np.ndarray, sigma: float, degree: int = 2) -> np.ndarray:
+def _smooth(t: np.ndarray, y: np.ndarray, sigma: float, degree: int = 2,
+            counts: np.ndarray | None = None) -> np.ndarray:
     """y smoothed by local quadratic fits in time, weighted by a Gaussian of `sigma` samples.
 
     Near the ends the window is one-sided and the fitted polynomial keeps the trend, so the
@@ -170,6 +182,8 @@ def _smooth(t: np.ndarray, y: np.ndarray, sigma: float, degree: int = 2) -> np.n
     for k in range(-radius, radius + 1):
         i = np.arange(max(0, -k), min(n, n - k))
         weight = math.exp(-0.5 * (k / sigma) ** 2)
+        if counts is not None:
+            weight = weight * counts[i + k][:, None, None]
         powers = ((t[i + k] - t[i]) / step)[:, None] ** exponents          # (m, degree + 1)
         gram[i] += weight * powers[:, :, None] * powers[:, None, :]
         rhs[i] += weight * powers[:, :, None] * y[i + k][:, None, :]
@@ -195,12 +209,42 @@ def _cells(edges: np.ndarray, per_cell: int) -> np.ndarray:
     return np.concatenate([a + (b - a) * spread for a, b in zip(edges[:-1], edges[1:])])
 
 
-def _features(x: np.ndarray, centers: np.ndarray, widths: np.ndarray) -> np.ndarray:
-    """psi_i(x) x / sum_j psi_j(x) for every phase in x: (len(x), n_basis)."""
-    log_psi = -widths[None, :] * (x[:, None] - centers[None, :]) ** 2
+def _features(x: np.ndarray, centers: np.ndarray, widths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """psi_i(x) x / sum_j psi_j(x) for every phase in x, banded: values (len(x), K) and the first
+    basis of each row (len(x),), row r holding bases first[r] .. first[r] + K - 1.
+
+    A basis is 0 (below e^-50 of the largest) outside |x - c_i| < sqrt(50 / h_i); every phase is
+    near a centre, so the K bases around it are all there is: the cost is len(x) * K, not
+    len(x) * n_basis (K is about 11 for evenly spread centres, whatever their number).
+    """
+    n_basis = len(centers)
+    reach = np.sqrt(_SUPPORT / widths)
+    # centres decrease along the bases; the first basis that may reach x: the first whose support
+    # starts below x (a running minimum keeps the search monotone), the last: the last whose
+    # support ends above it (a running maximum from the end)
+    low = np.minimum.accumulate(centers - reach)
+    high = np.maximum.accumulate((centers + reach)[::-1])[::-1]
+    lo = np.searchsorted(-low, -x, side="left")
+    hi = np.searchsorted(-high, -x, side="right") - 1
+    nearest = np.clip(np.searchsorted(-centers, -x), 0, n_basis - 1)
+    nearest = np.where((nearest > 0) & (np.abs(centers[nearest - 1] - x) < np.abs(centers[nearest] - x)),
+                       nearest - 1, nearest)
+    lo, hi = np.minimum(np.clip(lo, 0, n_basis - 1), nearest), np.maximum(np.clip(hi, 0, n_basis - 1), nearest)
+    k = int((hi - lo).max(initial=0)) + 1
+    first = np.clip(lo, 0, n_basis - k)
+    index = first[:, None] + np.arange(k)[None, :]
+    log_psi = -widths[index] * (x[:, None] - centers[index]) ** 2
     log_psi -= log_psi.max(axis=1, keepdims=True)
     psi = np.exp(log_psi)
-    return psi * (x / psi.sum(axis=1))[:, None]
+    return psi * (x / psi.sum(axis=1))[:, None], first
+
+
+def _banded_product(values: np.ndarray, first: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """The dense features times weights (n_basis, dims), from the banded features."""
+    out = np.zeros((len(values), weights.shape[1]))
+    for a in range(values.shape[1]):
+        out += values[:, a:a + 1] * weights[first + a]
+    return out
 
 
 def _scale(start: np.ndarray, goal: np.ndarray) -> np.ndarray:
@@ -239,8 +283,12 @@ def _fit(t: np.ndarray, p: np.ndarray, edges: np.ndarray, per_cell: int, smoothi
     # A basis cannot represent detail finer than its own width: where a basis covers many samples
     # (a slow demonstration), smooth over a quarter of them, so noise does not dominate the
     # accelerations the forcing term is fitted to.
-    per_basis = len(t) / (int(per_cell) * (len(edges) - 1))
-    y = _smooth(t, p, max(smoothing, per_basis / 4) if smoothing > 0 else 0.0)
+    n_basis = int(per_cell) * (len(edges) - 1)
+    per_basis = len(t) / n_basis
+    sigma = max(smoothing, per_basis / 4) if smoothing > 0 else 0.0
+    t, p, counts = _binned(t, p, math.ceil(per_basis / _PER_BASIS))
+    bin_size = 1 if counts is None else float(np.mean(counts[1:-1]))
+    y = _smooth(t, p, sigma / bin_size, counts=counts)
     tau = float(t[-1] - t[0])
     order = 2 if len(t) > 2 else 1
     yd = np.gradient(y, t, axis=0, edge_order=order)
@@ -249,28 +297,93 @@ def _fit(t: np.ndarray, p: np.ndarray, edges: np.ndarray, per_cell: int, smoothi
     alpha_z, beta_z, alpha_x = 25.0, 6.25, ALPHA_X
     target = (tau ** 2 * ydd - alpha_z * (beta_z * (goal - y) - tau * yd)) / _scale(start, goal)
     centers, widths = _basis(_cells(edges, int(per_cell)), alpha_x)
-    phi = _features(np.exp(-alpha_x * (t - t[0]) / tau), centers, widths) / centers
-    weights = _regress(phi, target) / centers[:, None]
+    values, first = _features(np.exp(-alpha_x * (t - t[0]) / tau), centers, widths)
+    values = values / centers[first[:, None] + np.arange(values.shape[1])]
+    weights = _regress(values, first, n_basis, target, counts) / centers[:, None]
     return DMP(duration=tau, start=_floats(start), goal=_floats(goal),
                weights=tuple(_floats(row) for row in weights),
                centers=_floats(centers), widths=_floats(widths),
                alpha_z=alpha_z, beta_z=beta_z, alpha_x=alpha_x, start_velocity=_floats(yd[0]))
 
 
-def _regress(phi: np.ndarray, target: np.ndarray) -> np.ndarray:
+def _binned(t: np.ndarray, p: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """The trajectory with its inner samples averaged in bins of `size` (time and pose), the
+    first and last kept as they are, and how many samples each point stands for (None: size 1)."""
+    if size <= 1 or len(t) < 3:
+        return t, p, None
+    inner = len(t) - 2
+    edges = np.arange(0, inner, size)
+    counts = np.diff(np.append(edges, inner)).astype(float)
+    sums_t = np.add.reduceat(t[1:-1], edges)
+    sums_p = np.add.reduceat(p[1:-1], edges, axis=0)
+    return (np.concatenate([t[:1], sums_t / counts, t[-1:]]),
+            np.concatenate([p[:1], sums_p / counts[:, None], p[-1:]]),
+            np.concatenate([[1.0], counts, [1.0]]))
+
+
+def _regress(values: np.ndarray, first: np.ndarray, n_basis: int, target: np.ndarray,
+             counts: np.ndarray | None = None) -> np.ndarray:
     """Least-squares weights, regularised towards a forcing term smooth across the bases.
 
     Columns are scaled by their centre, so the unknowns are forcing values near each basis;
     the penalty on their second differences fills the bases no sample reaches by
-    interpolation instead of pulling them to zero.
+    interpolation instead of pulling them to zero. The normal equations are banded (a sample
+    touches K neighbouring bases, the penalty 5), so they are built and solved in
+    O(samples K^2 + n_basis K^2), never as an n_basis x n_basis matrix.
     """
-    n_basis = phi.shape[1]
-    gram = phi.T @ phi
+    k = values.shape[1]
+    weighted = values if counts is None else values * counts[:, None]
     order = min(2, n_basis - 1)
-    d = np.diff(np.eye(n_basis), n=order, axis=0)
-    penalty = d.T @ d + 1e-3 * np.eye(n_basis)
-    level = max(float(np.mean(np.diag(gram))), 1e-300)
-    return np.linalg.solve(gram + RIDGE * level * penalty, phi.T @ target)
+    bands = max(k, order + 1)
+    upper = np.zeros((bands, n_basis))           # upper[o, j] = A[j, j + o]
+    for a in range(k):
+        for o in range(k - a):
+            upper[o] += np.bincount(first + a, weights=weighted[:, a] * values[:, a + o], minlength=n_basis)
+    rhs = np.zeros((n_basis, target.shape[1]))
+    for a in range(k):
+        for d in range(target.shape[1]):
+            rhs[:, d] += np.bincount(first + a, weights=weighted[:, a] * target[:, d], minlength=n_basis)
+    level = max(float(np.mean(upper[0])), 1e-300)
+    # the penalty D^T D + 1e-3 I, D the `order`-th differences: banded too
+    coefficients = np.diff(np.eye(order + 1), n=order, axis=0)[0] if order else np.ones(1)
+    penalty = np.zeros((bands, n_basis))
+    rows = n_basis - order
+    for a in range(order + 1):
+        for o in range(order + 1 - a):
+            penalty[o, a:a + rows] += coefficients[a] * coefficients[a + o]
+    penalty[0] += 1e-3
+    return _solve_banded(upper + RIDGE * level * penalty, rhs)
+
+
+def _solve_banded(upper: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """x with A x = rhs for a symmetric positive definite A given by its upper bands
+    (upper[o, j] = A[j, j + o]): A is block tridiagonal in blocks of the band's width, solved by
+    block elimination (n / width solves of width x width systems)."""
+    width, n = upper.shape
+    blocks = -(-n // width)
+
+    def entry(i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        low, offset = np.minimum(i, j), np.abs(i - j)
+        inside = (offset < width) & (np.maximum(i, j) < n)
+        value = np.where(inside, upper[np.minimum(offset, width - 1), np.minimum(low, n - 1)], 0.0)
+        return np.where((i == j) & (i >= n), 1.0, value)          # the padding: identity
+
+    base = (np.arange(blocks) * width)[:, None, None]
+    i = base + np.arange(width)[None, :, None]
+    j = base + np.arange(width)[None, None, :]
+    diagonal, above = entry(i, j), entry(i, j + width)
+    b = np.zeros((blocks * width, rhs.shape[1]))
+    b[:n] = rhs
+    b = b.reshape(blocks, width, -1)
+    for k in range(1, blocks):
+        solved = np.linalg.solve(diagonal[k - 1], np.concatenate([above[k - 1], b[k - 1]], axis=1))
+        diagonal[k] -= above[k - 1].T @ solved[:, :width]
+        b[k] -= above[k - 1].T @ solved[:, width:]
+    x = np.empty_like(b)
+    x[-1] = np.linalg.solve(diagonal[-1], b[-1])
+    for k in range(blocks - 2, -1, -1):
+        x[k] = np.linalg.solve(diagonal[k], b[k] - above[k] @ x[k + 1])
+    return x.reshape(blocks * width, -1)[:n]
 
 
 def _floats(values) -> tuple[float, ...]:
@@ -301,7 +414,7 @@ def rollout(dmp: DMP, times=None, samples: int | None = None) -> Poses:
     steps = max(1, int(math.ceil(at[-1] / tau * per_duration)))
     h = at[-1] / steps if at[-1] > 0 else tau / per_duration
     grid = h * np.arange(steps + 1)
-    force = _features(np.exp(-dmp.alpha_x * grid / tau), centers, widths) @ weights
+    force = _banded_product(*_features(np.exp(-dmp.alpha_x * grid / tau), centers, widths), weights)
     force *= _scale(start, goal)
     # state v = (y - g, z): dv/dt = A v + B u, u = f * scale, linear between grid points
     a = np.array([[0.0, 1.0], [-dmp.alpha_z * dmp.beta_z, -dmp.alpha_z]]) / tau
@@ -310,12 +423,17 @@ def rollout(dmp: DMP, times=None, samples: int | None = None) -> Poses:
     big[:2, :2], big[:2, 2], big[2, 3] = a * h, b * h, 1.0
     e = _expm(big)
     ad, b0, b1 = e[:2, :2], e[:2, 2] - e[:2, 3], e[:2, 3]
+    # v[k + 1] = ad v[k] + u[k], so v[k] = sum over j <= k of ad^(k - j) s[j] with s = (v[0], u[0], ...):
+    # a prefix scan in log2(steps) vectorised passes (pass p adds the terms 2^p further back)
     states = np.empty((steps + 1, 2, dmp.dims))
-    v = np.stack([start - goal, tau * np.array(dmp.start_velocity)])
-    states[0] = v
-    for k in range(steps):
-        v = ad @ v + np.outer(b0, force[k]) + np.outer(b1, force[k + 1])
-        states[k + 1] = v
+    states[0] = np.stack([start - goal, tau * np.array(dmp.start_velocity)])
+    states[1:] = b0[None, :, None] * force[:-1, None, :] + b1[None, :, None] * force[1:, None, :]
+    power, shift = ad, 1
+    while shift <= steps:
+        earlier = states[:-shift].copy()
+        states[shift:, 0] += power[0, 0] * earlier[:, 0] + power[0, 1] * earlier[:, 1]
+        states[shift:, 1] += power[1, 0] * earlier[:, 0] + power[1, 1] * earlier[:, 1]
+        power, shift = power @ power, 2 * shift
     y, dy = states[:, 0] + goal, states[:, 1] / tau
     y[0] = start                            # exactly, not (start - goal) + goal
     # cubic Hermite interpolation between grid points

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import defaults
-from .demo import Demonstration, GripperEvent
+from .demo import Demonstration, GripperEvent, plausible
 from ..errors import SchemalogError
 from ..run.execute import Executive
 from ..logic.kb import KnowledgeBase
@@ -73,22 +73,24 @@ def demonstrated_leaves(kb: KnowledgeBase, task: Term, scene: Scene) -> list[Lea
 
 
 class _Teacher:
-    """Moves the hand through the leaves, sample by sample."""
+    """Moves the hand through the leaves, a motion at a time (each one array of samples)."""
 
-    def __init__(self, scene: Scene, radius: float, rate: float, speed: float) -> None:
+    def __init__(self, scene: Scene, radius: float, rate: float, speed: float,
+                 max_samples: int = defaults.MAX_SIMULATED) -> None:
         if any(len(p) != 3 for p in (scene.end_effector, *scene.objects.values())):
             raise SchemalogError(f"scene {scene.name} is 2-D: a demonstration needs 3-D positions")
         self.r = radius
         self.rate, self.speed = rate, speed
+        self.max_samples = max_samples
         self.objects = {name: np.array(p, dtype=float) for name, p in scene.objects.items()}
         self.safe = max(p[2] for p in self.objects.values()) + 2.5 * radius
         self.hand = np.array(scene.end_effector, dtype=float)
         self.orientation = DOWN.copy()
         self.held: tuple[str, np.ndarray] | None = None
-        self.times: list[float] = [0.0]
-        self.positions: list[np.ndarray] = [self.hand.copy()]
-        self.orientations: list[np.ndarray] = [self.orientation.copy()]
-        self.tracks: dict[str, list[np.ndarray]] = {n: [p.copy()] for n, p in self.objects.items()}
+        self.count = 1
+        self.positions: list[np.ndarray] = [self.hand[None, :].copy()]
+        self.orientations: list[np.ndarray] = [self.orientation[None, :].copy()]
+        self.tracks: dict[str, list[np.ndarray]] = {n: [p[None, :].copy()] for n, p in self.objects.items()}
         self.events: list[GripperEvent] = []
 
     # -- geometry -------------------------------------------------------------
@@ -121,17 +123,14 @@ class _Teacher:
         q1 = q0 if orientation is None else orientation
         distance = float(np.linalg.norm(target - start))
         duration = 0.3 + distance / self.speed
-        steps = max(2, int(round(duration * self.rate)))
-        for k in range(1, steps + 1):
-            s = k / steps
-            blend = 10 * s ** 3 - 15 * s ** 4 + 6 * s ** 5
-            self.hand = start + blend * (target - start)
-            self.orientation = _slerp(q0, q1, blend)
-            self._sample()
+        steps = self._budget(duration * self.rate, minimum=2)
+        s = np.arange(1, steps + 1) / steps
+        blend = 10 * s ** 3 - 15 * s ** 4 + 6 * s ** 5
+        self._samples(start + blend[:, None] * (target - start), _slerp(q0, q1, blend))
 
     def rest(self, seconds: float) -> None:
-        for _ in range(max(1, int(round(seconds * self.rate)))):
-            self._sample()
+        steps = self._budget(seconds * self.rate)
+        self._samples(np.tile(self.hand, (steps, 1)), np.tile(self.orientation, (steps, 1)))
 
     def transfer(self, target: np.ndarray, orientation: np.ndarray) -> None:
         """Lift to the safe height, travel above the target, then descend onto it."""
@@ -141,15 +140,28 @@ class _Teacher:
             self.move(np.array([*target[:2], max(self.safe, target[2])]), orientation)
         self.move(target, orientation)
 
-    def _sample(self) -> None:
-        self.times.append(self.times[-1] + 1.0 / self.rate)
-        self.positions.append(self.hand.copy())
-        self.orientations.append(self.orientation.copy())
-        if self.held is not None:
-            name, offset = self.held
-            self.objects[name] = self.hand + offset
+    def _budget(self, planned: float, minimum: int = 1) -> int:
+        """The samples of the next motion (at least `minimum`), within max_samples in all."""
+        steps = max(minimum, int(round(planned))) if planned < self.max_samples else self.max_samples + 1
+        if self.count + steps > self.max_samples:
+            raise SchemalogError(f"the demonstration would have more than {self.max_samples:,} samples at "
+                                 f"{self.rate:g} Hz and {self.speed:g} m/s: lower --rate or raise --speed "
+                                 f"(or bring the scene's objects closer)")
+        return steps
+
+    def _samples(self, hands: np.ndarray, orientations: np.ndarray) -> None:
+        """Append samples; the held object moves with the hand, the others stay."""
+        self.positions.append(hands)
+        self.orientations.append(orientations)
         for name, track in self.tracks.items():
-            track.append(self.objects[name].copy())
+            if self.held is not None and self.held[0] == name:
+                track.append(hands + self.held[1])
+            else:
+                track.append(np.broadcast_to(self.objects[name], hands.shape))
+        self.hand, self.orientation = hands[-1].copy(), orientations[-1].copy()
+        if self.held is not None:
+            self.objects[self.held[0]] = self.hand + self.held[1]
+        self.count += len(hands)
 
     # -- actions --------------------------------------------------------------
     def demonstrate(self, leaf: Leaf, following: Leaf | None) -> None:
@@ -177,7 +189,7 @@ class _Teacher:
             self.transfer(centre + np.array([0.0, 0.0, 0.8 * self.r]), turn)     # enter, from above
 
     def command(self, command: str) -> None:
-        self.events.append(GripperEvent(len(self.times) - 1, command, 0))
+        self.events.append(GripperEvent(self.count - 1, command, 0))
         if command == "close":
             near = [n for n in self.objects if self.inside(n) and (self.held is None or n != self.held[0])]
             if near and self.held is None:
@@ -189,38 +201,45 @@ class _Teacher:
 
     def demonstration(self, noise: float, seed: int, file: str) -> Demonstration:
         rng = np.random.default_rng(seed)
-        positions = np.array(self.positions)
+        positions = np.concatenate(self.positions)
         if noise > 0:
             positions = positions + rng.normal(0.0, noise, positions.shape)
-        times = np.round(np.array(self.times), 6)
-        n = len(times)
+        n = len(positions)
+        times = np.round(np.arange(n) / self.rate, 6)
         events = tuple(GripperEvent(e.index, e.command, e.index + 2) for e in self.events)
-        return Demonstration(times, positions, np.array(self.orientations), events,
-                             {name: np.array(track) for name, track in self.tracks.items()},
+        return Demonstration(times, positions, np.concatenate(self.orientations), events,
+                             {name: np.concatenate(track) for name, track in self.tracks.items()},
                              np.arange(2, n + 2), file, "line")
 
 
-def _slerp(q0: np.ndarray, q1: np.ndarray, s: float) -> np.ndarray:
-    """Spherical interpolation between unit quaternions, the short way round."""
+def _slerp(q0: np.ndarray, q1: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Spherical interpolation between unit quaternions, the short way round, at each fraction in s."""
+    s = np.asarray(s, dtype=float)[:, None]
     dot = float(np.dot(q0, q1))
     if dot < 0:
         q1, dot = -q1, -dot
     if dot > 0.9995:
         q = q0 + s * (q1 - q0)
-        return q / np.linalg.norm(q)
+        return q / np.linalg.norm(q, axis=1, keepdims=True)
     theta = math.acos(dot)
-    return (math.sin((1 - s) * theta) * q0 + math.sin(s * theta) * q1) / math.sin(theta)
+    return (np.sin((1 - s) * theta) * q0 + np.sin(s * theta) * q1) / math.sin(theta)
 
 
 def simulate(kb: KnowledgeBase, task: Term, scene: Scene, *, seed: int = 0, noise: float = DEFAULT_NOISE,
              rate: float = DEFAULT_RATE, speed: float = DEFAULT_SPEED, radius: float = DEFAULT_RADIUS,
-             file: str = "<simulated>") -> Demonstration:
-    """A demonstration of `task` in `scene` that segments back into the task's actions."""
+             file: str = "<simulated>", max_samples: int = defaults.MAX_SIMULATED) -> Demonstration:
+    """A demonstration of `task` in `scene` that segments back into the task's actions, and that
+    `learn` reads back: within max_samples, and with no jump read as a tracking glitch."""
     leaves = demonstrated_leaves(kb, task, scene)
-    teacher = _Teacher(scene, radius, rate, speed)
+    teacher = _Teacher(scene, radius, rate, speed, max_samples)
     for k, leaf in enumerate(leaves):
         teacher.demonstrate(leaf, leaves[k + 1] if k + 1 < len(leaves) else None)
     demo = teacher.demonstration(noise, seed, file)
+    # What learn would refuse is refused here, before anything is written (--noise is bounded so
+    # that this does not happen by chance: 1 cm of noise is 0.24 m/s over 10 ms).
+    plausible(demo.times, demo.positions, demo.objects,
+              lambda i, what, message: SchemalogError(f"the simulated demonstration would be refused by learn: "
+                                                      f"{message} (sample {i + 1}; lower --noise?)"))
     segments = segment(demo, radius, DEFAULT_HYSTERESIS)
     wanted = [(leaf.command or "motion", leaf.obj) for leaf in leaves]
     got = [(s.label.args[0].name if s.kind == "gripper" else "motion", s.obj if s.kind == "motion" else None)

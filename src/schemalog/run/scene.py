@@ -37,6 +37,7 @@ Position = tuple[float, ...]
 DEFAULT_SCALE = 1.0
 DEFAULT_MIN_LAMBDA = 0.05
 DEFAULT_NEUTRAL_LAMBDA = 1.0
+MAX_COORDINATE = 1000.0   # metres from the base, as in a demonstration (learn/demo.py): farther is a unit error
 _KEYS = ("name", "end_effector", "scale", "min_lambda", "neutral_lambda", "objects", "knowledge")
 
 
@@ -147,7 +148,14 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
     def position(node, what: str) -> Position:
         if not isinstance(node, yaml.SequenceNode) or len(node.value) not in (2, 3):
             raise fail(f"{what} must be a position: a list of 2 or 3 numbers, like [0.3, -0.2, 0.05]", node)
-        return tuple(number(c, f"a coordinate of {what}") for c in node.value)
+        coordinates = []
+        for c in node.value:
+            value = number(c, f"a coordinate of {what}")
+            if abs(value) > MAX_COORDINATE:
+                raise fail(f"a coordinate of {what} is {value:.3g} m: positions are in metres from the robot's base, "
+                           f"within {MAX_COORDINATE:g} m", c)
+            coordinates.append(value)
+        return tuple(coordinates)
 
     values: dict = {}
     marks: dict[str, SourcePos] = {}
