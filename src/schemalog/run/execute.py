@@ -694,7 +694,7 @@ def enabled_indices(plan: Plan, atoms: set | frozenset) -> list[int]:
     out = []
     for i in range(len(plan)):
         up = plan.parent[i]
-        live[i] = (up < 0 or live[up]) and cond.holds(plan.pre[i], atoms) and not cond.holds(plan.post[i], atoms)
+        live[i] = (up < 0 or live[up]) and plan.pre_check[i](atoms) and not plan.post_check[i](atoms)
         if live[i] and not plan.children[i]:
             out.append(i)
     return out
