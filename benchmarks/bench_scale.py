@@ -1,6 +1,6 @@
 """Big and wide inputs: check, compress, run, show and verify in time linear in their size.
 
-    python benchmarks/bench_scale.py [--quick] [--timeout 300]
+    python benchmarks/bench_scale.py [--quick] [--timeout 300] [--shapes wide chain binary cond]
 
 It writes, in a temporary directory, task files of four shapes at growing sizes, runs each
 command on each as a user would (`python -m schemalog ...`, a fresh process), and prints a
@@ -82,10 +82,13 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="the two smaller sizes of each shape only")
     parser.add_argument("--timeout", type=float, default=300, help="seconds per command (default 300)")
+    parser.add_argument("--shapes", nargs="+", choices=list(SHAPES), default=list(SHAPES),
+                        help="the shapes to measure (default all)")
     args = parser.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for shape, (make, sizes, commands) in SHAPES.items():
+        for shape in args.shapes:
+            make, sizes, commands = SHAPES[shape]
             sizes = QUICK[shape] if args.quick else sizes
             paths = {}
             for n in sizes:
