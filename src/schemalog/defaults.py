@@ -34,6 +34,9 @@ SELECTORS = ("incremental", "scan")
 RECOVERIES = ("decompress", "resume")   # what a failure inside a merged leaf does (the first is the default)
 RETRIES = 2                   # a failed command is retried this many times, then inhibited
 MAX_STATES = 50_000           # states explored per tree before verify stops (no proof)
+WORK_PER_STATE = 1_000        # condition tests and state atoms copied per state of --max-states: verify
+                              # stops (no proof) past max_states * this, so the limit bounds time too
+MAX_SAMPLE = 1_000_000        # verify --sample RUNS at most
 JITTER = 0.05                 # metres per coordinate that `run --seed` moves a scene's objects
 
 # Generated tasks (evaluate/generate.py)

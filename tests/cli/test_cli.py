@@ -122,7 +122,8 @@ def test_unknown_task_lists_the_known_ones():
 
 
 @pytest.mark.parametrize("args", [["show"], ["show", MIX, "--task", "a(("], ["frobnicate"],
-                                  ["show", MIX, "--max-depth", "0"], []])
+                                  ["show", MIX, "--max-depth", "0"], [],
+                                  ["verify", MIX, "--sample", "1000000001"]])
 def test_usage_errors_exit_2(args):
     r = run(*args)
     assert r.returncode == 2 and "Traceback" not in r.stderr

@@ -507,3 +507,34 @@ def test_activation_ranks_leaves_as_the_selector_does(compressed):
         if ex.step() is None:
             break
     assert ex.outcome.completed
+
+
+def _wide(n):
+    from schemalog.logic.kb import KnowledgeBase
+    kb = KnowledgeBase()
+    entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
+    kb.consult_text(f"initial(go).\nschema(t0, [{entries}], t0.done).\n"
+                    + "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n)), "w.pl")
+    return kb, instantiate(kb, t("t0"))
+
+
+def test_2000_siblings_run_in_order_original_and_compressed_refreshing_only_live_leaves():
+    kb, tree = _wide(2000)
+
+    class Visits(list):
+        count = 0
+
+        def __getitem__(self, i):
+            Visits.count += 1
+            return list.__getitem__(self, i)
+
+    ex = Executive(tree, World(tree, initial_state(kb)))
+    assert isinstance(ex.selector, IncrementalSelector)
+    ex.plan.children = Visits(ex.plan.children)    # the selector's refresh reads it per visited node
+    outcome = ex.run()
+    assert outcome.completed and ex.trace == [c.label for c in tree.children]
+    assert Visits.count <= 10 * 2000    # not 2000 * 2000: a sibling's completion moves only live leaves
+    result = compress(tree)
+    assert count_nodes(result.tree) == 2
+    ex = Executive(result.tree, World(tree, initial_state(kb)))
+    assert ex.run().completed and ex.trace == [c.label for c in tree.children] and len(ex.decisions) == 1

@@ -233,3 +233,37 @@ def test_parts_check_the_compressed_behaviour_itself():
     whole = Verifier(root, edited, World(root)).verify([world.atoms])
     assert not whole.complete
     assert parts is None or not parts.complete
+
+
+def _wide(n):
+    from schemalog.logic.kb import KnowledgeBase
+    kb = KnowledgeBase()
+    entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
+    kb.consult_text(f"initial(go).\nschema(t0, [{entries}], t0.done).\n"
+                    + "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n)), "w.pl")
+    return kb, instantiate(kb, t("t0"))
+
+
+def test_2000_siblings_compress_to_one_merged_leaf_that_is_proved():
+    kb, tree = _wide(2000)
+    compressed = compress(tree).tree
+    world = World(tree)
+    world.reset(initial_state(kb))
+    report = Verifier(tree, compressed, world).verify([world.atoms])
+    assert report.exhaustive and report.sound and report.complete and report.limit == ""
+
+
+def test_the_state_limit_bounds_the_work_and_a_stopped_verify_proves_nothing():
+    kb, tree = _wide(300)
+    compressed = compress(tree).tree
+    world = World(tree)
+    world.reset(initial_state(kb))
+    v = Verifier(tree, compressed, world, max_states=20)   # 20,000 units: the merged leaf alone needs ~45,000
+    report = v.verify([world.atoms])
+    assert not report.exhaustive and "units of work" in report.limit
+    assert report.properties["soundness"].holds is None and report.properties["completion"].holds is None
+    assert not report.violated
+    assert v.meter.spent
+    sampled = Verifier(tree, compressed, world, max_states=20).sample([world.atoms], 1_000_000)
+    assert sampled.sampled and "units of work" in sampled.limit
+    assert "stopped after 0 of 1,000,000 runs" in sampled.properties["soundness"].summary

@@ -129,3 +129,24 @@ def test_initial_facts_are_located(kb_of):
         initial_state(kb)
     assert (err.value.pos.line, err.value.pos.column) == (2, 1)
     assert initial_state(kb_of("initial(a.on).\ninitial(a.on).\n")) == [t("a.on")]
+
+
+def test_settling_after_each_of_2000_siblings_tests_a_constant_number_of_children():
+    from schemalog.formats.documents import read_document  # noqa: F401 (load_kb reads files)
+    from schemalog.logic.kb import KnowledgeBase
+    n = 2000
+    kb = KnowledgeBase()
+    entries = ", ".join(f"(c{i}, {'true' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
+    kb.consult_text(f"schema(t0, [{entries}], t0.done).\n"
+                    + "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n)), "w.pl")
+    tree = instantiate(kb, parse_term("t0"))
+    world = World(tree)
+    tests = [0]
+    for rule, checks in enumerate(world._child_checks):
+        world._child_checks[rule] = [(lambda f: (lambda s: tests.__setitem__(0, tests[0] + 1) or f(s)))(f)
+                                     for f in checks]
+    for child in tree.children:
+        assert not world.holds(tree.post)
+        world.perform(child.post)
+    assert world.holds(tree.post)
+    assert tests[0] <= 3 * n      # not n * n / 2: each rule resumes at the child it last found false

@@ -142,3 +142,30 @@ def test_a_compiled_check_decides_like_holds(c, state, limit):
     """The set-operation form the selectors use, and its fallback beyond `limit` clauses."""
     for container in (set(state), frozenset(state)):
         assert cond.compile_check(c, limit)(container) == cond.holds(c, container)
+
+
+def test_a_100000_literal_and_reads_and_simplifies_without_recursion():
+    from schemalog.logic.terms import Atom, Struct
+    term = Atom("p99999")
+    for i in reversed(range(99_999)):        # p0 and (p1 and (... and p99999)): 100,000 deep
+        term = Struct("and", (Atom(f"p{i}"), term))
+    c = cond.from_term(term)
+    assert isinstance(c, And) and len(c.items) == 100_000 and c.items[0] == Lit(Atom("p0"))
+    dnf = cond.to_dnf(c)
+    assert len(dnf) == 1 and len(next(iter(dnf))) == 100_000
+    check = cond.compile_check(c)
+    everything = {Atom(f"p{i}") for i in range(100_000)}
+    assert check(everything) and not check(everything - {Atom("p500")})
+    assert cond.to_dnf(cond.conjoin([c, cond.negate(cond.Lit(Atom("p7")))])) == frozenset()
+
+
+@given(st.lists(st.sampled_from(["a", "b", "not a", "c", "(b or c)", "not c"]), min_size=1, max_size=8))
+def test_a_long_and_means_the_same_as_its_pairwise_reading(parts):
+    text = " and ".join(parts)
+    flat = cond.from_term(parse_term(text))
+    pairwise = cond.TRUE
+    for p in parts:
+        pairwise = cond.conjoin([pairwise, cond.from_term(parse_term(p))])
+    assert cond.equivalent(flat, pairwise)
+    dnf = cond.to_dnf(flat)
+    assert cond.equivalent(cond.from_dnf(dnf), flat)

@@ -1,6 +1,7 @@
 """Instantiation (loadTaskFromLTM): golden figures of the paper's tasks, and its errors."""
 
 import pytest
+from hypothesis import given, strategies as st
 
 from schemalog.task import conditions as cond
 from schemalog.formats.documents import read_document
@@ -107,3 +108,62 @@ def test_sub_task_variables_must_be_bound_by_the_schema():
     with pytest.raises(SchemalogError, match=r"sub-task take\(_G\d+\) of t has variables") as err:
         instantiate(kb, parse_term("t"))
     assert str(err.value.pos) == "t.pl:1:1"
+
+
+def _counting(monkeypatch):
+    """Count schema look-ups and behaviours built (each built node asks for its agent)."""
+    from schemalog.task.tree import Instantiator
+    counts = {"lookups": 0, "built": 0}
+    lookup, agent = Instantiator.lookup, Instantiator.agent
+
+    def counted_lookup(self, *a):
+        counts["lookups"] += 1
+        return lookup(self, *a)
+
+    def counted_agent(self, *a):
+        counts["built"] += 1
+        return agent(self, *a)
+    monkeypatch.setattr(Instantiator, "lookup", counted_lookup)
+    monkeypatch.setattr(Instantiator, "agent", counted_agent)
+    return counts
+
+
+def test_a_5000_deep_chain_is_refused_at_max_depth_after_as_many_lookups(monkeypatch):
+    kb = kb_of("\n".join(f"schema(t{i}, [(t{i + 1}, true)], t{i}.done)." for i in range(5000))
+               + "\nschema(t5000, [], t5000.done).")
+    counts = _counting(monkeypatch)
+    with pytest.raises(SchemalogError, match=r"deeper than 256 levels at t256 \(raise the limit with --max-depth\)"):
+        instantiate(kb, parse_term("t0"))
+    assert counts["lookups"] <= 257 and counts["built"] == 0
+
+
+def test_a_binary_explosion_is_refused_at_max_nodes_without_building_it(monkeypatch):
+    # t0 has two uses of t1, t1 two of t2, ...: 2^41 - 1 behaviours, counted over 41 schemas
+    kb = kb_of("\n".join(f"schema(t{i}, [(t{i + 1}, true), (t{i + 1}, a.b)], t{i}.done)." for i in range(40))
+               + "\nschema(t40, [], t40.done).")
+    counts = _counting(monkeypatch)
+    with pytest.raises(SchemalogError, match=r"more than 2,000,000 behaviours .*--max-nodes") as err:
+        instantiate(kb, parse_term("t0"))
+    assert counts["lookups"] == 41 and counts["built"] == 0
+    assert str(err.value.pos).startswith("t.pl:")
+    with pytest.raises(SchemalogError, match=r"more than 1,000 behaviours"):
+        instantiate(kb, parse_term("t30"), max_nodes=1000)
+
+
+@given(st.lists(st.integers(1, 4), min_size=1, max_size=6))
+def test_a_shared_sub_task_is_counted_and_built_once_per_use(fanouts):
+    # level i uses level i+1 fanouts[i] times: the tree has sum of the running products nodes
+    lines = [f"schema(s{i}, [{', '.join(f'(s{i + 1}, true)' for _ in range(k))}], s{i}.done)."
+             for i, k in enumerate(fanouts)]
+    kb = kb_of("\n".join(lines) + f"\nschema(s{len(fanouts)}, [], s{len(fanouts)}.done).")
+    expected, width = 1, 1
+    for k in fanouts:
+        width *= k
+        expected += width
+    tree = instantiate(kb, parse_term("s0"))
+    assert count_nodes(tree) == expected and depth(tree) == len(fanouts) + 1
+    if expected > 1:
+        with pytest.raises(SchemalogError, match=f"more than {expected - 1:,} behaviours"):
+            instantiate(kb, parse_term("s0"), max_nodes=expected - 1)
+    with pytest.raises(SchemalogError, match="deeper than"):
+        instantiate(kb, parse_term("s0"), max_depth=len(fanouts))

@@ -37,17 +37,32 @@ def register(sub, parents: Parents) -> None:
                         "that satisfy constraint/1, or one state such as 'hand.free, spoon.taken'")
     p.add_argument("--scene", metavar="FILE", help="scene for the selection diagnostic (winner-take-all runs)")
     p.add_argument("--max-states", type=positive, default=defaults.MAX_STATES, metavar="N",
-                   help=f"stop exploring after N states per tree; the result then says it is no proof "
+                   help=f"stop exploring after N states per tree, or {defaults.WORK_PER_STATE:,} units of "
+                        f"work (condition tests, state atoms) per state; the result then says it is no proof "
                         f"(default {defaults.MAX_STATES:,})")
     p.add_argument("--no-split", action="store_true",
                    help="explore the whole task even where it splits into independent parts")
-    p.add_argument("--sample", type=positive, metavar="RUNS",
-                   help="check RUNS random runs instead of every state: finds violations, proves nothing "
-                        "(exit 3 when none is found)")
+    p.add_argument("--sample", type=sample_runs, metavar="RUNS",
+                   help=f"check RUNS random runs (at most {defaults.MAX_SAMPLE:,}) instead of every state: "
+                        f"finds violations, proves nothing (exit 3 when none is found); within the work "
+                        f"budget of --max-states")
     p.add_argument("--seed", type=int, help="random seed of --sample (default 0)")
     p.add_argument("--json", action="store_true", help="print the report as JSON (docs/formats.md)")
     p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
     p.set_defaults(run=run, jitter=None)
+
+
+def sample_runs(text: str) -> int:
+    """--sample RUNS: a positive count, at most MAX_SAMPLE."""
+    runs = positive(text)
+    if runs > defaults.MAX_SAMPLE:
+        raise argparse.ArgumentTypeError(f"at most {defaults.MAX_SAMPLE:,} runs, not {runs:,}")
+    return runs
+
+
+def _progress(done: int, runs: int) -> None:
+    """Sampling progress on a terminal's stderr, rewritten in place."""
+    print(f"\rsampled {done:,} of {runs:,} runs", end="", file=sys.stderr, flush=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -66,7 +81,11 @@ def run(args: argparse.Namespace) -> int:
     verifier = Verifier(original, compressed, world, max_states=args.max_states)
     report = None
     if args.sample:
-        report = verifier.sample(initial, args.sample, args.seed or 0, scene, task)
+        tty = sys.stderr.isatty()
+        report = verifier.sample(initial, args.sample, args.seed or 0, scene, task,
+                                 progress=_progress if tty else None)
+        if tty:
+            print("\r\033[K", end="", file=sys.stderr, flush=True)
     elif not args.no_split:
         report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
     if report is None:
@@ -164,7 +183,7 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
               f"explored {report.compressed_states:,} states of the compressed tree and "
               f"{report.original_states:,} of the original in {report.seconds:.2f} s"
               + (f", in {report.parts} independent parts" if report.parts > 1 else "")
-              + ("" if report.exhaustive else " (stopped at --max-states: NOT a proof)")), ""]
+              + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")), ""]
     titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",
               "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
               "selection": "selection under emphasis (diagnostic)"}
@@ -179,6 +198,8 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
                                                else "not complete") + " (exit 1)"
     elif report.exhaustive:
         verdict = "the compressed tree is sound and complete (exit 0)"
+    elif report.limit and not report.sampled:
+        verdict = f"no proof: stopped at the limit of {report.limit}; no counterexample before it (exit 3)"
     else:
         verdict = "no counterexample found, but this is not a proof (exit 3)"
     lines.append(f"result: {verdict}")
@@ -229,7 +250,8 @@ def verify_json(report, how: str, before: int, after: int) -> dict:
         "states": len(report.initial_states),
         "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
         "explored": {"compressed": report.compressed_states, "original": report.original_states,
-                     "seconds": report.seconds, "parts": report.parts, "sampled": report.sampled},
+                     "seconds": report.seconds, "parts": report.parts, "sampled": report.sampled,
+                     "stopped_at": report.limit or None},
         "counterexample": ce_json(report.properties["soundness"].counterexample
                                   or report.properties["completion"].counterexample),
         "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),

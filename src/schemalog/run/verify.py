@@ -37,8 +37,33 @@ State = frozenset
 Action = tuple[Term, Condition]           # an original action: its label and post-condition
 
 DEFAULT_MAX_STATES = defaults.MAX_STATES
+WORK_PER_STATE = defaults.WORK_PER_STATE
 MAX_FREE_ATOMS = 16
 CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, states can be large
+
+
+# ---------------------------------------------------------------------------
+# Work: what bounds a verification besides its number of states
+
+class OutOfWork(Exception):
+    """The work budget of an exploration is spent."""
+
+
+class Meter:
+    """Counts work (nodes tested for enabling, ancestors checked, atoms copied into states)
+    against a budget, so that --max-states bounds the time spent even where one state costs
+    much: a 10,000-sibling tree, a merged leaf of 10,000 actions, a 100,000-literal condition."""
+
+    def __init__(self, limit: int | None = None) -> None:
+        self.work = 0
+        self.limit = limit       # None: counting, never stopping (the diagnostics after exploring)
+        self.spent = False       # the budget ran out at least once
+
+    def spend(self, units: int) -> None:
+        self.work += units
+        if self.limit is not None and self.work > self.limit:
+            self.spent = True
+            raise OutOfWork
 
 
 # ---------------------------------------------------------------------------
@@ -47,10 +72,11 @@ CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, sta
 class Model:
     """The enabled leaves of one tree in any state, and the steps they take (memoised)."""
 
-    def __init__(self, tree: Behaviour, world: World) -> None:
+    def __init__(self, tree: Behaviour, world: World, meter: Meter | None = None) -> None:
         self.tree = tree
         self.plan = Plan.of(tree)
         self.world = world
+        self.meter = meter or Meter()
         self._enabled: dict[State, list[int]] = {}
         self._steps: dict[tuple[State, int], tuple[tuple[Action, ...], tuple[State, ...]]] = {}
         self._leaves_of: dict[Action, list[int]] = {}
@@ -63,10 +89,16 @@ class Model:
     def enabled(self, state: State) -> list[int]:
         found = self._enabled.get(state)
         if found is None:
+            self.meter.spend(len(self.plan))
             if len(self._enabled) > CACHE_LIMIT:
                 self._enabled.clear()
             found = self._enabled[state] = [] if self.accomplished(state) else enabled_indices(self.plan, state)
         return found
+
+    def first_action(self, state: State, leaf: int) -> Term | None:
+        """The first action leaf `leaf` would execute from `state` (None: all accomplished),
+        without computing the states after each of them."""
+        return next((label for label, post in self.plan.steps[leaf] if not cond.holds(post, state)), None)
 
     def step(self, state: State, leaf: int) -> tuple[tuple[Action, ...], tuple[State, ...]]:
         """The actions leaf `leaf` executes from `state` (accomplished ones skipped), and the
@@ -80,6 +112,7 @@ class Model:
             for label, post in self.plan.steps[leaf]:
                 if cond.holds(post, current):
                     continue
+                self.meter.spend(len(current) + 1)      # successor copies the state
                 current = self.world.successor(current, post)
                 actions.append((label, post))
                 states.append(current)
@@ -96,7 +129,8 @@ class Model:
         plan = self.plan
         for i in self._leaves_of.get(action, ()):
             j = i
-            while j >= 0 and cond.holds(plan.pre[j], state) and not cond.holds(plan.post[j], state):
+            while j >= 0 and plan.pre_check[j](state) and not plan.post_check[j](state):
+                self.meter.spend(1)
                 j = plan.parent[j]
             if j < 0:
                 return True
@@ -191,6 +225,7 @@ class Report:
     exhaustive: bool = True
     sampled: bool = False
     parts: int = 1
+    limit: str = ""          # the limit that stopped the exploration early, in words ("" if none)
 
     @property
     def sound(self) -> bool:
@@ -272,63 +307,103 @@ class Verifier:
     def __init__(self, original: Behaviour, compressed: Behaviour, world: World,
                  max_states: int = DEFAULT_MAX_STATES) -> None:
         self.world = world
-        self.original = Model(original, world)
-        self.compressed = Model(compressed, world)
         self.max_states = max_states
+        self.meter = Meter()
+        self.original = Model(original, world, self.meter)
+        self.compressed = Model(compressed, world, self.meter)
+
+    @property
+    def max_work(self) -> int:
+        return self.max_states * WORK_PER_STATE
+
+    def limit_text(self) -> str:
+        """Which limit stopped the exploration, in words."""
+        if self.meter.spent:
+            return (f"{self.max_work:,} units of work ({WORK_PER_STATE:,} per state of --max-states "
+                    f"{self.max_states:,}: condition tests and state atoms)")
+        return f"{self.max_states:,} states (--max-states)"
 
     def verify(self, initial: list[State], scene: Scene | None = None, task: Term | None = None) -> Report:
         started = time.perf_counter()
+        self.meter.limit = self.meter.work + self.max_work
         parent, succ, order, sound, stuck, exhaustive = self._explore_compressed(initial)
         props: dict[str, Verdict] = {}
-        props["soundness"] = self._soundness(sound, parent, exhaustive, len(order))
         good_o, original_states, o_exhaustive = self._can_complete_original(order)
+        self.meter.limit = None
+        props["soundness"] = self._soundness(sound, parent, exhaustive, len(order))
         exhaustive = exhaustive and o_exhaustive
         good_c = _backward(order, succ, self.compressed.accomplished)
         props["completion"] = self._completion(initial, parent, order, stuck, good_o, good_c, exhaustive)
         props["flexibility"] = self._flexibility(initial)
         props["traces"] = self._traces(initial, good_o) if exhaustive else Verdict(
-            "traces", None, "not counted: the state limit was reached")
+            "traces", None, "not counted: a limit of --max-states was reached")
         props["selection"] = self._selection(initial, scene)
         return Report(task if task is not None else self.compressed.tree.label, initial, props, len(order),
-                      original_states, time.perf_counter() - started, exhaustive)
+                      original_states, time.perf_counter() - started, exhaustive,
+                      limit="" if exhaustive else self.limit_text())
 
     def sample(self, initial: list[State], runs: int, seed: int = 0, scene: Scene | None = None,
-               task: Term | None = None, max_length: int = 10_000) -> Report:
-        """Random runs of the compressed tree, every step checked: finds violations, proves nothing."""
+               task: Term | None = None, max_length: int = 10_000, progress=None) -> Report:
+        """Random runs of the compressed tree, every step checked: finds violations, proves nothing.
+
+        The work budget of --max-states bounds it as it bounds exploring; `progress(done, runs)`
+        is called about once a second."""
         import random
 
         started = time.perf_counter()
         rng = random.Random(seed)
-        c, o = self.compressed, self.original
-        unsound = stuck = None
         visited: set[State] = set()
-        steps_taken = 0
-        for _ in range(runs):
-            first = rng.choice(initial)
-            s, path = first, []
-            for _ in range(max_length):
-                visited.add(s)
-                if c.accomplished(s):
+        found: dict = {"unsound": None, "stuck": None, "steps": 0}
+        done = 0
+        shown = started
+        self.meter.limit = self.meter.work + self.max_work
+        try:
+            for done in range(runs):
+                if progress is not None and time.perf_counter() - shown > 1:
+                    shown = time.perf_counter()
+                    progress(done, runs)
+                self._sample_run(rng, initial, max_length, visited, found)
+            done = runs
+        except OutOfWork:
+            pass
+        finally:
+            self.meter.limit = None
+        return self._sampled(initial, runs, done, found["steps"], visited, found["unsound"], found["stuck"],
+                             scene, task, started)
+
+    def _sample_run(self, rng, initial, max_length, visited, found: dict) -> None:
+        """One random run, every step checked; records the first unsound step and stuck state
+        in `found` as they happen (a run the budget interrupts keeps what it found)."""
+        c, o = self.compressed, self.original
+        first = rng.choice(initial)
+        s, path = first, []
+        for _ in range(max_length):
+            visited.add(s)
+            if c.accomplished(s):
+                break
+            leaves = c.enabled(s)
+            if not leaves:
+                if o.enabled(s) and found["stuck"] is None:
+                    found["stuck"] = (first, tuple(path), s)
+                break
+            leaf = rng.choice(leaves)
+            actions, states = c.step(s, leaf)
+            before = s
+            for k, action in enumerate(actions):
+                if not o.allows(before, action):
+                    if found["unsound"] is None:
+                        found["unsound"] = (first, tuple(path), s, leaf, k, before)
                     break
-                leaves = c.enabled(s)
-                if not leaves:
-                    if o.enabled(s) and stuck is None:
-                        stuck = (first, tuple(path), s)
-                    break
-                leaf = rng.choice(leaves)
-                actions, states = c.step(s, leaf)
-                before = s
-                for k, action in enumerate(actions):
-                    if not o.allows(before, action):
-                        if unsound is None:
-                            unsound = (first, tuple(path), s, leaf, k, before)
-                        break
-                    before = states[k]
-                steps_taken += 1
-                path.append(Step(c.label(leaf), tuple(a for a, _ in actions)))
-                s = states[-1] if states else s
+                before = states[k]
+            found["steps"] += 1
+            path.append(Step(c.label(leaf), tuple(a for a, _ in actions)))
+            s = states[-1] if states else s
+
+    def _sampled(self, initial, runs, done, steps_taken, visited, unsound, stuck, scene, task, started) -> Report:
+        c, o = self.compressed, self.original
         props: dict[str, Verdict] = {}
-        note = f"{runs:,} random runs, {steps_taken:,} steps, {len(visited):,} distinct states: not a proof"
+        stopped = "" if done == runs else f" (stopped after {done:,} of {runs:,} runs at the limit of {self.limit_text()})"
+        note = f"{done:,} random runs, {steps_taken:,} steps, {len(visited):,} distinct states{stopped}: not a proof"
         if unsound is None:
             props["soundness"] = Verdict("soundness", None, f"no violation found in {note}")
         else:
@@ -349,7 +424,8 @@ class Verifier:
         props["traces"] = Verdict("traces", None, "not counted when sampling")
         props["selection"] = self._selection(initial, scene)
         return Report(task if task is not None else c.tree.label, initial, props, len(visited), 0,
-                      time.perf_counter() - started, exhaustive=False, sampled=True)
+                      time.perf_counter() - started, exhaustive=False, sampled=True,
+                      limit="" if done == runs else self.limit_text())
 
     def _explore_compressed(self, initial: list[State]):
         """Breadth first over every enabled behaviour; the first unsound step and stuck state."""
@@ -369,35 +445,43 @@ class Verifier:
         exhaustive = True
         while queue:
             s = queue.popleft()
+            try:
+                leaves = [] if c.accomplished(s) else c.enabled(s)
+            except OutOfWork:
+                exhaustive = False
+                break
             order.append(s)
             nexts = succ[s] = []
             if c.accomplished(s):
                 continue
-            leaves = c.enabled(s)
             if not leaves:
                 stuck.append(s)
                 continue
-            for leaf in leaves:
-                actions, states = c.step(s, leaf)
-                if unsound is None:
-                    before = s
-                    for k, action in enumerate(actions):
-                        if not o.allows(before, action):
-                            unsound = (s, leaf, k, before)
-                            break
-                        before = states[k]
-                after = states[-1] if states else s
-                known = interned.get(after)
-                if known is not None:
-                    nexts.append(known)
-                    continue
-                if len(parent) >= self.max_states:
-                    exhaustive = False
-                    continue
-                interned[after] = after
-                nexts.append(after)
-                parent[after] = (s, leaf)
-                queue.append(after)
+            try:
+                for leaf in leaves:
+                    actions, states = c.step(s, leaf)
+                    if unsound is None:
+                        before = s
+                        for k, action in enumerate(actions):
+                            if not o.allows(before, action):
+                                unsound = (s, leaf, k, before)
+                                break
+                            before = states[k]
+                    after = states[-1] if states else s
+                    known = interned.get(after)
+                    if known is not None:
+                        nexts.append(known)
+                        continue
+                    if len(parent) >= self.max_states:
+                        exhaustive = False
+                        continue
+                    interned[after] = after
+                    nexts.append(after)
+                    parent[after] = (s, leaf)
+                    queue.append(after)
+            except OutOfWork:     # the budget ran out inside this state: what was found stands
+                exhaustive = False
+                break
         return parent, succ, order, unsound, stuck, exhaustive
 
     def _path(self, parent, state: State) -> tuple[State, tuple[Step, ...]]:
@@ -411,7 +495,7 @@ class Verifier:
 
     def _soundness(self, unsound, parent, exhaustive: bool, explored: int) -> Verdict:
         if unsound is None:
-            scope = "every" if exhaustive else f"the first {explored:,} (not all: the state limit was reached)"
+            scope = "every" if exhaustive else f"the first {explored:,} (not all: a limit of --max-states was reached)"
             return Verdict("soundness", True if exhaustive else None,
                            f"{scope} reachable state: each step of the compressed tree is a run of the original")
         s, leaf, k, before = unsound
@@ -442,10 +526,14 @@ class Verifier:
         exhaustive = True
         while queue:
             s = queue.popleft()
+            try:
+                moves = [o.step(s, leaf)[1] for leaf in o.enabled(s)]
+            except OutOfWork:
+                exhaustive = False
+                break
             order.append(s)
             nexts = succ[s] = []
-            for leaf in o.enabled(s):
-                _, states = o.step(s, leaf)
+            for states in moves:
                 after = states[-1] if states else s
                 known = seen.get(after)
                 if known is not None:
@@ -473,8 +561,8 @@ class Verifier:
                 return Verdict("completion", False, "the compressed tree gets stuck where the original does not", ce)
         if not exhaustive:   # dead ends and completing states need the whole graph
             return Verdict("completion", None, "no state where only the compressed tree is stuck among the "
-                                               "explored ones; the rest needs the whole graph (state limit "
-                                               "reached: not a proof)")
+                                               "explored ones; the rest needs the whole graph (a limit of "
+                                               "--max-states reached: not a proof)")
         for s in order:
             if s in good_o and s not in good_c:
                 first, path = self._path(parent, s)
@@ -498,7 +586,8 @@ class Verifier:
         rows = []
         for s in initial:
             first_o = sorted({term_to_text(o.label(i)) for i in o.enabled(s)})
-            first_c = sorted({term_to_text(c.step(s, i)[0][0][0]) for i in c.enabled(s) if c.step(s, i)[0]})
+            first_c = sorted({term_to_text(a) for a in (c.first_action(s, i) for i in c.enabled(s))
+                              if a is not None})
             rows.append({"state": state_text(s), "original": first_o, "compressed": first_c,
                          "done": o.accomplished(s)})
         startable = [r for r in rows if r["original"]]
@@ -878,13 +967,18 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
     started = time.perf_counter()
     whole_initial = initial[0]
     facts = []
+    limit = ""
     for part in parts:
         part_world = World(part.original)
         part_world.reset(whole_initial & part.atoms)
         start = frozenset(part_world.atoms)
         v = Verifier(part.original, part.compressed, part_world, max_states)
+        v.meter.limit = v.max_work
         parent, succ, order, unsound, stuck, exhaustive = v._explore_compressed([start])
         good_o, o_states, o_exhaustive = v._can_complete_original(order)
+        v.meter.limit = None
+        if not (exhaustive and o_exhaustive):
+            limit = limit or v.limit_text()
         good_c = _backward(order, succ, v.compressed.accomplished)
         quiet = next((q for q in order if not v.compressed.enabled(q)), None)
         facts.append({
@@ -914,7 +1008,7 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
     props["selection"] = whole._selection(initial, scene)
     return Report(task if task is not None else compressed.label, initial, props,
                   sum(f["states"] for f in facts), sum(f["o_states"] for f in facts),
-                  time.perf_counter() - started, exhaustive, parts=len(parts))
+                  time.perf_counter() - started, exhaustive, parts=len(parts), limit=limit)
 
 
 def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, count: int) -> Verdict:

@@ -105,15 +105,34 @@ def from_term(term: Term) -> Condition:
         if len(items) == 1 and not isinstance(tail, Struct):
             return Lit(Struct(".", (items[0], tail)))  # [hand|free] is SWI-7's hand.free
         raise NotACondition(f"{term_to_text(term)} is a partial list, not a condition")
-    if len(args) == 2 and name in ("and", ","):
-        return conjoin([from_term(args[0]), from_term(args[1])])
-    if len(args) == 2 and name in ("or", ";"):
-        return disjoin([from_term(args[0]), from_term(args[1])])
+    if len(args) == 2 and name in _AND_WORDS:
+        return conjoin([from_term(t) for t in _operands(term, _AND_WORDS)])
+    if len(args) == 2 and name in _OR_WORDS:
+        return disjoin([from_term(t) for t in _operands(term, _OR_WORDS)])
     if len(args) == 1 and name in ("not", "\\+", "-"):
         return negate(from_term(args[0]))
     if name in (":-", "->", "=", "is") and len(args) == 2:
         raise NotACondition(f"{term_to_text(term)} is a goal, not a condition")
     return Lit(term)
+
+
+_AND_WORDS = ("and", ",")
+_OR_WORDS = ("or", ";")
+
+
+def _operands(term: Struct, words: tuple[str, ...]) -> list[Term]:
+    """The operands of a chain of one operator (`a and b and c ...`), left to right, iteratively:
+    a 100,000-literal `and` nests 100,000 deep and must neither recurse nor be re-flattened per level."""
+    found: list[Term] = []
+    stack: list[Term] = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Struct) and len(t.args) == 2 and t.name in words:
+            stack.append(t.args[1])
+            stack.append(t.args[0])
+        else:
+            found.append(t)
+    return found
 
 
 def conjoin(items: list[Condition]) -> Condition:
@@ -263,11 +282,23 @@ def to_dnf(c: Condition, limit: int = DEFAULT_DNF_LIMIT) -> DNF | None:
         return None
     if isinstance(c, Or):
         return _absorb(frozenset().union(*parts))
-    result: set[frozenset] = {frozenset()}
+    # The single-clause parts (literals, mostly) form one clause at once: joining them one by
+    # one would copy a growing clause per literal, quadratic in a 100,000-literal `and`.
+    base: set[Lit] = set()
     for part in parts:
-        result = {a | b for a in result for b in part if not _clashes(a | b)}
-        if len(result) > limit:
-            return None
+        if len(part) == 1:
+            base.update(next(iter(part)))
+        elif not part:
+            return frozenset()
+    first = frozenset(base)
+    if _clashes(first):
+        return frozenset()
+    result: set[frozenset] = {first}
+    for part in parts:
+        if len(part) > 1:
+            result = {a | b for a in result for b in part if not _clashes(a | b)}
+            if len(result) > limit:
+                return None
     return _absorb(frozenset(result))
 
 

@@ -8,7 +8,8 @@
 `schema(label, Subtasks, Post)` (by resolution, so parameterised and rule schemas
 work), then each sub-task in turn. Two uses of the same sub-task (add(water) under
 coffee and under tea) become two distinct nodes. The walk is iterative with
-explicit depth and size limits; a schema that reaches itself is a cycle error.
+explicit depth and size limits, measured before anything is built (each distinct sub-task
+counted once); a schema that reaches itself is a cycle error.
 """
 
 from __future__ import annotations
@@ -149,8 +150,7 @@ class _Frame:
     importance: int | float
     schema: SchemaDef
     level: int
-    path: tuple[Term, ...]
-    pending: list[Entry]
+    pending: list[Entry]      # its entries; the next to build is number len(built)
     origins: tuple[Origin, ...] = ()
     built: list[Behaviour] = field(default_factory=list)
 
@@ -283,43 +283,96 @@ class Instantiator:
             raise SchemalogError(f"malformed provenance in {term_to_text(goal.args[0])}: {err}", pos) from None
 
     # -- the walk -------------------------------------------------------------
+    def _lookup_once(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef]:
+        """`lookup`, once per distinct sub-task of one instantiation (a rule's body runs once)."""
+        found = self._lookups.get(label)
+        if found is None:
+            found = self._lookups[label] = self.lookup(label, used_at)
+        return found
+
+    def _measure(self, label: Term, schema: SchemaDef) -> int:
+        """Count the behaviours and levels the tree will have before building it, by a walk over
+        schemas that counts each distinct sub-task once; raise at a cycle or a limit.
+
+        A chain 100,000 deep stops at --max-depth after that many look-ups, and 40 levels of
+        two uses of one sub-task (2^40 behaviours) are refused after 40, not after building
+        --max-nodes behaviours."""
+        size: dict[Term, int] = {}       # behaviours in the tree of a sub-task
+        height: dict[Term, int] = {}     # its levels
+        on_path = {label}
+        # (label, schema, next entry, behaviours so far, levels below so far)
+        stack: list[list] = [[label, schema, 0, 1, 0]]
+        while True:
+            frame = stack[-1]
+            here, here_schema, k = frame[0], frame[1], frame[2]
+            if k < len(here_schema.entries):
+                frame[2] = k + 1
+                entry = here_schema.entries[k]
+                level = len(stack) + 1
+                if level > self.max_depth:
+                    self._too_deep(entry.behaviour, here_schema.pos)
+                if not is_ground(entry.behaviour):
+                    # Each look-up would bind the variable on its own, so siblings sharing it
+                    # could disagree: the schema must bind it.
+                    raise SchemalogError(
+                        f"the sub-task {term_to_text(entry.behaviour)} of {term_to_text(here)} has "
+                        f"variables the schema does not bind", here_schema.pos)
+                sub, sub_schema = self._lookup_once(entry.behaviour, here_schema.pos)
+                if sub in on_path:
+                    cycle = [f[0] for f in stack] + [sub]
+                    raise SchemalogError(f"recursive schema: {' -> '.join(term_to_text(p) for p in cycle)}",
+                                         here_schema.pos)
+                known = size.get(sub)
+                if known is None:
+                    on_path.add(sub)
+                    stack.append([sub, sub_schema, 0, 1, 0])
+                    continue
+                if level - 1 + height[sub] > self.max_depth:
+                    self._too_deep(sub, here_schema.pos)
+                frame[3] += known
+                frame[4] = max(frame[4], height[sub])
+                if frame[3] > self.max_nodes:
+                    self._too_many(frame[3], here_schema.pos)
+                continue
+            stack.pop()
+            on_path.discard(here)
+            size[here], height[here] = frame[3], frame[4] + 1
+            if not stack:
+                return frame[3]
+            up = stack[-1]
+            up[3] += frame[3]
+            up[4] = max(up[4], frame[4] + 1)
+            if up[3] > self.max_nodes:
+                self._too_many(up[3], up[1].pos)
+
+    def _too_deep(self, at: Term, pos: SourcePos | None):
+        raise SchemalogError(f"the task is deeper than {self.max_depth} levels at {term_to_text(at)} "
+                             f"(raise the limit with --max-depth)", pos)
+
+    def _too_many(self, counted: int, pos: SourcePos | None):
+        raise SchemalogError(f"the task has more than {self.max_nodes:,} behaviours (at least {counted:,}, "
+                             f"counted before building it; raise the limit with --max-nodes)", pos)
+
     def instantiate(self, label: Term) -> Behaviour:
         """Build the task tree rooted at `label` (a ground term)."""
         if not is_ground(label):
             raise SchemalogError(f"the task {term_to_text(label)} has variables: name a ground task "
                                  f"(its objects filled in, e.g. add(water) rather than add(X))")
+        self._lookups: dict[Term, tuple[Term, SchemaDef]] = {}
         label, schema = self.lookup(label, None)
-        nodes = 1
-        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, (label,), list(schema.entries),
+        self._measure(label, schema)   # within the limits and acyclic: the build below cannot fail on them
+        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, list(schema.entries),
                       self.root_origins(label))
         stack = [root]
         while True:
             frame = stack[-1]
-            if frame.pending:
-                entry = frame.pending.pop(0)
-                nodes += 1
-                if nodes > self.max_nodes:
-                    raise SchemalogError(f"the task has more than {self.max_nodes:,} behaviours "
-                                         f"(raise the limit with --max-nodes)", frame.schema.pos)
-                if frame.level + 1 > self.max_depth:
-                    raise SchemalogError(f"the task is deeper than {self.max_depth} levels at "
-                                         f"{term_to_text(entry.behaviour)} (raise the limit with --max-depth)",
-                                         frame.schema.pos)
-                if not is_ground(entry.behaviour):
-                    # Each look-up would bind the variable on its own, so siblings sharing it
-                    # could disagree: the schema must bind it.
-                    raise SchemalogError(
-                        f"the sub-task {term_to_text(entry.behaviour)} of {term_to_text(frame.label)} has "
-                        f"variables the schema does not bind", frame.schema.pos)
-                sub, sub_schema = self.lookup(entry.behaviour, frame.schema.pos)
-                if any(sub == p for p in frame.path) or not is_ground(sub) and any(
-                        term_to_text(sub) == term_to_text(p) for p in frame.path):
-                    cycle = " -> ".join(term_to_text(p) for p in (*frame.path, sub))
-                    raise SchemalogError(f"recursive schema: {cycle}", frame.schema.pos)
+            if len(frame.built) < len(frame.pending):
+                entry = frame.pending[len(frame.built)]
+                sub, sub_schema = self._lookup_once(entry.behaviour, frame.schema.pos)
                 # The sibling being built now is entry number len(frame.built).
                 origins = self.child_origins(frame.label, len(frame.built), frame.schema.pos)
                 stack.append(_Frame(sub, entry.releaser, entry.importance, sub_schema, frame.level + 1,
-                                    (*frame.path, sub), list(sub_schema.entries), origins))
+                                    list(sub_schema.entries), origins))
                 continue
             stack.pop()
             node = Behaviour(
