@@ -110,3 +110,26 @@ def test_nan_is_found_by_every_index():
     program = "p(a, 1.0). p(b, 2.0). p(c, 1.5NaN). q(1.5NaN, x). q(1.0, y)."
     assert ask(program, "X is nan, p(A, X)") == ["1.5NaN is nan,p(c,1.5NaN)"]     # swipl: A = c
     assert ask(program, "X is nan, q(X, B)") == ["1.5NaN is nan,q(1.5NaN,x)"]
+
+
+def test_a_directive_may_assert_100000_facts_within_the_default_step_limit(kb_of):
+    # Each assertz appended to a copy of the whole list (and charged for it): 100,000 of them
+    # ran past the 10,000,000-step default. Now each costs a step or two.
+    kb = kb_of(":- forall(between(1, 100000, I), assertz(f(I))).\n")
+    assert kb.warnings == []
+    assert len(kb.clauses("f", 1)) == 100_000
+
+
+def test_asserting_while_a_call_runs_keeps_the_logical_update_view():
+    # swipl: [1,2,3] — the running call of p/1 sees the clauses it started with
+    assert ask("", "forall(between(1, 3, I), assertz(p(I))), findall(X, (p(X), assertz(p(9))), L)") == [
+        "forall(between(1,3,I),assertz(p(I))),findall(X,(p(X),assertz(p(9))),[1,2,3])"]
+    assert ask("", "assertz(q(1)), assertz(q(2)), findall(X, (q(X), X < 2, assertz(q(3))), L), "
+                   "findall(Y, q(Y), M)")[0].endswith("findall(Y,q(Y),[1,2,3])")
+
+
+def test_a_user_clause_replaces_a_library_predicate_and_assert_may_not_touch_one(kb_of):
+    kb = kb_of("append(mine, mine, mine).\n")
+    assert not kb.is_library(("append", 3)) and kb.is_library(("member", 2))
+    assert ask("", "catch(assertz(member(x, y)), error(permission_error(A, B, C), _), true)")[0].count(
+        "permission_error") == 1

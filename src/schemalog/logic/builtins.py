@@ -40,6 +40,7 @@ class Database(Protocol):
     def add_clause(self, head: Term, body: Term = TRUE, pos=None, front: bool = False) -> None: ...
     def remove(self, clause) -> None: ...
     def library_predicates(self) -> set[tuple[str, int]]: ...
+    def is_library(self, key: tuple[str, int]) -> bool: ...
     def forget_file(self, file: str) -> None: ...
     def consult(self, path, max_bytes: int = ..., pos=None) -> None: ...
 
@@ -393,11 +394,12 @@ def _assert(front: bool) -> Builtin:
         if isinstance(body, (Int, Float, Str)):
             raise type_error("callable", body)
         key = (head.name, len(head.args) if isinstance(head, Struct) else 0)
-        # Adding a clause copies the predicate's clause list (the logical update view keeps
-        # the old one for calls in progress): 64 pointers copied cost about one step.
+        # Adding a clause copies the predicate's clause list when a call in progress holds it
+        # (the logical update view) or for asserta: 64 pointers copied cost about one step.
         pred = e.kb.predicates.get(key)
-        e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))
-        if e.is_builtin(*key) or key in e.kb.library_predicates():
+        copies = pred is not None and pred.copies_on_add(front)
+        e.charge(1 + (len(pred.clauses) >> 6 if copies else 0))
+        if e.is_builtin(*key) or e.kb.is_library(key):
             raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
                                                         Struct("/", (Atom(key[0]), Int(key[1]))))))
         e.kb.add_clause(head, body, front=front)

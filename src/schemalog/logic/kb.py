@@ -259,9 +259,14 @@ class Predicate:
     just in time, the first time a call leaves the first argument unbound but binds that
     one (SWI-Prolog's JIT indexing), so `parent(B2, P)` with P bound is a lookup, not a
     scan. Indexes are dropped on assert and retract and rebuilt on demand.
+
+    The logical update view: a call goes on with the clauses it started with, whatever is
+    asserted meanwhile. So once `clauses` has been handed to a call (`_shared`), adding a
+    clause replaces the list instead of growing it; until then assertz appends in place,
+    and a directive asserting n facts costs O(n), not O(n^2).
     """
 
-    __slots__ = ("clauses", "_index", "_unindexed", "_jit", "dynamic")
+    __slots__ = ("clauses", "_index", "_unindexed", "_jit", "dynamic", "_shared", "_users")
 
     MIN_CLAUSES = 2  # one clause needs no index
 
@@ -271,13 +276,50 @@ class Predicate:
         self._unindexed: list[StoredClause] = []
         self._jit: dict[int, tuple[dict[Key, list[StoredClause]], list[StoredClause]] | None] = {}
         self.dynamic = False
+        self._shared = False   # `clauses` itself is held by a call in progress
+        self._users = 0        # clauses not from the library
 
     def changed(self) -> None:
         self._index = None
         self._jit = {}
 
+    def library_only(self) -> bool:
+        """Whether every clause came from the prelude (a user file replaces such a predicate)."""
+        return bool(self.clauses) and not self._users
+
+    def add(self, clause: StoredClause, front: bool = False) -> None:
+        """Add a clause last (first with `front`), keeping lists handed out unchanged."""
+        if front:
+            self.clauses = [clause, *self.clauses]
+        elif self._shared:
+            self.clauses = [*self.clauses, clause]
+        else:
+            self.clauses.append(clause)
+        self._shared = False
+        self._users += not clause.library
+        self.changed()
+
+    def add_all(self, clauses: list[StoredClause]) -> None:
+        """Add clauses last, in order."""
+        self.clauses = [*self.clauses, *clauses]
+        self._shared = False
+        self._users += sum(not c.library for c in clauses)
+        self.changed()
+
+    def replace(self, clauses: list[StoredClause]) -> None:
+        """Keep only `clauses` (retract, reconsult)."""
+        self.clauses = clauses
+        self._shared = False
+        self._users = sum(not c.library for c in clauses)
+        self.changed()
+
+    def copies_on_add(self, front: bool = False) -> bool:
+        """Whether adding a clause now copies the clause list (asserta, or a call holds it)."""
+        return front or self._shared
+
     def candidates(self, first: Term | None) -> list[StoredClause]:
         if first is None or isinstance(first, Var) or len(self.clauses) < self.MIN_CLAUSES:
+            self._shared = True
             return self.clauses
         if self._index is None:
             self._index, self._unindexed = _build_index(self.clauses, lambda c: c.key)
@@ -288,13 +330,17 @@ class Predicate:
         the first argument dereferenced and keyed inline)."""
         clauses = self.clauses
         if len(clauses) < self.MIN_CLAUSES or not args:
+            self._shared = True
             return clauses
         first = args[0]
         values = b.values
         while type(first) is Var:
             bound = values.get(first)
             if bound is None:
-                return self.candidates_by(args, b.walk) if len(args) > 1 else clauses
+                if len(args) > 1:
+                    return self.candidates_by(args, b.walk)
+                self._shared = True
+                return clauses
             first = bound
         index = self._index
         if index is None:
@@ -313,6 +359,7 @@ class Predicate:
         """The candidates of a call whose first argument is unbound: the bucket of the
         first other bound argument worth indexing on, else every clause."""
         if len(self.clauses) < self.MIN_CLAUSES:
+            self._shared = True
             return self.clauses
         for position in range(1, len(args)):
             value = walk(args[position])
@@ -324,6 +371,7 @@ class Predicate:
             if built is not None:
                 index, unindexed = built
                 return index.get(first_arg_key(value), unindexed)
+        self._shared = True
         return self.clauses
 
 
@@ -401,7 +449,12 @@ class KnowledgeBase:
 
     def library_predicates(self) -> set[tuple[str, int]]:
         """The predicates defined only by the prelude (a user file may replace them, assert may not)."""
-        return {key for key, p in self.predicates.items() if p.clauses and all(c.library for c in p.clauses)}
+        return {key for key, p in self.predicates.items() if p.library_only()}
+
+    def is_library(self, key: tuple[str, int]) -> bool:
+        """Whether `key` (name, arity) is defined only by the prelude."""
+        pred = self.predicates.get(key)
+        return pred is not None and pred.library_only()
 
     def user_clauses(self) -> list[StoredClause]:
         """Every clause that did not come from the library, in predicate order."""
@@ -413,13 +466,9 @@ class KnowledgeBase:
         pred = self.predicates.get(ind)
         if pred is None:
             pred = self.predicates[ind] = Predicate()
-        elif not clause.library and pred.clauses and all(c.library for c in pred.clauses):
-            pred.clauses = []  # a user definition replaces the library's
-        if front:
-            pred.clauses = [clause, *pred.clauses]
-        else:
-            pred.clauses = [*pred.clauses, clause]
-        pred.changed()
+        elif not clause.library and pred.library_only():
+            pred.replace([])  # a user definition replaces the library's
+        pred.add(clause, front)
 
     def add_clause(self, head: Term, body: Term = TRUE, pos: SourcePos | None = None,
                    front: bool = False) -> None:
@@ -447,10 +496,9 @@ class KnowledgeBase:
             pred = self.predicates.get(key)
             if pred is None:
                 pred = self.predicates[key] = Predicate()
-            elif pred.clauses and all(c.library for c in pred.clauses):
-                pred.clauses = []
-            pred.clauses = [*pred.clauses, *clauses]
-            pred.changed()
+            elif pred.library_only():
+                pred.replace([])
+            pred.add_all(clauses)
 
     def add_term(self, term: Term, front: bool = False) -> None:
         """Add a clause given as one term (`H :- B` or a fact), as assertz/asserta do."""
@@ -463,16 +511,14 @@ class KnowledgeBase:
         """Remove one stored clause (retract)."""
         pred = self.predicates.get(indicator(clause.head))
         if pred is not None:
-            pred.clauses = [c for c in pred.clauses if c is not clause]
-            pred.changed()
+            pred.replace([c for c in pred.clauses if c is not clause])
 
     def forget_file(self, file: str) -> None:
         """Remove the clauses read from `file` (before it is consulted again)."""
         for pred in self.predicates.values():
             kept = [c for c in pred.clauses if c.pos is None or c.pos.file != file]
             if len(kept) != len(pred.clauses):
-                pred.clauses = kept
-                pred.changed()
+                pred.replace(kept)
 
     def declare_dynamic(self, name: str, arity: int) -> None:
         """Make `name/arity` known, so calling it without clauses fails instead of raising."""
