@@ -1,6 +1,7 @@
 """Reading input files within a byte limit, whatever they are: regular files, FIFOs, devices.
 
     read_limited(path, max_bytes, label) -> bytes   at most max_bytes bytes, or an error naming the file
+    check_yaml_nesting(text, file)                  refuse flow collections nested past MAX_YAML_NESTING
 
 Every reader of a user's file (knowledge files and consulted ones, scenes, demonstrations)
 reads through it, so `--max-bytes` bounds what is read, not only what `stat` reports, and
@@ -17,7 +18,12 @@ import stat
 import sys
 from pathlib import Path
 
-from .errors import SchemalogError
+from .errors import SchemalogError, SourcePos
+
+# PyYAML's scanner keeps a possible simple key per open flow collection and revisits them
+# all at each token: 5,000 unclosed `{` cost ~20 s to refuse, and composing recurses per
+# level. Scenes and task files nest three or four levels; a hundred is far past any.
+MAX_YAML_NESTING = 100
 
 
 def size_text(n: int) -> str:
@@ -72,6 +78,41 @@ def _read_at_most(handle, n: int, chunk: int = 1 << 20) -> bytes:
         parts.append(part)
         total += len(part)
     return b"".join(parts)
+
+
+def check_yaml_nesting(text: str, file: str, limit: int = MAX_YAML_NESTING) -> None:
+    """Refuse YAML whose flow collections (`{...}`, `[...]`) nest deeper than `limit`, in one
+    pass before PyYAML sees it. Quoted scalars and comments are skipped; a bracket in a plain
+    scalar counts, which can only refuse sooner."""
+    depth = 0
+    line, start = 1, 0
+    i, n = 0, len(text)
+    while i < n:
+        c = text[i]
+        if c == "\n":
+            line, start = line + 1, i + 1
+        elif c in "{[":
+            depth += 1
+            if depth > limit:
+                raise SchemalogError(f"YAML nests deeper than {limit} levels of brackets here",
+                                     SourcePos(file, line, i - start + 1),
+                                     text[start:text.find("\n", start) if "\n" in text[start:] else n][:200])
+        elif c in "}]":
+            depth = max(0, depth - 1)
+        elif c == "#" and (i == 0 or text[i - 1] in " \t\n"):
+            end = text.find("\n", i)
+            i = n if end < 0 else end
+            continue
+        elif c in "'\"" and (i == 0 or text[i - 1] in " \t\n,[{:"):
+            end = text.find(c, i + 1)                 # to the closing quote ('' and \" close early:
+            if end < 0:                               # harmless, the rest is still scanned)
+                return
+            skipped = text.count("\n", i, end)
+            if skipped:
+                line, start = line + skipped, text.rfind("\n", i, end) + 1
+            i = end + 1
+            continue
+        i += 1
 
 
 def _note(text: str) -> None:

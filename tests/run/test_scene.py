@@ -84,3 +84,21 @@ def test_a_scene_over_the_size_limit_is_refused(tmp_path):
     big.write_text("end_effector: [0, 0]\n" + "# padding\n" * 500)
     with pytest.raises(SchemalogError, match="over the 1,000 bytes limit"):
         read_scene(big, max_bytes=1000)
+
+
+def test_brackets_nested_past_the_limit_are_refused_at_their_place_before_pyyaml_reads_them():
+    from schemalog.inputs import MAX_YAML_NESTING
+
+    text = "objects:\n  spoon: " + "[" * 5000 + "\n"
+    with pytest.raises(SchemalogError) as refused:
+        scene_from_yaml(text, "deep.yaml")
+    assert refused.value.pos.line == 2 and refused.value.pos.column == len("  spoon: ") + MAX_YAML_NESTING + 1
+    assert "deeper than 100 levels" in str(refused.value)
+
+
+def test_brackets_in_comments_and_quotes_do_not_count_as_nesting():
+    text = ("name: '" + "{" * 200 + "'   # and " + "[" * 200 + "\n"
+            "end_effector: [0.40, 0.00, 0.45]\n"
+            "objects:\n  spoon: [0.35, 0.30, 0.02]\n")
+    scene = scene_from_yaml(text, "fine.yaml")
+    assert scene.name == "{" * 200 and "spoon" in scene.objects

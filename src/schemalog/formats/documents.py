@@ -29,6 +29,7 @@ from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..inputs import check_yaml_nesting
 from ..errors import CannotWrite, SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import MAX_BYTES, Clause, Directive, parse_text, read_source
@@ -104,6 +105,7 @@ def document_from_yaml(text: str, file: str = "<string>") -> Document:
     """Read the YAML form (safe_load only)."""
     import yaml  # loaded only when YAML is read or written
 
+    check_yaml_nesting(text, file)
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as err:

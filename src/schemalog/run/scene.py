@@ -29,7 +29,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..errors import SchemalogError, SourcePos
-from ..inputs import read_limited
+from ..inputs import check_yaml_nesting, read_limited
 from ..logic.terms import Atom, Term, term_to_text
 
 Position = tuple[float, ...]
@@ -117,6 +117,7 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
         line = lines[mark.line] if mark.line < len(lines) else None
         return SchemalogError(message, SourcePos(file, mark.line + 1, mark.column + 1), line)
 
+    check_yaml_nesting(text, file)
     try:
         root = yaml.compose(text, Loader=yaml.SafeLoader)
     except yaml.YAMLError as err:
