@@ -631,3 +631,10 @@ def test_inputs_that_never_end_are_read_only_up_to_the_limit(tmp_path):
 def test_a_byte_limit_past_any_file_size_is_no_limit_not_an_error():
     r = run("check", MIX, "--max-bytes", "99999999999999999999")
     assert r.returncode == 0 and r.stdout.startswith("ok:"), r.stderr
+
+
+def test_verify_says_when_selection_ran_with_no_scene_and_names_a_scene_given():
+    plain = run("verify", MIX)
+    assert "winner-take-all runs with no scene (every distance neutral)" in plain.stdout, plain.stdout
+    placed = run("verify", MIX, "--scene", ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
+    assert "winner-take-all runs in scene mix with spoon" in placed.stdout, placed.stdout

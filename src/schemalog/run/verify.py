@@ -649,7 +649,9 @@ class Verifier:
                          "compressed": [term_to_text(a) for a in t_c],
                          "original_status": st_o, "compressed_status": st_c})
         same = sum(1 for r in rows if r["same"])
-        summary = f"winner-take-all runs in scene {scene.name} give the same trace from {same} of {len(rows)} state(s)"
+        where = ("with no scene (every distance neutral)" if scene is NO_SCENE
+                 else f"in scene {scene.name}")
+        summary = f"winner-take-all runs {where} give the same trace from {same} of {len(rows)} state(s)"
         first = next((r for r in rows if not r["same"]), None)
         if first is not None:
             k = first["first_difference"]
