@@ -120,20 +120,51 @@ def tune_gc() -> None:
     gc.set_threshold(50_000, 20, 100)
 
 
+_HELD: list[int] = []     # the signals that arrived once main() had returned
+
+
+def _hold(signum: int, frame) -> None:
+    _HELD.append(signum)
+
+
+def _hold_signals() -> None:
+    """From now on, Ctrl-C, SIGTERM and SIGHUP are noted, not raised: a traceback from a
+    flush, or a KeyboardInterrupt while a big structure is freed, must not reach users."""
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        number = getattr(signal, name, None)
+        if number is not None and signal.getsignal(number) is not signal.SIG_IGN:
+            signal.signal(number, _hold)
+
+
 def run() -> None:
     """Console-script entry point."""
-    tune_gc()
-    sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
-    catch_termination()
-    try:
-        code = main()
-    except Terminated as stop:      # before main's own handlers are in place (parsing the command line)
-        code = 128 + stop.signum
-    try:
-        sys.stdout.flush()
-    except BrokenPipeError:
-        pass
-    raise SystemExit(code)
+    code, started = 70, False
+    while True:     # a signal may cut in until the handlers are swapped: then it is the status
+        try:
+            if not started:
+                started = True
+                tune_gc()
+                sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
+                catch_termination()
+                code = main()
+            _hold_signals()
+            break
+        except KeyboardInterrupt:
+            code = 130
+        except Terminated as stop:
+            code = 128 + stop.signum
+        except SystemExit as done:       # argparse: --help, --version, a wrong command line
+            code = done.code if isinstance(done.code, int) else 0 if done.code is None else 1
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):      # a closed pipe or stream: nothing more can be said there
+            pass
+    if _HELD:
+        code = 128 + _HELD[0]
+    # Skip the interpreter's teardown: freeing a huge tree object by object takes seconds
+    # (benchmarks/bench_exit.py) and nothing is left to write; every file is already closed.
+    os._exit(code)
 
 
 __all__ = ["main", "run", "build_parser", "COMMANDS"]
