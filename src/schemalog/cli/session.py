@@ -1,6 +1,7 @@
 """The REPL session: a query or a `:` command at a time, answered as query.py answers
-(toplevel.py), `;` for more answers; Ctrl-C interrupts the running query, not the session.
-Interactive sessions read with prompt_toolkit; piped ones line by line.
+(toplevel.py), `;` for more answers. Ctrl-C, or any error, stops the running query or command,
+not the session; a command that does not finish leaves the workspace as it was (its attributes
+are put back). Interactive sessions read with prompt_toolkit (terminal.py); piped ones line by line.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from .toplevel import _Output, answer_text, answers, error_text, read_query, spl
 
 HELP = """\
 Enter a query, ending with '.'; it may span lines. After an answer, ';' asks for the
-next one and Enter stops. Ctrl-C stops a running query, Ctrl-D leaves.
+next one and Enter stops. Ctrl-C stops a running query or command, Ctrl-D leaves.
 
   :load FILE       add a knowledge file (the workspace is rebuilt from all files)
   :tree [T]        print the focus tree, each behaviour with its id
@@ -304,7 +305,7 @@ class Repl:
             try:
                 queries = [text] if stripped.startswith(":") and not stripped.startswith(":-") \
                     else split_queries(text)[0]
-                with signals_from_keyboard():
+                with signals_from_keyboard(getattr(prompt, "input", None)):
                     for query in queries:
                         if not self.handle(query, more):
                             return 0

@@ -67,12 +67,21 @@ def prompts(workspace: Workspace) -> tuple[Callable[[], str], Callable[[], bool]
         except (KeyboardInterrupt, EOFError):
             return False
 
-    return lambda: session.prompt("?- "), more
+    def prompt() -> str:
+        return session.prompt("?- ")
+
+    prompt.input = session.input         # whose keys typed ahead signals_from_keyboard looks at
+    return prompt, more
 
 
 class signals_from_keyboard:
     """While a query or command runs, Ctrl-C must reach it as SIGINT: the terminal can still
-    be in the raw mode prompt_toolkit read the input in (no ISIG), where Ctrl-C is only a byte."""
+    be in the raw mode prompt_toolkit read the input in (no ISIG), where Ctrl-C is only a byte.
+    A Ctrl-C typed with the Enter that ended the input came in raw mode: it is found among the
+    keys typed ahead and raises KeyboardInterrupt at once (the other keys stay for the prompt)."""
+
+    def __init__(self, input_obj=None) -> None:
+        self.input = input_obj
 
     def __enter__(self) -> None:
         self.saved = None
@@ -86,12 +95,43 @@ class signals_from_keyboard:
             termios.tcsetattr(fd, termios.TCSANOW, attrs)
         except (ImportError, OSError, ValueError):
             self.saved = None
+            return
+        if self.input is not None and _typed_ctrl_c(self.input, fd, self.saved):
+            self.__exit__()
+            raise KeyboardInterrupt
 
     def __exit__(self, *exc) -> None:
         if self.saved is not None:
             import termios
 
             termios.tcsetattr(sys.stdin.fileno(), termios.TCSANOW, self.saved)
+
+
+def _typed_ctrl_c(input_obj, fd: int, attrs: list) -> bool:
+    """Whether Ctrl-C is among the keys typed ahead: prompt_toolkit's, then the terminal's
+    queue (read without waiting); the keys after the last Ctrl-C are kept for the next prompt."""
+    import termios
+
+    from prompt_toolkit.input.typeahead import get_typeahead, store_typeahead
+    from prompt_toolkit.input.vt100_parser import Vt100Parser
+    from prompt_toolkit.keys import Keys
+
+    keys = list(get_typeahead(input_obj))
+    quiet = list(attrs)
+    quiet[3] &= ~(termios.ICANON | termios.ECHO)       # not canonical: a lone byte reads at once
+    quiet[6] = list(attrs[6])
+    quiet[6][termios.VMIN], quiet[6][termios.VTIME] = 0, 0     # and nothing there: no wait
+    termios.tcsetattr(fd, termios.TCSANOW, quiet)
+    try:
+        data = os.read(fd, 65536)
+    finally:
+        termios.tcsetattr(fd, termios.TCSANOW, attrs)
+    parser = Vt100Parser(keys.append)
+    parser.feed(data.decode("utf-8", "replace"))
+    parser.flush()
+    found = [i for i, k in enumerate(keys) if k.key == Keys.ControlC]
+    store_typeahead(input_obj, keys[found[-1] + 1:] if found else keys)
+    return bool(found)
 
 
 def history_file() -> Path:
