@@ -1,5 +1,8 @@
 """`python -m schemalog` runs the command line."""
 
-from .cli.main import run
+try:
+    from .cli.main import run
+except KeyboardInterrupt:         # Ctrl-C while starting: no traceback, the status shells expect
+    raise SystemExit(130) from None
 
 run()

@@ -1,11 +1,16 @@
 """The REPL as a user meets it: piped transcripts, a real terminal (pexpect), completion."""
 
+import io
+import os
+import signal
 import subprocess
 import sys
 import time
 
 import pexpect
+import pytest
 
+from schemalog.cli import session
 from schemalog.cli.completion import completion_words
 from schemalog.cli.relations import Workspace
 
@@ -76,13 +81,19 @@ def test_repl_load_and_unfinished_input(tmp_path):
     assert "no such file" in r.stdout and "no task here" in r.stdout
 
 
+def spawn(*files, history, timeout=30):
+    """The REPL on a pseudo-terminal, running this tree's schemalog (PYTHONPATH passed on)."""
+    keep = {k: os.environ[k] for k in ("PYTHONPATH",) if k in os.environ}
+    return pexpect.spawn(sys.executable, ["-m", "schemalog", "repl", *map(str, files)], cwd=str(ROOT),
+                         # a pseudo-terminal answers no cursor-position request: do not wait for one
+                         env={"SCHEMALOG_HISTORY": str(history), "TERM": "xterm", "PATH": "/usr/bin:/bin",
+                              "PROMPT_TOOLKIT_NO_CPR": "1", **keep},
+                         encoding="utf-8", timeout=timeout, dimensions=(40, 120))
+
+
 def test_repl_on_a_terminal(tmp_path):
     history = tmp_path / "history"
-    child = pexpect.spawn(sys.executable, ["-m", "schemalog", "repl", str(MIX)], cwd=str(ROOT),
-                          # a pseudo-terminal answers no cursor-position request: do not wait for one
-                          env={"SCHEMALOG_HISTORY": str(history), "TERM": "xterm", "PATH": "/usr/bin:/bin",
-                               "PROMPT_TOOLKIT_NO_CPR": "1"},
-                          encoding="utf-8", timeout=30, dimensions=(40, 120))
+    child = spawn(MIX, history=history)
     child.expect(r"\?-")
     child.send("member(X,\r")                    # not finished: Enter continues the query
     child.send("[1,2,3]).\r")
@@ -115,3 +126,180 @@ def test_completion_offers_predicates_relations_atoms_and_commands():
     assert completion_words(ws, ":co") == {":compress"}
     assert {"spoon", "subtask", "schema"} <= completion_words(ws, "s")       # atoms and predicates
     assert "next_action" in completion_words(ws, "next")
+
+
+# -- whatever happens in a query or command, the session goes on ---------------------------
+
+def piped(workspace, text, repl=None):
+    """Drive a REPL over `workspace` with `text` as its input; (exit status, what it printed)."""
+    out = io.StringIO()
+    repl = repl or session.Repl(workspace, out)
+    repl.out = out
+    return repl.loop(False, io.StringIO(text)), out.getvalue()
+
+
+@pytest.mark.parametrize("error, said", [
+    (ZeroDivisionError("boom"), "internal error: ZeroDivisionError: boom (please report it; "
+                                "SCHEMALOG_DEBUG=1 shows the traceback)"),
+    (KeyError("x"), "internal error: KeyError: 'x'"),
+    (MemoryError(), "error: out of memory; the work was dropped"),
+    (RecursionError("deep"), "error: a term nests too deeply"),
+    (KeyboardInterrupt(), "% interrupted; :verify changed nothing"),
+])
+def test_a_command_that_raises_anything_is_reported_in_a_line_and_the_session_goes_on(monkeypatch, error, said):
+    def verify(self, view):
+        raise error
+    monkeypatch.setattr(session.Repl, "verify", verify)
+    code, out = piped(Workspace([str(MIX)]), ":verify\nX = 1.\n:state\n")
+    assert code == 0
+    after = out.split("?- :verify\n", 1)[1]
+    assert after.startswith(said) and after.count("\n?- ") == 2 and "Traceback" not in out
+    assert "?- X = 1.\nX = 1.\n" in out and "% state: hand.free" in out
+
+
+def test_a_query_that_raises_anything_is_reported_and_the_traceback_is_only_for_debugging(monkeypatch, capsys):
+    def answers(*args):
+        raise ValueError("invalid literal for int() with base 16: '1b[2J'")
+        yield
+    monkeypatch.setattr(session, "answers", answers)
+    code, out = piped(Workspace([]), 'X = "a".\n')
+    assert code == 0 and "internal error: ValueError: invalid literal" in out and "Traceback" not in out
+    assert "Traceback" not in capsys.readouterr().err
+    monkeypatch.setenv("SCHEMALOG_DEBUG", "1")
+    piped(Workspace([]), 'X = "a".\n')
+    assert "Traceback" in capsys.readouterr().err
+
+
+def test_an_interrupted_load_leaves_the_workspace_as_it_was(monkeypatch, tmp_path):
+    extra = tmp_path / "extra.pl"
+    extra.write_text("task(other). schema(other, [], other.done).\n")
+    ws = Workspace([str(MIX)])
+    before = dict(vars(ws))
+    built = Workspace._build
+
+    def half_built(self):        # interrupted once the new knowledge base is in, before the rest
+        self.reset = lambda: (_ for _ in ()).throw(KeyboardInterrupt())
+        built(self)
+    monkeypatch.setattr(Workspace, "_build", half_built)
+    code, out = piped(ws, f":load {extra}\n")
+    assert "% interrupted; :load changed nothing" in out
+    assert vars(ws) == before and ws.files == [str(MIX)]
+    monkeypatch.setattr(Workspace, "_build", built)
+    code, out = piped(ws, "task(T).\n:tree\n")
+    assert "T = use(spoon)." in out and "other" not in out and "a1(spoon)" in out
+
+
+# -- Ctrl-C on a terminal: long commands, long by their input --------------------------------
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory):
+    """Generated tasks: 2,047 behaviours (its :run and :compress print pages), 4,095 (seconds
+    to load), and a bushy 341 (quick to load, seconds to prove)."""
+    folder = tmp_path_factory.mktemp("generated")
+    for name, depth, children in (("t11", 11, 2), ("t12", 12, 2), ("bushy", 5, 4)):
+        r = run("generate", "--depth", depth, "--children", children, "--rd", "0.5", "--seed", 1,
+                "-o", folder / f"{name}.pl")
+        assert r.returncode == 0, r.stderr
+    return folder
+
+
+def interrupt(child, command, running=r"\x1b\[\?2004l"):
+    """Send `command`, press Ctrl-C once it runs, and return what the REPL said."""
+    child.send(command + "\r")
+    child.expect(running)        # prompt_toolkit let go of the terminal (or the command printed)
+    time.sleep(0.3)              # past the last moment of raw mode; the command takes seconds
+    child.sendintr()
+    child.expect(r"% interrupted[^\r\n]*")
+    said = child.after
+    child.expect(r"\?-")
+    return said
+
+
+def ask(child, query, pattern):
+    child.send(query + "\r")
+    child.expect(pattern)
+    found = child.match
+    child.expect(r"\?-")
+    return found
+
+
+def test_ctrl_c_interrupts_every_long_command_and_query_and_keeps_the_session(tmp_path, generated):
+    child = spawn(generated / "t11.pl", history=tmp_path / "history", timeout=120)
+    child.expect(r"\?-")
+    state = ask(child, ":state", r"% state: [^\r\n]*").group()
+    # :run and :compress print more than the terminal holds while nobody reads it
+    assert interrupt(child, ":run", r" +1  b[0-9]+\(") == "% interrupted; :run changed nothing"
+    assert ask(child, ":state", r"% state: [^\r\n]*").group() == state
+    assert interrupt(child, ":compress", r"compressed tree \(focus\)") == "% interrupted; :compress changed nothing"
+    child.send("enabled(B).\r")              # the focus is still the original tree: ids 0..2046
+    child.expect(r"B = (\d+)")
+    assert int(child.match.group(1)) < 2047
+    child.send("\r")
+    child.expect(r"\?-")
+    assert interrupt(child, "between(1, inf, X), X < 0.") == "% interrupted"
+    assert interrupt(child, f":load {generated / 't12.pl'}") == "% interrupted; :load changed nothing"
+    counted = ask(child, "findall(B, node(B, _), L), length(L, N), write(count(N)), nl, fail.", r"count\((\d+)\)")
+    assert counted.group(1) == str(2047 + 1029)          # t11's trees only: no half-loaded t12
+    assert ask(child, "Y is 1 + 1.", r"Y = 2\.")
+    child.sendeof()
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 0
+
+
+def test_ctrl_c_interrupts_a_long_proof(tmp_path, generated):
+    child = spawn(generated / "bushy.pl", history=tmp_path / "history", timeout=120)
+    child.expect(r"\?-")
+    assert interrupt(child, ":verify") == "% interrupted; :verify changed nothing"
+    assert ask(child, ":limit", r"% step limit: [0-9,]+")
+    child.send(":verify\r\x03Y is 40 + 2.")      # Ctrl-C with the Enter: a key, not yet a signal
+    child.expect(r"% interrupted")
+    assert "proved" not in child.before
+    child.send("\r")                                # what was typed after it is kept for the prompt
+    child.expect(r"Y = 42\.")
+    child.expect(r"\?-")
+    child.sendeof()
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 0
+
+
+# -- the end of the process: a signal after main() returned ----------------------------------
+
+# The console script's wrapper: import, then run(). It says when run() has begun (its first
+# call), so that the signals below fall on schemalog's code, not on the interpreter's start-up.
+ENTRY = """import sys
+import schemalog.cli.main as m
+tune = m.tune_gc
+def announced():
+    sys.stderr.write("running\\n"); sys.stderr.flush(); tune()
+m.tune_gc = announced
+sys.argv[0] = "schemalog"
+m.run()
+"""
+
+
+def test_a_signal_at_any_moment_of_a_command_exits_130_without_a_traceback(generated, tmp_path):
+    argv = [sys.executable, "-c", ENTRY, "compress", str(generated / "bushy.pl"), "--json"]
+
+    def start(out):
+        p = subprocess.Popen(argv, cwd=ROOT, stdout=out, stderr=subprocess.PIPE, text=True)
+        assert p.stderr.readline() == "running\n"
+        return p, time.monotonic()
+
+    with open(tmp_path / "out.json", "w") as out:
+        p, started = start(out)
+        assert p.wait(timeout=120) == 0, p.stderr.read()
+        length = time.monotonic() - started
+    seen = set()
+    # From the start to well past the end, the flush and the exit included; the output goes to
+    # a file, which never makes the command wait.
+    for step in range(12):
+        with open(tmp_path / "out.json", "w") as out:
+            p, _ = start(out)
+            time.sleep(length * 1.5 * step / 11)
+            p.send_signal(signal.SIGINT)
+            _, err = p.communicate(timeout=120)
+        assert p.returncode in (0, 130) and "Traceback" not in err, (step, p.returncode, err)
+        seen.add(p.returncode)
+    assert seen == {0, 130}                  # some trials were interrupted, some had finished

@@ -167,20 +167,49 @@ def tune_gc() -> None:
     gc.set_threshold(50_000, 20, 100)
 
 
+def _leave(signum: int, frame) -> None:
+    os._exit(128 + signum)      # during the final flush: stop writing, say nothing more
+
+
+def _leave_on_signals() -> None:
+    """From now on, Ctrl-C, SIGTERM and SIGHUP end the process at once with 128+signum: a
+    traceback from a flush, or a KeyboardInterrupt while a big structure is freed, must not
+    reach users, and a Ctrl-C must still stop a flush into a pipe nobody reads."""
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
+        number = getattr(signal, name, None)
+        if number is not None and signal.getsignal(number) is not signal.SIG_IGN:
+            signal.signal(number, _leave)
+
+
 def run() -> None:
     """Console-script entry point."""
-    tune_gc()
-    sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
-    catch_termination()
-    try:
-        code = main()
-    except Terminated as stop:      # before main's own handlers are in place (parsing the command line)
-        code = 128 + stop.signum
-    try:
-        sys.stdout.flush()
-    except BrokenPipeError:
-        pass
-    raise SystemExit(code)
+    code, started = 70, False
+    while True:     # a signal may cut in until the handlers are swapped: then it is the status
+        try:
+            if not started:
+                started = True
+                tune_gc()
+                sys.setrecursionlimit(max(sys.getrecursionlimit(), 20_000))
+                catch_termination()
+                code = main()
+            _leave_on_signals()
+            break
+        except KeyboardInterrupt:
+            code = 130
+        except Terminated as stop:
+            code = 128 + stop.signum
+        except SystemExit as done:       # argparse: --help, --version, a wrong command line
+            code = done.code if isinstance(done.code, int) else 0 if done.code is None else 1
+            if not isinstance(done.code, (int, type(None))):
+                print(done.code, file=sys.stderr)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):      # a closed pipe or stream: nothing more can be said there
+            pass
+    # Skip the interpreter's teardown: freeing a huge tree object by object takes seconds
+    # (benchmarks/bench_exit.py) and nothing is left to write; every file is already closed.
+    os._exit(code)
 
 
 __all__ = ["main", "run", "build_parser", "COMMANDS"]

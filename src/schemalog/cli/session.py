@@ -1,6 +1,7 @@
 """The REPL session: a query or a `:` command at a time, answered as query.py answers
-(toplevel.py), `;` for more answers; Ctrl-C interrupts the running query, not the session.
-Interactive sessions read with prompt_toolkit; piped ones line by line.
+(toplevel.py), `;` for more answers. Ctrl-C, or any error, stops the running query or command,
+not the session; a command that does not finish leaves the workspace as it was (its attributes
+are put back). Interactive sessions read with prompt_toolkit (terminal.py); piped ones line by line.
 """
 
 from __future__ import annotations
@@ -9,21 +10,20 @@ import os
 import re
 import signal
 import sys
-from pathlib import Path
+import traceback
 from typing import Callable, TextIO
 
 from ..errors import SchemalogError
-from ..logic.exceptions import PrologError
+from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..logic.parse import parse_term
 from ..logic.terms import term_to_text
-from .completion import _WORD, _completer, completion_words
 from .relations import COMPRESSED, ORIGINAL, RELATIONS, Workspace
-from .toplevel import _Output, answer_text, answers, complete_input, error_text, read_query, split_queries
+from .toplevel import _Output, answer_text, answers, error_text, read_query, split_queries
 
 
 HELP = """\
 Enter a query, ending with '.'; it may span lines. After an answer, ';' asks for the
-next one and Enter stops. Ctrl-C stops a running query, Ctrl-D leaves.
+next one and Enter stops. Ctrl-C stops a running query or command, Ctrl-D leaves.
 
   :load FILE       add a knowledge file (the workspace is rebuilt from all files)
   :tree [T]        print the focus tree, each behaviour with its id
@@ -40,6 +40,20 @@ Relations over the workspace (docs/queries.md):
 """
 
 
+def failure_text(err: BaseException) -> str:
+    """What the REPL says, in a line, when a query or command stops on `err`."""
+    if isinstance(err, KeyboardInterrupt):
+        return "% interrupted"
+    if isinstance(err, MemoryError):
+        return "error: out of memory; the work was dropped (a smaller input or a lower :limit may fit)"
+    if isinstance(err, (PrologError, StepLimitExceeded, RecursionError)):
+        return error_text(err, ":limit N")
+    if isinstance(err, SchemalogError):
+        return str(err)
+    return (f"internal error: {type(err).__name__}: {err} (please report it; SCHEMALOG_DEBUG=1 "
+            f"shows the traceback)")
+
+
 class Repl:
     """The interactive top level over a workspace; `input_line` and `more` do the I/O."""
 
@@ -54,22 +68,30 @@ class Repl:
         stripped = text.strip()
         if not stripped:
             return True
-        if stripped.startswith(":") and not stripped.startswith(":-"):
-            return self.command(stripped[1:].strip())
-        # prompt_toolkit's event loop may leave its own SIGINT handling behind: a running
-        # query gets Python's, so Ctrl-C raises KeyboardInterrupt in it.
+        command = stripped.startswith(":") and not stripped.startswith(":-")
+        saved = dict(vars(self.workspace)), self.max_steps
+        # prompt_toolkit's event loop may leave its own SIGINT handling behind: whatever runs
+        # gets Python's, so Ctrl-C raises KeyboardInterrupt in it, command or query.
         previous = signal.signal(signal.SIGINT, signal.default_int_handler)
         try:
-            return self._answer(stripped, more)
+            return self.command(stripped[1:].strip()) if command else self._answer(stripped, more)
+        except (KeyboardInterrupt, Exception) as err:      # the session outlives anything but SIGTERM
+            if isinstance(err, BrokenPipeError):
+                raise
+            if command:     # a command that did not finish changed nothing (no half-loaded file)
+                vars(self.workspace).clear()
+                vars(self.workspace).update(saved[0])
+                self.max_steps = saved[1]
+            undone = f"; :{(stripped[1:].split() or [''])[0]} changed nothing" if command else ""
+            self.say(failure_text(err) + (undone if isinstance(err, KeyboardInterrupt) else ""))
+            if os.environ.get("SCHEMALOG_DEBUG") and not isinstance(err, (KeyboardInterrupt, SchemalogError)):
+                traceback.print_exception(err)
+            return True
         finally:
             signal.signal(signal.SIGINT, previous)
 
     def _answer(self, stripped: str, more: Callable[[], bool]) -> bool:
-        try:
-            query = read_query(stripped)
-        except SchemalogError as e:
-            self.say(str(e))
-            return True
+        query = read_query(stripped)
         shown = _Output(self._write)
         try:
             for answer, last in answers(self.workspace, query, shown.write, self.max_steps):
@@ -82,15 +104,9 @@ class Repl:
             else:
                 shown.new_line()
                 shown.write("false.\n")
-        except (PrologError, SchemalogError, RecursionError) as e:
-            shown.new_line()
-            self.say(error_text(e, ":limit N"))
-        except KeyboardInterrupt:
-            shown.new_line()
-            self.say("% interrupted")
-        except Exception as e:        # the session outlives a bug: say it, keep going
-            shown.new_line()
-            self.say(f"internal error: {type(e).__name__}: {e} (please report it)")
+        except BaseException:
+            shown.new_line()         # the message that follows starts a line of its own
+            raise
         return True
 
     def _write(self, text: str) -> None:
@@ -103,46 +119,44 @@ class Repl:
 
     # -- commands -------------------------------------------------------------------
     def command(self, line: str) -> bool:
+        """Run a `:` command (`line` without the colon); False for :quit."""
         name, _, rest = line.partition(" ")
         rest = rest.strip()
-        try:
-            if rest and name in ("quit", "q", "exit", "help", "h", "?", "reset", "state"):
-                raise SchemalogError(f":{name} takes no argument")
-            if name in ("quit", "q", "exit"):
-                return False
-            if name in ("help", "h", "?"):
-                self.help()
-            elif name == "load":
-                if not rest:
-                    raise SchemalogError(":load needs a file")
-                self.workspace.load(rest)
-                for note in self.workspace.notes:
-                    self.say(note)
-                self.say(f"% loaded {rest}: {self._tasks_line()}")
-            elif name in ("tree", "compress", "original"):
-                view, kind = self._tree(rest)
-                kind = COMPRESSED if name == "compress" else ORIGINAL if name == "original" else kind
-                self.workspace.set_focus(view, kind)
-                self.show_tree(view, kind, figures=name == "compress")
-            elif name == "run":
-                self.run(*self._tree(rest))
-            elif name == "reset":
-                self.workspace.reset()
-                self.say(f"% state: {self._state_text()}")
-            elif name == "state":
-                self.say(f"% state: {self._state_text()}")
-            elif name == "verify":
-                self.verify(self._tree(rest)[0])
-            elif name == "limit":
-                if rest:
-                    if not re.fullmatch(r"[0-9]+", rest) or int(rest) < 1:
-                        raise SchemalogError(f":limit needs a positive number of steps, not {rest!r}")
-                    self.max_steps = int(rest)
-                self.say(f"% step limit: {self.max_steps:,} resolution steps per query")
-            else:
-                self.say(f"unknown command :{name} (:help lists them)")
-        except SchemalogError as e:
-            self.say(str(e))
+        if rest and name in ("quit", "q", "exit", "help", "h", "?", "reset", "state"):
+            raise SchemalogError(f":{name} takes no argument")
+        if name in ("quit", "q", "exit"):
+            return False
+        if name in ("help", "h", "?"):
+            self.help()
+        elif name == "load":
+            if not rest:
+                raise SchemalogError(":load needs a file")
+            self.workspace.load(rest)
+            for note in self.workspace.notes:
+                self.say(note)
+            self.say(f"% loaded {rest}: {self._tasks_line()}")
+        elif name in ("tree", "compress", "original"):
+            view, kind = self._tree(rest)
+            kind = COMPRESSED if name == "compress" else ORIGINAL if name == "original" else kind
+            self.workspace.set_focus(view, kind)
+            self.show_tree(view, kind, figures=name == "compress")
+        elif name == "run":
+            self.run(*self._tree(rest))
+        elif name == "reset":
+            self.workspace.reset()
+            self.say(f"% state: {self._state_text()}")
+        elif name == "state":
+            self.say(f"% state: {self._state_text()}")
+        elif name == "verify":
+            self.verify(self._tree(rest)[0])
+        elif name == "limit":
+            if rest:
+                if not re.fullmatch(r"[0-9]+", rest) or int(rest) < 1:
+                    raise SchemalogError(f":limit needs a positive number of steps, not {rest!r}")
+                self.max_steps = int(rest)
+            self.say(f"% step limit: {self.max_steps:,} resolution steps per query")
+        else:
+            self.say(f"unknown command :{name} (:help lists them)")
         return True
 
     def help(self) -> None:
@@ -231,7 +245,10 @@ class Repl:
             return pending.pop() if pending else stdin.readline()
 
         def more() -> bool:
-            reply = read()
+            try:
+                reply = read()
+            except KeyboardInterrupt:
+                return False
             if reply.strip() in (";", "n", "r"):
                 return True
             if reply.strip():
@@ -240,125 +257,62 @@ class Repl:
 
         buffer = ""
         while True:
-            line = read()
-            if not line:
-                break
-            stripped = line.strip()
-            if not buffer.strip() and stripped.startswith(":") and not stripped.startswith(":-"):
-                self.out.write(f"?- {stripped}\n")
-                if not self.handle(line, more):
-                    return 0
-                continue
-            if not buffer.strip() and stripped == ";":     # a spare ';' after the last answer
-                continue
-            buffer += line
-            chunks, rest, unfinished = split_queries(buffer)
-            buffer = rest if unfinished else ""
-            for chunk in chunks:
-                self.out.write(f"?- {chunk.strip()}\n")
-                if not self.handle(chunk, more):
-                    return 0
+            try:
+                line = read()
+                if not line:
+                    break
+                stripped = line.strip()
+                if not buffer.strip() and stripped.startswith(":") and not stripped.startswith(":-"):
+                    self.out.write(f"?- {stripped}\n")
+                    if not self.handle(line, more):
+                        return 0
+                    continue
+                if not buffer.strip() and stripped == ";":     # a spare ';' after the last answer
+                    continue
+                buffer += line
+                chunks, rest, unfinished = split_queries(buffer)
+                buffer = rest if unfinished else ""
+                for chunk in chunks:
+                    self.out.write(f"?- {chunk.strip()}\n")
+                    if not self.handle(chunk, more):
+                        return 0
+            except (KeyboardInterrupt, Exception) as err:   # Ctrl-C while reading, the reader failing
+                if isinstance(err, BrokenPipeError):
+                    raise
+                self.say(failure_text(err))                  # the input read so far is dropped
+                buffer = ""
         if buffer.strip():
             self.say("error: the input ended inside a query (missing the final '.'?)")
             return 2
         return 0
 
     def _interactive(self) -> int:
-        from prompt_toolkit import PromptSession
-        from prompt_toolkit.history import FileHistory, InMemoryHistory
-        from prompt_toolkit.key_binding import KeyBindings
+        from .terminal import prompts, signals_from_keyboard
 
-        history_path = history_file()
-        try:
-            history_path.parent.mkdir(parents=True, exist_ok=True)
-            history = FileHistory(str(history_path))
-        except OSError:
-            history = InMemoryHistory()
-        keys = KeyBindings()
-
-        @keys.add("enter")
-        def _(event) -> None:
-            buffer = event.current_buffer
-            if complete_input(buffer.text):
-                buffer.validate_and_handle()
-            else:
-                buffer.insert_text("\n")
-
-        @keys.add("tab")
-        def _(event) -> None:
-            buffer = event.current_buffer
-            word = _WORD.search(buffer.document.text_before_cursor)
-            words = sorted(completion_words(self.workspace, word.group())) if word else []
-            if len(words) == 1:                  # one way to go on: take it
-                buffer.insert_text(words[0][len(word.group()):])
-            elif words:
-                buffer.start_completion(select_first=False)
-
-        session = PromptSession(history=history, multiline=True, key_bindings=keys,
-                                completer=_completer(self.workspace),
-                                prompt_continuation=lambda width, line, soft: "|    ")
-        more_keys = KeyBindings()
-        for key in (";", "n", "r", " ", "tab"):
-            more_keys.add(key)(lambda event: event.app.exit(result=True))
-        for key in ("enter", ".", "c", "a", "escape"):
-            more_keys.add(key)(lambda event: event.app.exit(result=False))
-        more_keys.add("c-c")(lambda event: event.app.exit(result=False))
-        answer_session = PromptSession(key_bindings=more_keys)
-
-        def more() -> bool:
-            try:
-                return bool(answer_session.prompt(""))
-            except (KeyboardInterrupt, EOFError):
-                return False
-
+        prompt, more = prompts(self.workspace)
         while True:
             try:
-                text = session.prompt("?- ")
+                text = prompt()
             except KeyboardInterrupt:
                 continue
             except EOFError:
                 self.say("")
                 return 0
+            except Exception as err:        # a completion failing, say: the session goes on
+                self.say(failure_text(err))
+                continue
             stripped = text.strip()
-            queries = [text] if stripped.startswith(":") and not stripped.startswith(":-") \
-                else split_queries(text)[0]
-            with _signals_from_keyboard():
-                for query in queries:
-                    if not self.handle(query, more):
-                        return 0
-
-
-class _signals_from_keyboard:
-    """While a query runs, Ctrl-C must reach it as SIGINT: the terminal can still be in the
-    raw mode prompt_toolkit read the query in (no ISIG), where Ctrl-C is only a byte."""
-
-    def __enter__(self) -> None:
-        self.saved = None
-        try:
-            import termios
-
-            fd = sys.stdin.fileno()
-            self.saved = termios.tcgetattr(fd)
-            attrs = termios.tcgetattr(fd)
-            attrs[3] |= termios.ISIG
-            termios.tcsetattr(fd, termios.TCSANOW, attrs)
-        except (ImportError, OSError, ValueError):
-            self.saved = None
-
-    def __exit__(self, *exc) -> None:
-        if self.saved is not None:
-            import termios
-
-            termios.tcsetattr(sys.stdin.fileno(), termios.TCSANOW, self.saved)
-
-
-def history_file() -> Path:
-    """Where the REPL keeps its history: $SCHEMALOG_HISTORY, else the XDG state directory."""
-    explicit = os.environ.get("SCHEMALOG_HISTORY")
-    if explicit:
-        return Path(explicit)
-    state = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
-    return Path(state) / "schemalog" / "history"
+            try:
+                queries = [text] if stripped.startswith(":") and not stripped.startswith(":-") \
+                    else split_queries(text)[0]
+                with signals_from_keyboard(getattr(prompt, "input", None)):
+                    for query in queries:
+                        if not self.handle(query, more):
+                            return 0
+            except KeyboardInterrupt:       # between two queries of a line
+                self.say("% interrupted")
+            except Exception as err:
+                self.say(failure_text(err))
 
 
 def _version() -> str:

@@ -1,0 +1,143 @@
+"""The REPL's terminal (session.py): prompt_toolkit's two prompts, the query prompt and the
+one-key "more?" prompt after an answer, its history file, and the terminal mode a running
+query needs for Ctrl-C to be a signal.
+
+    Prompts = (query: () -> str, more: () -> bool)   query raises EOFError at Ctrl-D and
+                                                     KeyboardInterrupt at Ctrl-C
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Callable
+
+from .completion import _WORD, _completer, completion_words
+from .relations import Workspace
+from .toplevel import complete_input
+
+
+def prompts(workspace: Workspace) -> tuple[Callable[[], str], Callable[[], bool]]:
+    """The query prompt (Enter ends a complete query, Tab completes) and the more-answers one."""
+    from prompt_toolkit import PromptSession
+    from prompt_toolkit.history import FileHistory, InMemoryHistory
+    from prompt_toolkit.key_binding import KeyBindings
+
+    history_path = history_file()
+    try:
+        history_path.parent.mkdir(parents=True, exist_ok=True)
+        history = FileHistory(str(history_path))
+    except OSError:
+        history = InMemoryHistory()
+    keys = KeyBindings()
+
+    @keys.add("enter")
+    def _(event) -> None:
+        buffer = event.current_buffer
+        if complete_input(buffer.text):
+            buffer.validate_and_handle()
+        else:
+            buffer.insert_text("\n")
+
+    @keys.add("tab")
+    def _(event) -> None:
+        buffer = event.current_buffer
+        word = _WORD.search(buffer.document.text_before_cursor)
+        words = sorted(completion_words(workspace, word.group())) if word else []
+        if len(words) == 1:                  # one way to go on: take it
+            buffer.insert_text(words[0][len(word.group()):])
+        elif words:
+            buffer.start_completion(select_first=False)
+
+    session = PromptSession(history=history, multiline=True, key_bindings=keys,
+                            completer=_completer(workspace),
+                            prompt_continuation=lambda width, line, soft: "|    ")
+    more_keys = KeyBindings()
+    for key in (";", "n", "r", " ", "tab"):
+        more_keys.add(key)(lambda event: event.app.exit(result=True))
+    for key in ("enter", ".", "c", "a", "escape"):
+        more_keys.add(key)(lambda event: event.app.exit(result=False))
+    more_keys.add("c-c")(lambda event: event.app.exit(result=False))
+    answer_session = PromptSession(key_bindings=more_keys)
+
+    def more() -> bool:
+        try:
+            return bool(answer_session.prompt(""))
+        except (KeyboardInterrupt, EOFError):
+            return False
+
+    def prompt() -> str:
+        return session.prompt("?- ")
+
+    prompt.input = session.input         # whose keys typed ahead signals_from_keyboard looks at
+    return prompt, more
+
+
+class signals_from_keyboard:
+    """While a query or command runs, Ctrl-C must reach it as SIGINT: the terminal can still
+    be in the raw mode prompt_toolkit read the input in (no ISIG), where Ctrl-C is only a byte.
+    A Ctrl-C typed with the Enter that ended the input came in raw mode: it is found among the
+    keys typed ahead and raises KeyboardInterrupt at once (the other keys stay for the prompt)."""
+
+    def __init__(self, input_obj=None) -> None:
+        self.input = input_obj
+
+    def __enter__(self) -> None:
+        self.saved = None
+        try:
+            import termios
+
+            fd = sys.stdin.fileno()
+            self.saved = termios.tcgetattr(fd)
+            attrs = termios.tcgetattr(fd)
+            attrs[3] |= termios.ISIG
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
+        except (ImportError, OSError, ValueError):
+            self.saved = None
+            return
+        if self.input is not None and _typed_ctrl_c(self.input, fd, self.saved):
+            self.__exit__()
+            raise KeyboardInterrupt
+
+    def __exit__(self, *exc) -> None:
+        if self.saved is not None:
+            import termios
+
+            termios.tcsetattr(sys.stdin.fileno(), termios.TCSANOW, self.saved)
+
+
+def _typed_ctrl_c(input_obj, fd: int, attrs: list) -> bool:
+    """Whether Ctrl-C is among the keys typed ahead: prompt_toolkit's, then the terminal's
+    queue (read without waiting); the keys after the last Ctrl-C are kept for the next prompt."""
+    import termios
+
+    from prompt_toolkit.input.typeahead import get_typeahead, store_typeahead
+    from prompt_toolkit.input.vt100_parser import Vt100Parser
+    from prompt_toolkit.keys import Keys
+
+    keys = list(get_typeahead(input_obj))
+    quiet = list(attrs)
+    quiet[3] &= ~(termios.ICANON | termios.ECHO)       # not canonical: a lone byte reads at once
+    quiet[6] = list(attrs[6])
+    quiet[6][termios.VMIN], quiet[6][termios.VTIME] = 0, 0     # and nothing there: no wait
+    termios.tcsetattr(fd, termios.TCSANOW, quiet)
+    try:
+        data = os.read(fd, 65536)
+    finally:
+        termios.tcsetattr(fd, termios.TCSANOW, attrs)
+    parser = Vt100Parser(keys.append)
+    parser.feed(data.decode("utf-8", "replace"))
+    parser.flush()
+    found = [i for i, k in enumerate(keys) if k.key == Keys.ControlC]
+    store_typeahead(input_obj, keys[found[-1] + 1:] if found else keys)
+    return bool(found)
+
+
+def history_file() -> Path:
+    """Where the REPL keeps its history: $SCHEMALOG_HISTORY, else the XDG state directory."""
+    explicit = os.environ.get("SCHEMALOG_HISTORY")
+    if explicit:
+        return Path(explicit)
+    state = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
+    return Path(state) / "schemalog" / "history"
