@@ -9,8 +9,8 @@ queries, odd command lines, the REPL on standard input, signals) with the long g
 --chunk examples per probe, until the time is up. It never stops at a failure: each broken promise
 is reduced to a signature (its kind, numbers and names taken out) and kept once, with the
 smallest case that showed it. It prints the inputs tried per probe, the exit statuses seen, the
-distinct failures with a reproducer each, and the time; --findings appends the failures to a
-Markdown file. Exit status 0 when nothing failed, 1 otherwise.
+distinct failures with a reproducer each, and the time; --findings appends each new failure to a
+Markdown file as it is found, and the report at the end. Exit status 0 when nothing failed, 1 otherwise.
 """
 
 from __future__ import annotations
@@ -91,7 +91,12 @@ def main() -> int:
                                      "drawn": {k: v for k, v in drawn.items() if k in ("signum", "delay", "wait")}}
                 failures[key]["count"] += 1
                 if seen is None:
-                    print(f"[{time.monotonic() - start:6.0f} s] new failure in {name}: {problem}", flush=True)
+                    line = f"[{time.monotonic() - start:6.0f} s] new failure in {name}: {problem}"
+                    print(line, flush=True)
+                    if args.findings:   # as it goes, for whoever reads the file while this runs
+                        with open(args.findings, "a", encoding="utf-8") as out:
+                            out.write(f"\n- long run (seed {first_seed}) {line}\n\n  ```sh\n  "
+                                      + case.reproducer(600).replace("\n", "\n  ") + "\n  ```\n")
 
         body()
 
