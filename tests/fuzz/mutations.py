@@ -81,13 +81,41 @@ DEMO_VALUES = [b"nan", b"inf", b"-inf", b"1e308", b"-1e308", b"-1", b"0", b"", b
                b"1" * 400, b"1,2", b"\"", b"0x10", b"1e-320", b"NaN", b"+1", b"1.5.5", "é".encode(), b"\xff"]
 
 
+# Whole clauses, inserted between two clauses so that they are read as such: they reach the
+# schema checks, the instantiation and its limits instead of stopping at a syntax error.
+CLAUSES = [
+    b"task(r(0)).\nschema(r(N), [(r(s(N)), true)], r.done).\n",          # unbounded depth: --max-depth
+    b"task(w).\nschema(w, [(v, true), (v, true), (v, true)], w.done).\nschema(v, [(w, true)], v.done).\n",
+    b"task(b).\nschema(b, [(c(X), true)], b.done).\nschema(c(_), [], c.done).\n",   # a variable sub-task
+    b"task(t).\nschema(t, [(t, true)], t.done).\n", b"task(1.5).\n", b"task([]).\n", b"task(\"s\").\n",
+    b"schema(a1(spoon), [], a1.done).\n" * 3, b"schema(a1(spoon), [], not a1.done).\n",
+    b"schema(a1(spoon), [], (a1.done ; x.y)).\n", b"schema(a1(spoon), [], \\+ \\+ a.b).\n",
+    b"schema(a1(spoon), [(a9, true)], a1.done).\n", b"initial(a1.done).\n", b"initial(spoon.used and hand.free).\n",
+    b"constraint(false).\n", b"constraint(not hand.free and hand.free).\n", b"constraint(X).\n",
+    b"agent(_, arm).\nagent(_, gripper).\n", b"object(X) :- object(X).\n", b"schema(X, Y, Z) :- schema(X, Y, Z).\n",
+    b"task(T) :- task(T).\n", b"schema(s(N), [], s.done) :- N > 0, M is N - 1, schema(s(M), _, _).\n",
+    b":- dynamic(schema/3).\n", b":- discontiguous(schema/3).\n", b":- op(700, xfx, schema).\n",
+    b":- set_prolog_flag(double_quotes, codes).\n", b":- retractall(schema(_, _, _)).\n",
+    b":- assertz(schema(z, [], z.done)).\n", b":- forall(between(1, 2000, I), assertz(f(I))).\n",
+]
+# Only in the long profile: 100,000 assertz/1 in a directive take minutes (20,000: 2.6 s CPU).
+LONG_CLAUSES = [b":- forall(between(1, 100000, I), assertz(f(I))).\n",
+                b"task(g).\nschema(g, [" + b", ".join(b"(h%d, true)" % i for i in range(10_000)) + b"], g.done).\n"]
+
+
 @st.composite
-def edited(draw, seeds: dict[str, bytes], tokens: list[bytes], delimiters: bytes = b"(),[] .\n:"):
+def edited(draw, seeds: dict[str, bytes], tokens: list[bytes], delimiters: bytes = b"(),[] .\n:", clauses=()):
     """(seed name, mutated bytes): 1-4 edits to one seed file."""
     name = draw(st.sampled_from(sorted(seeds)))
     data = bytearray(seeds[name])
     for _ in range(draw(st.integers(1, 4))):
-        op = draw(st.sampled_from(["flip", "delete", "duplicate", "splice", "token", "token", "token", "truncate"]))
+        op = draw(st.sampled_from(["flip", "delete", "duplicate", "splice", "token", "token", "token", "truncate"]
+                                  + ["clause"] * (3 if clauses else 0)))
+        if op == "clause":
+            ends = [i + 2 for i in range(len(data) - 1) if data[i:i + 2] == b".\n"] or [len(data)]
+            at = ends[draw(st.integers(0, len(ends) - 1))]
+            data[at:at] = draw(st.sampled_from(clauses))
+            continue
         if draw(st.booleans()) and data:
             spots = [i for i, b in enumerate(data) if b in delimiters] or [0]
             pos = spots[draw(st.integers(0, len(spots) - 1))]
@@ -114,7 +142,7 @@ def edited(draw, seeds: dict[str, bytes], tokens: list[bytes], delimiters: bytes
 
 def knowledge(long: bool = False):
     """Mutated task knowledge: (seed name, bytes)."""
-    return edited(KNOWLEDGE_SEEDS, prolog_tokens(long))
+    return edited(KNOWLEDGE_SEEDS, prolog_tokens(long), clauses=CLAUSES + (LONG_CLAUSES if long else []))
 
 
 @st.composite
