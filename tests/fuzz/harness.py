@@ -370,7 +370,7 @@ def violations(case: Case, outcome: Outcome, statuses=EXIT_STATUSES) -> list[str
     found = []
     if outcome.hung:
         found.append("hang: no exit within the per-case guard")
-    if outcome.died:
+    if outcome.died and outcome.status not in statuses:
         found.append(f"crash: {outcome.died.splitlines()[0][:300]}")
     for stream, text in (("stdout", outcome.stdout), ("stderr", outcome.stderr)):
         if "Traceback" in text and not outcome.hung:   # a hung case's guard may print one itself

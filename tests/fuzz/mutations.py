@@ -232,6 +232,23 @@ def _builtin_goal(name: str, args: list[str]) -> str:
     return f"{name}({', '.join(args)})"
 
 
+# Arguments whose oddity is in the reader (escapes, 0'c): kept apart so that a reader bug
+# does not stop a hypothesis run before it reaches the built-ins.
+READER_ARGS = [a for a in ODD_ARGS if "\\" in a.replace("\\+", "")]
+BUILTIN_ARGS = [a for a in ODD_ARGS if a not in READER_ARGS] + ["97", "[97, 98]", "[-1]", "[1114112]", "[0]"]
+ESCAPES = ["\\x1b[2J", "\\x41\\", "\\x110000\\", "\\z", "\\u0000", "\\U0010FFFF", "\\U00110000", "\\777\\",
+           "\\0\\", "\\e", "\\s", "\\c", "\\\n", "\\N", "\\", "\\'", "''", "\\x\\", "\\xg\\", "é"]
+
+
+@st.composite
+def reader_queries(draw):
+    """A query whose text stresses the reader: escapes in quoted atoms, strings, 0'c."""
+    escape = draw(st.sampled_from(ESCAPES))
+    form = draw(st.sampled_from(["X = '{}'", 'X = "{}"', "X = 0'{}", "atom_length('{}', N)", "X = `{}`",
+                                 "atom_codes(A, \"{}\")", "X = 0'{} + 1", "writeq('{}')", "X = [0'{}]"]))
+    return form.replace("{}", escape)
+
+
 @st.composite
 def queries(draw):
     """A Prolog query: one to three built-in calls with odd arguments, sometimes shared
@@ -240,7 +257,10 @@ def queries(draw):
     for _ in range(draw(st.integers(1, 3))):
         arity = draw(st.sampled_from(sorted(BUILTINS)))
         name = draw(st.sampled_from(BUILTINS[arity]))
-        goals.append(_builtin_goal(name, [draw(st.sampled_from(ODD_ARGS)) for _ in range(arity)]))
+        # a fresh variable for three arguments in ten: most built-ins convert one way or the other
+        args = [draw(st.sampled_from(BUILTIN_ARGS)) if draw(st.integers(0, 9)) > 2 else f"V{len(goals)}{i}"
+                for i in range(arity)]
+        goals.append(_builtin_goal(name, args))
     goal = ", ".join(goals)
     wrap = draw(st.sampled_from(["", "", "catch", "findall", "cyclic", "once"]))
     if wrap == "catch":
