@@ -24,6 +24,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+SUBPROCESS_PROBES = {"repl", "signals"}
 
 
 def load_probes(fast: bool):
@@ -39,7 +40,9 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=5.0, help="how long to run (default 5)")
     parser.add_argument("--probes", nargs="+", metavar="NAME", help="only these probes (default: all)")
-    parser.add_argument("--chunk", type=int, default=25, help="examples per probe before moving on (default 25)")
+    parser.add_argument("--chunk", type=int, default=100,
+                        help="examples per in-process probe before moving on, a tenth of it for the "
+                             "subprocess probes (default 100)")
     parser.add_argument("--seed", type=int, help="seed of the first chunk (default: random); chunk i uses seed + i")
     parser.add_argument("--fast", action="store_true", help="the fast profile's generators (what CI draws from)")
     parser.add_argument("--findings", metavar="FILE", help="append the distinct failures to this Markdown file")
@@ -67,7 +70,10 @@ def main() -> int:
     def run_chunk(name: str, chunk_seed: int) -> None:
         strategies, probe, check = probes[name]
 
-        @settings(max_examples=args.chunk, database=None, deadline=None, phases=[Phase.generate],
+        # the probes that start a process per case take ten times as long per case
+        examples = max(2, args.chunk // 10) if name in SUBPROCESS_PROBES else args.chunk
+
+        @settings(max_examples=examples, database=None, deadline=None, phases=[Phase.generate],
                   suppress_health_check=list(HealthCheck))
         @seed(chunk_seed)
         @given(**strategies)
