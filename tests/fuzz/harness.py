@@ -175,10 +175,15 @@ def _shipped_hashes() -> dict[str, str]:
 SHIPPED_HASHES = _shipped_hashes()
 
 
+_ARMED = [False]
+
+
 def _alarm(signum, frame):
     # The timer repeats (setitimer's interval): a Hang raised where Python ignores exceptions
-    # (a garbage-collector callback, a __del__) is raised again a moment later.
-    raise Hang()
+    # (a garbage-collector callback, a __del__) is raised again a moment later. Once the case
+    # is over (_ARMED cleared first thing), a late tick does nothing.
+    if _ARMED[0]:
+        raise Hang()
 
 
 MEMORY = 2 << 30   # bytes of address space one in-process case may add (a runaway case once took 24 GB)
@@ -223,6 +228,7 @@ def invoke(case: Case, seconds: float = 10.0) -> Outcome:
             os.chdir(directory)
             sys.stdout, sys.stderr, sys.stdin = STDOUT, STDERR, STDIN
             sys.setrecursionlimit(max(limit, 20_000))   # what the console script (cli.main.run) sets
+            _ARMED[0] = True
             signal.setitimer(signal.ITIMER_REAL, seconds, 0.5)
             try:
                 with memory_cap():
@@ -236,6 +242,7 @@ def invoke(case: Case, seconds: float = 10.0) -> Outcome:
             died = "Traceback (most recent call last): " + "".join(
                 traceback.format_exception_only(type(err), err)).strip()
         finally:
+            _ARMED[0] = False
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous)
             sys.stdout, sys.stderr, sys.stdin = saved
