@@ -344,8 +344,8 @@ def complete(data: bytes, name: str, argv=()) -> bool:
     """Whether `data` is a whole document of the kind the command line promises (JSON, YAML, .pl)."""
     text = data.decode("utf-8", "replace")
     kind = output_format(name, argv)
-    if argv and argv[0] in ("run", "verify") and kind != "json":
-        return True   # a report in text
+    if argv and argv[0] in ("run", "verify") and "--json" not in argv:
+        return True   # a report in text: run and verify take JSON from --json only, not from -o's suffix
     if kind == "json":
         try:
             json.loads(text)
