@@ -47,6 +47,8 @@ def main() -> int:
     parser.add_argument("--fast", action="store_true", help="the fast profile's generators (what CI draws from)")
     parser.add_argument("--findings", metavar="FILE", help="append the distinct failures to this Markdown file")
     parser.add_argument("--log", metavar="FILE", help="keep the case running now in this file")
+    parser.add_argument("--repro-dir", metavar="DIR",
+                        help="write each distinct failure's whole reproducer here (reproducers in the report are cut)")
     args = parser.parse_args()
 
     from hypothesis import HealthCheck, Phase, given, seed, settings
@@ -127,6 +129,12 @@ def main() -> int:
                    f"probe {failure['probe']}, seen {failure['count']} times; exit status {outcome.status}"
                    + (f"; {failure['drawn']}" if failure["drawn"] else ""), "", "```sh", case.reproducer(1200), "```",
                    "", "```", (outcome.stderr.strip() or "(no stderr)")[-1200:], "```"]
+    if args.repro_dir:
+        Path(args.repro_dir).mkdir(parents=True, exist_ok=True)
+        for number, failure in enumerate(sorted(failures.values(), key=lambda f: f["problem"]), 1):
+            path = Path(args.repro_dir) / f"failure-{number:02d}.sh"
+            path.write_text(f"# {failure['problem']}\n" + failure["case"].reproducer(limit=10**9) + "\n")
+        report.append(f"\nWhole reproducers: {args.repro_dir}/failure-NN.sh")
     text = "\n".join(report) + "\n"
     print(text)
     if args.findings:
