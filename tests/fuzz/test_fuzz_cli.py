@@ -1,0 +1,528 @@
+"""The command line keeps its promises on hostile input (README "What you can do", docs/formats.md
+Outputs): no traceback, no internal error (exit 70), a documented exit status, inputs untouched,
+no partial output or temporary file beside an -o target.
+
+Every subcommand is driven with hypothesis-generated inputs (tests/fuzz/mutations.py) in-process,
+with lowered limits and a SIGALRM guard per case (tests/fuzz/harness.py); the REPL, special files
+and signals run as subprocesses. The fast profile (the default) is derandomized, so CI sees the
+same cases every run; SCHEMALOG_FUZZ=long gives each test many more random examples, and
+benchmarks/fuzz.py runs the same generators for N minutes and reports every distinct failure.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
+
+import mutations as m
+from harness import (COFFEE, KITCHEN, MIX, MIX_SCENE, SEED, SIGNAL_STATUSES, STRUCTURE, Case,
+                     assert_kept, invoke, kind_of, spawn, violations)
+
+pytestmark = pytest.mark.fuzz
+
+LONG = os.environ.get("SCHEMALOG_FUZZ") == "long"
+GUARD = 10.0   # seconds one in-process case may take before it counts as a hang
+
+
+def profile(examples: int):
+    """The fast profile: `examples` derandomized cases, not shrunk (a hanging case would make each
+    shrinking step cost the whole guard); the long one: 50 times as many, random, shrunk."""
+    checks = [HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much,
+              HealthCheck.large_base_example]
+    if LONG:
+        return settings(max_examples=examples * 50, deadline=None, database=None, suppress_health_check=checks)
+    return settings(max_examples=examples, deadline=None, database=None, derandomize=True,
+                    suppress_health_check=checks, print_blob=False,
+                    phases=[Phase.explicit, Phase.reuse, Phase.generate])
+
+
+def shipped(path: Path) -> tuple[str, bytes]:
+    return path.name, path.read_bytes()
+
+
+# What each command is asked over one knowledge file `k.pl`, its limits lowered so a case is quick.
+KNOWLEDGE_COMMANDS = {
+    "check": ["check", "k.pl", "--max-nodes", "3000", "--max-depth", "64"],
+    "show": ["show", "k.pl", "--max-nodes", "3000", "--max-depth", "64"],
+    "show-pl": ["show", "k.pl", "--max-nodes", "3000", "--format", "pl", "-o", "out.pl"],
+    "compress": ["compress", "k.pl", "--max-nodes", "3000", "--max-depth", "64", "--json", "-o", "out.json"],
+    "compress-pl": ["compress", "k.pl", "--max-nodes", "3000", "-o", "out.pl"],
+    "decompress": ["decompress", "k.pl", "--max-nodes", "3000", "--format", "yaml", "-o", "out.yaml"],
+    "run": ["run", "k.pl", "--max-nodes", "3000", "--max-decisions", "300", "--json", "-o", "out.json"],
+    "run-compressed": ["run", "k.pl", "--max-nodes", "3000", "--compressed", "--max-decisions", "300",
+                       "--scene", "mix_with_spoon.yaml"],
+    "verify": ["verify", "k.pl", "--max-nodes", "3000", "--max-states", "300", "--json", "-o", "out.json"],
+    "query": ["query", "k.pl", "--max-nodes", "3000", "--max-steps", "20000", "sequential(X, Y)"],
+    "query-schema": ["query", "k.pl", "--max-steps", "20000", "schema(T, S, P), node(N)"],
+    "convert": ["convert", "k.pl", "--max-nodes", "3000", "-o", "out.yaml"],
+    "simulate-demo": ["simulate-demo", "k.pl", "--scene", "mix_with_spoon.yaml", "--rate", "5", "-o", "d.csv"],
+}
+
+
+def output_of(argv: list[str]) -> str | None:
+    return argv[argv.index("-o") + 1] if "-o" in argv else None
+
+
+def probe_knowledge(command, text, old):
+    argv = KNOWLEDGE_COMMANDS[command]
+    case = Case(tuple(argv), files=(("k.pl", text[1]), shipped(MIX_SCENE)), output=output_of(argv),
+                old_output=b"OLD\n" if old else None)
+    return case, invoke(case, GUARD)
+
+
+KNOWLEDGE = dict(command=st.sampled_from(sorted(KNOWLEDGE_COMMANDS)), text=m.knowledge(long=LONG), old=st.booleans())
+
+
+@profile(70)
+@given(**KNOWLEDGE)
+def test_mutated_knowledge(command, text, old):
+    assert_kept(*probe_knowledge(command, text, old))
+
+
+SCENE_COMMANDS = {
+    "run": ["run", "mix_with_spoon.pl", "--scene", "s.yaml", "--max-decisions", "300"],
+    "run-coffee": ["run", "prepare_coffee_and_tea.pl", "--task", "preparecoffee", "--scene", "s.yaml",
+                   "--seed", "3", "--json", "-o", "out.json"],
+    "verify": ["verify", "mix_with_spoon.pl", "--scene", "s.yaml", "--max-states", "300"],
+    "simulate-demo": ["simulate-demo", "mix_with_spoon.pl", "--scene", "s.yaml", "--rate", "5", "-o", "d.csv"],
+    "simulate-kitchen": ["simulate-demo", "prepare_coffee_and_tea.pl", "--scene", "s.yaml", "--task",
+                         "preparetea", "--rate", "2", "-o", "d.json"],
+    "query": ["query", "mix_with_spoon.pl", "--scene", "s.yaml", "--max-steps", "20000", "emphasis(B, E)"],
+}
+
+
+def probe_scenes(command, scene, old):
+    argv = SCENE_COMMANDS[command]
+    case = Case(tuple(argv), files=(("s.yaml", scene), shipped(MIX), shipped(COFFEE)), output=output_of(argv),
+                old_output=b"OLD\n" if old else None)
+    return case, invoke(case, GUARD)
+
+
+SCENES = dict(command=st.sampled_from(sorted(SCENE_COMMANDS)), scene=m.scenes(long=LONG), old=st.booleans())
+
+
+@profile(35)
+@given(**SCENES)
+def test_mutated_scenes(command, scene, old):
+    assert_kept(*probe_scenes(command, scene, old))
+
+
+_DEMO: list[bytes] = []
+
+
+def demonstration() -> bytes:
+    """A small simulated demonstration of preparecoffee (4 samples a second), made once."""
+    if not _DEMO:
+        case = Case(("simulate-demo", "prepare_coffee_and_tea.pl", "--scene", "kitchen.yaml", "--task",
+                     "preparecoffee", "--rate", "4", "-o", "demo.csv"), files=(shipped(COFFEE), shipped(KITCHEN)),
+                    output="demo.csv")
+        outcome = invoke(case, 60)
+        assert outcome.status == 0 and outcome.output_after, outcome.stderr
+        _DEMO.append(outcome.output_after)
+    return _DEMO[0]
+
+
+def test_the_demonstration_teaches():
+    """The seed of the demonstration cases is itself a good demonstration."""
+    case = Case(("learn", "demo.csv", "--structure", "coffee_structure.pl", "--task", "preparecoffee",
+                 "--bases", "1", "-o", "out.pl"), files=(("demo.csv", demonstration()), shipped(STRUCTURE)),
+                output="out.pl")
+    outcome = invoke(case, 30)
+    assert_kept(case, outcome)
+    assert outcome.status == 0 and outcome.output_after and b"schema(" in outcome.output_after
+
+
+def probe_demonstrations(demo, old, plot):
+    argv = ["learn", "demo.csv", "--structure", "coffee_structure.pl", "--task", "preparecoffee", "--bases", "1",
+            "-o", "out.pl"] + (["--motions", "motions.json"] if plot else [])
+    case = Case(tuple(argv), files=(("demo.csv", demo), shipped(STRUCTURE)), output="out.pl",
+                old_output=b"OLD\n" if old else None)
+    return case, invoke(case, 30)
+
+
+DEMONSTRATIONS = dict(demo=st.deferred(lambda: m.demonstrations(demonstration())), old=st.booleans(),
+                      plot=st.booleans())
+
+
+@profile(12)
+@given(**DEMONSTRATIONS)
+def test_mutated_demonstrations(demo, old, plot):
+    assert_kept(*probe_demonstrations(demo, old, plot))
+
+
+def probe_queries(query, flags):
+    case = Case(("query", "mix_with_spoon.pl", "--max-steps", "20000", *flags, query), files=(shipped(MIX),))
+    return case, invoke(case, GUARD)
+
+
+QUERIES = dict(query=m.queries(), flags=st.sampled_from([[], ["--json"], ["--first"], ["--json", "--first"]]))
+
+
+@profile(120)
+@given(**QUERIES)
+def test_queries(query, flags):
+    assert_kept(*probe_queries(query, flags))
+
+
+READER = dict(query=m.reader_queries(), flags=st.sampled_from([[], ["--json"]]))
+
+
+@profile(40)
+@given(**READER)
+def test_reader_escapes(query, flags):
+    assert_kept(*probe_queries(query, flags))
+
+
+def options_of(command: str) -> list[tuple[str, object]]:
+    """(option string, argparse action) for every option `command` takes, from its parser."""
+    from schemalog.cli.main import build_parser
+    parser = build_parser(command)
+    sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
+    found = []
+    for action in sub.choices[command]._actions:
+        if action.option_strings and action.dest != "help":
+            found.append((max(action.option_strings, key=len), action))
+    return found
+
+
+# A valid command line per command, and the limits kept low after the odd options (the last
+# value of an option wins) so that a case stays small; the long profile fuzzes those too.
+COMMAND_LINES = {
+    "check": (["check", "mix_with_spoon.pl"], []),
+    "show": (["show", "mix_with_spoon.pl"], []),
+    "compress": (["compress", "mix_with_spoon.pl", "-o", "out.pl"], []),
+    "decompress": (["decompress", "mix_with_spoon.pl", "-o", "out.yaml"], []),
+    "run": (["run", "mix_with_spoon.pl", "--scene", "mix_with_spoon.yaml", "-o", "out.json"], ["--max-decisions", "300"]),
+    "verify": (["verify", "mix_with_spoon.pl", "-o", "out.json"], ["--max-states", "2000"]),
+    "generate": (["generate", "--depth", "2", "--children", "2", "-o", "out.pl"], ["--max-nodes", "2000"]),
+    "learn": (["learn", "demo.csv", "--structure", "coffee_structure.pl", "--task", "preparecoffee", "-o", "out.pl"],
+              ["--bases", "1"]),
+    "simulate-demo": (["simulate-demo", "mix_with_spoon.pl", "--scene", "mix_with_spoon.yaml", "-o", "d.csv"],
+                      ["--rate", "5"]),
+    "query": (["query", "mix_with_spoon.pl", "sequential(X, Y)"], ["--max-steps", "20000"]),
+    "convert": (["convert", "coffee_and_tea_seed.prolog", "--task", "prepareboth", "-o", "out.pl"], []),
+}
+PATHS = ["sub", "sub/", "missing.pl", "empty.pl", "mix_with_spoon.pl", "mix_with_spoon.yaml", "nowhere/out.pl",
+         "/dev/null", "out.pl", "out.json", ".", "sub/x.yaml"]
+SLOW_OPTIONS = {"--max-nodes", "--max-depth", "--max-states", "--max-steps", "--max-decisions", "--depth",
+                "--children", "--rate", "--sample", "--bases", "--paper", "--quick", "--runs", "--speed",
+                "--sympy-budget"}
+
+
+@st.composite
+def command_lines(draw):
+    """(command, argv): a valid command line with one to three options given odd values."""
+    command = draw(st.sampled_from(sorted(COMMAND_LINES)))
+    base, limits = COMMAND_LINES[command]
+    argv = list(base)
+    options = [(o, a) for o, a in options_of(command) if LONG or o not in SLOW_OPTIONS or limits == []]
+    for _ in range(draw(st.integers(1, 3))):
+        option, action = draw(st.sampled_from(options))
+        if action.nargs == 0:
+            argv.append(option)
+            continue
+        values = list(action.choices or []) + m.ODD_VALUES + PATHS
+        argv += [option, draw(st.sampled_from(values))]
+    if draw(st.integers(0, 5)) == 0:   # a positional argument dropped, doubled or odd
+        i = draw(st.integers(1, len(argv) - 1))
+        argv.insert(i, draw(st.sampled_from(PATHS + m.ODD_VALUES)))
+    return command, argv + ([] if LONG else limits)
+
+
+def probe_command_lines(line, old):
+    command, argv = line
+    files = (shipped(MIX), shipped(MIX_SCENE), shipped(SEED), shipped(STRUCTURE), ("empty.pl", b""),
+             ("sub/x.yaml", b"objects: {}\n"))
+    if command == "learn":
+        files += (("demo.csv", demonstration()),)
+    case = Case(tuple(argv), files=files, output=output_of(argv) if output_of(argv) in ("out.pl", "out.json",
+                "out.yaml", "d.csv") else None, old_output=b"OLD\n" if old else None)
+    return case, invoke(case, 30 if command == "learn" else GUARD)
+
+
+COMMAND_LINES_DRAWN = dict(line=command_lines(), old=st.booleans())
+
+
+@profile(90)
+@given(**COMMAND_LINES_DRAWN)
+def test_odd_command_lines(line, old):
+    assert_kept(*probe_command_lines(line, old))
+
+
+@pytest.mark.parametrize("argv", [
+    ["bench"], ["bench", "--paper", "--quick"], ["bench", "--quick", "--runs", "0"], ["bench", "--quick", "--runs", "-1"],
+    ["bench", "--quick", "--runs", "nan"], ["bench", "--quick", "--seed", "x"], ["bench", "--quick", "--max-states", "0"],
+    ["bench", "--quick", "--out", "mix_with_spoon.pl"], ["bench", "--quick", "--out", "/dev/null"],
+    ["bench", "--quick", "--out", "mix_with_spoon.pl/sub"], ["bench", "--quick", "--out", ""],
+    ["bench", "--quick", "--runs", "99999999999999999999999", "--max-states", "-5"],
+])
+def test_bench_command_lines(argv):
+    """bench refuses what it cannot do before it starts its minute of work."""
+    case = Case(tuple(argv), files=(shipped(MIX),))
+    outcome = invoke(case, GUARD)
+    assert_kept(case, outcome)
+    assert outcome.status != 0
+
+
+# --- subprocesses: the REPL on standard input, special files, signals ---------------------------
+
+REPL_LINES = [":tree", ":compress", ":run", ":verify", ":help", ":nonsense", ":tree extra args", ":run --bad",
+              ":compress --propagate x", "sequential(X, Y).", "X = f(X).", "halt(foo).", "atom_length(X, Y).",
+              "between(1, inf, X).", ";", "", "\x04", "'unterminated", "a :- b.", ":verify 1 2 3",
+              "0'\\z.", "format(\"~*c\", [99999999, 0'x]).", "X is 2**100000, Y = 1.", "repeat, fail.", "\x1b[2J"]
+
+
+def probe_repl(lines):
+    stdin = ("\n".join(lines) + "\n").encode()
+    case = Case(("repl", "--plain", "--max-steps", "20000", "mix_with_spoon.pl"), files=(shipped(MIX),), stdin=stdin)
+    return case, spawn(case, 60)
+
+
+REPL = dict(lines=st.lists(st.one_of(st.sampled_from(REPL_LINES), m.queries().map(lambda q: q + ".")), min_size=1,
+                           max_size=6))
+
+
+@profile(6)
+@given(**REPL)
+def test_repl_on_standard_input(lines):
+    assert_kept(*probe_repl(lines))
+
+
+DEVICES = {"null": 3, "zero": 5, "full": 7}
+
+
+def _device(directory: Path, name: str, kind: str) -> bool:
+    """Make a character device like /dev/`kind` in `directory`; without CAP_MKNOD (not root),
+    a link to the system's own instead. Whether it is a link."""
+    import stat
+    try:
+        os.mknod(directory / name, 0o666 | stat.S_IFCHR, os.makedev(1, DEVICES[kind]))
+        return False
+    except PermissionError:
+        os.symlink(f"/dev/{kind}", directory / name)
+        return True
+
+
+def _fifo_writer(path: Path, data: bytes):
+    def write():
+        try:
+            with open(path, "wb") as fifo:
+                fifo.write(data)
+        except OSError:
+            pass
+    thread = threading.Thread(target=write, daemon=True)
+    thread.start()
+    return thread
+
+
+def _fifo_reader(path: Path, got: list):
+    def read():
+        try:
+            with open(path, "rb") as fifo:
+                got.append(fifo.read())
+        except OSError:
+            pass
+    thread = threading.Thread(target=read, daemon=True)
+    thread.start()
+    return thread
+
+
+# (argv, the special file's name, what it is: fifo-in, fifo-out, null, full, zero)
+SPECIAL = [
+    (["check", "in.pl"], "in.pl", "fifo-in"),
+    (["run", "mix_with_spoon.pl", "--scene", "in.yaml"], "in.yaml", "fifo-in"),
+    (["learn", "in.csv", "--structure", "coffee_structure.pl", "--task", "preparecoffee", "--bases", "1"], "in.csv",
+     "fifo-in"),
+    (["show", "mix_with_spoon.pl", "--format", "pl", "-o", "out.pl"], "out.pl", "fifo-out"),
+    (["compress", "mix_with_spoon.pl", "--json", "-o", "out.json"], "out.json", "fifo-out"),
+    (["check", "null.pl"], "null.pl", "null"),
+    (["run", "mix_with_spoon.pl", "--scene", "null.yaml"], "null.yaml", "null"),
+    (["learn", "null.csv", "--structure", "coffee_structure.pl"], "null.csv", "null"),
+    (["check", "zero.pl", "--max-bytes", "1000"], "zero.pl", "zero"),
+    (["learn", "zero.csv", "--structure", "coffee_structure.pl", "--max-bytes", "1000"], "zero.csv", "zero"),
+    (["query", "zero.pl", "--max-bytes", "1000", "true"], "zero.pl", "zero"),
+    (["show", "mix_with_spoon.pl", "-o", "null"], "null", "null"),
+    (["generate", "--depth", "2", "--children", "2", "-o", "null.pl", "--scene", "null.yaml"], "null.pl", "null"),
+    (["verify", "mix_with_spoon.pl", "--json", "-o", "null.json"], "null.json", "null"),
+    (["show", "mix_with_spoon.pl", "--format", "pl", "-o", "full.pl"], "full.pl", "full"),
+    (["compress", "mix_with_spoon.pl", "-o", "full"], "full", "full"),
+    (["simulate-demo", "mix_with_spoon.pl", "--scene", "mix_with_spoon.yaml", "--rate", "5", "-o", "full.csv"],
+     "full.csv", "full"),
+    (["convert", "mix_with_spoon.pl", "-o", "full.yaml"], "full.yaml", "full"),
+    (["show", "mix_with_spoon.pl", "--format", "pl", "-o", "link.pl"], "link.pl", "link"),
+    (["compress", "mix_with_spoon.pl", "-o", "link.pl"], "link.pl", "link-to-input"),
+]
+
+
+@pytest.mark.parametrize("argv, name, kind", SPECIAL, ids=[f"{a[0]}-{k}-{n}" for a, n, k in SPECIAL])
+def test_special_files(argv, name, kind):
+    """FIFOs, character devices and links as inputs and as -o targets: read within --max-bytes,
+    written in place (a link followed) and never replaced by a regular file; /dev/full's ENOSPC
+    is an error; a link to an input is refused as -o."""
+    case = Case(tuple(argv), files=(shipped(MIX), shipped(MIX_SCENE), shipped(STRUCTURE)))
+    got: list[bytes] = []
+    linked = []
+
+    def prepare(directory: Path) -> None:
+        path = directory / name
+        if kind.startswith("fifo"):
+            os.mkfifo(path)
+        elif kind == "link":
+            (directory / "real.pl").write_bytes(b"OLD\n")
+            os.symlink("real.pl", path)
+        elif kind == "link-to-input":
+            os.symlink("mix_with_spoon.pl", path)
+        else:
+            linked.append(_device(directory, name, kind))
+
+    def during(process, directory):
+        path = directory / name
+        if kind == "fifo-in":
+            source = {".pl": MIX, ".yaml": MIX_SCENE}.get(path.suffix)
+            _fifo_writer(path, source.read_bytes() if source else demonstration())
+        elif kind == "fifo-out":
+            _fifo_reader(path, got)
+
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="schemalog-fuzz-") as tmp:
+        outcome = spawn(case, 60, directory=Path(tmp), prepare=prepare, during=during)
+        after = kind_of(Path(tmp) / name)
+        real = (Path(tmp) / "real.pl").read_bytes() if kind == "link" else None
+    assert_kept(case, outcome)
+    expected = {"fifo-in": "fifo", "fifo-out": "fifo", "link": "link", "link-to-input": "link"}.get(
+        kind, "link" if linked and linked[0] else "chardev")
+    assert after == expected, f"{name} became a {after}"
+    if kind == "link":   # followed: the file it names gets the whole tree
+        assert outcome.status == 0 and b"schema(" in real, real[:200]
+    if kind == "link-to-input":   # an input reached through a link is still an input
+        assert outcome.status == 2 and "overwrite an input" in outcome.stderr, outcome.stderr
+    if kind == "full":
+        assert outcome.status == 1 and "space" in outcome.stderr, outcome.stderr
+    if kind == "fifo-out":
+        assert outcome.status == 0, outcome.stderr
+        time.sleep(0.2)
+        assert got and got[0], "nothing was written into the FIFO"
+    if kind == "zero":
+        # query exits 2 on a file it cannot read (docs/queries.md), the other commands 1
+        assert outcome.status in (1, 2) and "--max-bytes" in outcome.stderr, outcome.stderr
+
+
+def _handlers_installed(pid: int, signums) -> bool:
+    """Whether the process catches every one of `signums` yet (/proc/PID/status SigCgt)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return True
+    caught = int(next(line.split()[1] for line in status.splitlines() if line.startswith("SigCgt:")), 16)
+    return all(caught & (1 << (s - 1)) for s in signums)
+
+
+SIGNAL_COMMANDS = [
+    (["compress", "prepare_coffee_and_tea.pl", "-o", "out.pl"], "out.pl"),
+    (["verify", "prepare_coffee_and_tea.pl", "--states", "all", "--json", "-o", "out.json"], "out.json"),
+    (["simulate-demo", "prepare_coffee_and_tea.pl", "--scene", "kitchen.yaml", "--task", "preparecoffee", "-o",
+      "out.csv"], "out.csv"),
+    (["show", "prepare_coffee_and_tea.pl", "--format", "yaml", "-o", "out.yaml"], "out.yaml"),
+]
+_REFERENCE: dict[tuple[str, ...], bytes] = {}
+
+
+def reference(argv: list[str], output: str) -> bytes:
+    """What the command writes when nothing stops it."""
+    key = tuple(argv)
+    if key not in _REFERENCE:
+        case = Case(key, files=(shipped(COFFEE), shipped(KITCHEN)), output=output)
+        outcome = spawn(case, 120)
+        assert outcome.status == 0, outcome.stderr
+        _REFERENCE[key] = outcome.output_after
+    return _REFERENCE[key]
+
+
+def probe_signals(command: int, signum: int, delay: float, wait: bool = True):
+    """Run a command that writes -o and send it `signum` `delay` seconds after its handlers are
+    in place (or, without `wait`, after it starts)."""
+    argv, output = SIGNAL_COMMANDS[command]
+    case = Case(tuple(argv), files=(shipped(COFFEE), shipped(KITCHEN)), output=output, old_output=b"OLD\n")
+
+    def during(process, directory):
+        deadline = time.monotonic() + 30
+        while wait and not _handlers_installed(process.pid, SIGNAL_STATUSES) and time.monotonic() < deadline:
+            time.sleep(0.002)
+        time.sleep(delay)
+        if process.poll() is None:
+            process.send_signal(signum)
+        return {"delay": delay}
+
+    return case, spawn(case, 120, during=during)
+
+
+def check_signalled(case, outcome, signum, **_) -> list[str]:
+    """The promises of a run stopped by `signum`: its status, no temporary file, the target old or whole."""
+    # Killed by the signal itself (it came before Python's handlers were in place) is what the
+    # shell reports as 128 + signum too, and nothing was written yet: the same promise kept.
+    found = violations(case, outcome, statuses={0, SIGNAL_STATUSES[signum], -signum})
+    if outcome.output_after != b"OLD\n" and untimed(outcome.output_after) != untimed(
+            reference(list(case.argv), case.output)):
+        found.append(f"-o target is neither its old content nor the whole new one after "
+                     f"{signal_name(signum)} at {outcome.extra.get('delay')} s ({len(outcome.output_after or b'')} bytes)")
+    return found
+
+
+def untimed(data: bytes | None):
+    """A document without what changes from run to run: verify's JSON `seconds`."""
+    if data is None or not data.lstrip().startswith(b"{"):
+        return data
+    import json
+
+    def strip(value):
+        if isinstance(value, dict):
+            return {k: strip(v) for k, v in value.items() if k != "seconds"}
+        if isinstance(value, list):
+            return [strip(v) for v in value]
+        return value
+    try:
+        return strip(json.loads(data))
+    except ValueError:
+        return data
+
+
+def signal_name(signum) -> str:
+    return signal.Signals(signum).name
+
+
+SIGNALS = dict(command=st.integers(0, len(SIGNAL_COMMANDS) - 1), signum=st.sampled_from(sorted(SIGNAL_STATUSES)),
+               delay=st.floats(0, 2.0 if LONG else 0.8), wait=st.booleans() if LONG else st.just(True))
+
+
+@profile(6)
+@given(**SIGNALS)
+def test_signals_during_output(command, signum, delay, wait):
+    """SIGINT, SIGTERM, SIGHUP at a random moment: exit 130/143/129 or 0, nothing partial left."""
+    case, outcome = probe_signals(command, signum, delay, wait)
+    found = check_signalled(case, outcome, signum)
+    assert not found, "\n".join([*found, f"stderr: {outcome.stderr[-800:]}", case.reproducer(),
+                                 f"(and send {signal_name(signum)} {delay:.3f} s after it starts)"])
+
+
+def kept(case, outcome, **_) -> list[str]:
+    return violations(case, outcome)
+
+
+# name -> (the strategies of its arguments, the probe, the check): what benchmarks/fuzz.py runs.
+PROBES = {
+    "knowledge": (KNOWLEDGE, probe_knowledge, kept),
+    "scenes": (SCENES, probe_scenes, kept),
+    "demonstrations": (DEMONSTRATIONS, probe_demonstrations, kept),
+    "queries": (QUERIES, probe_queries, kept),
+    "reader": (READER, probe_queries, kept),
+    "command-lines": (COMMAND_LINES_DRAWN, probe_command_lines, kept),
+    "repl": (REPL, probe_repl, kept),
+    "signals": (SIGNALS, probe_signals, check_signalled),
+}
