@@ -127,3 +127,10 @@ def test_no_command_line_module_over_400_lines():
     long = {p.name: n for p in (PACKAGE / "cli").glob("*.py")
             if (n := len(p.read_text(encoding="utf-8").splitlines())) > 400}
     assert not long
+
+
+def test_test_modules_have_unique_names():
+    # pytest imports test modules by basename (no __init__.py here): two test_limits.py in
+    # different folders stop the whole run at collection
+    names = [p.name for p in Path(__file__).parent.rglob("test_*.py")]
+    assert sorted(n for n in set(names) if names.count(n) > 1) == []
