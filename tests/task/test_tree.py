@@ -8,7 +8,7 @@ from schemalog.formats.documents import read_document
 from schemalog.errors import SchemalogError
 from schemalog.logic.kb import KnowledgeBase
 from schemalog.logic.parse import parse_term
-from schemalog.logic.terms import term_to_text
+from schemalog.logic.terms import Atom, term_to_text
 from schemalog.task.tree import count_nodes, declared_tasks, depth, instantiate, walk
 
 from conftest import COFFEE, MIX
@@ -167,3 +167,26 @@ def test_a_shared_sub_task_is_counted_and_built_once_per_use(fanouts):
             instantiate(kb, parse_term("s0"), max_nodes=expected - 1)
     with pytest.raises(SchemalogError, match="deeper than"):
         instantiate(kb, parse_term("s0"), max_depth=len(fanouts))
+
+
+def test_a_looping_look_up_stops_at_the_knowledge_bases_step_limit_and_names_itself():
+    # a mutated file (found by the fuzz suite): `object(X) :- object(X).` ran 5,000,000 steps
+    # whatever --max-steps said, then ended with a message naming no goal
+    kb = KnowledgeBase()
+    kb.max_steps = 20_000
+    kb.consult_text("schema(t, [(a(cup), true)], a.done).\nschema(a(cup), [], a.done).\n"
+                    "object(X) :- object(X).\n", "loop.pl")
+    with pytest.raises(SchemalogError) as stopped:
+        instantiate(kb, Atom("t"))
+    assert "object(" in str(stopped.value), str(stopped.value)
+    assert "exceeded the step limit of 20,000 steps (raise it with --max-steps N)" in str(stopped.value)
+
+
+def test_a_rule_schemas_body_runs_under_the_step_limit_with_its_place():
+    kb = KnowledgeBase()
+    kb.max_steps = 20_000
+    kb.consult_text("schema(t, [(u, true)], u.done).\nschema(u, [], u.done) :- loop.\nloop :- loop.\n", "rule.pl")
+    with pytest.raises(SchemalogError) as stopped:
+        instantiate(kb, Atom("t"))
+    assert "while instantiating u, the schema's body exceeded the step limit of 20,000 steps" in str(stopped.value)
+    assert stopped.value.pos is not None and stopped.value.pos.line == 2

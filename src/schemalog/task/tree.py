@@ -21,7 +21,7 @@ from .. import defaults
 from . import conditions as cond
 from .conditions import Condition
 from ..logic.engine import Engine
-from ..logic.exceptions import PrologError
+from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..errors import SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, read_schema
@@ -161,7 +161,9 @@ class Instantiator:
     def __init__(self, kb: KnowledgeBase, max_depth: int = DEFAULT_MAX_DEPTH,
                  max_nodes: int = DEFAULT_MAX_NODES) -> None:
         self.kb = kb
-        self.engine = Engine(kb, max_steps=5_000_000)
+        # A rule schema's body, and each look-up of agent/2, object/1 ..., runs under the
+        # knowledge base's step limit (--max-steps), as its directives do.
+        self.engine = Engine(kb, max_steps=kb.max_steps)
         self.max_depth = max_depth
         self.max_nodes = max_nodes
         self._has = {name: bool(kb.clauses(name, arity))
@@ -189,6 +191,10 @@ class Instantiator:
                 except PrologError as err:
                     raise SchemalogError(f"while instantiating {term_to_text(label)}, the schema's "
                                          f"body raised {err}", clause.pos) from None
+                except StepLimitExceeded:
+                    raise SchemalogError(f"while instantiating {term_to_text(label)}, the schema's body "
+                                         f"exceeded the step limit of {self.engine.max_steps:,} steps "
+                                         f"(raise it with --max-steps N)", clause.pos) from None
             resolved = Struct("schema", (b.resolve(label), b.resolve(goal_list), b.resolve(goal_post)))
             return resolved.args[0], read_schema(resolved, pos=clause.pos, allow_unbound=False)
         if self._has["behaviour"] and self._succeeds(Struct("behaviour", (label,))):
@@ -200,11 +206,19 @@ class Instantiator:
             f"or declare a primitive behaviour with schema({term_to_text(label)}, [], Post) or "
             f"behaviour({term_to_text(label)})", used_at)
 
-    def _succeeds(self, goal: Term) -> bool:
+    def _first(self, goal: Term, shown: str | None = None) -> Bindings | None:
+        """The first answer of a look-up (agent/2, objects/2, object/1, origins/2), or an error
+        that names it (`shown`, else the goal): an exception it raised, or the step limit."""
         try:
-            return self.engine.first(goal) is not None
+            return self.engine.first(goal)
         except PrologError as err:
-            raise SchemalogError(f"{term_to_text(goal)} raised {err}") from None
+            raise SchemalogError(f"{shown or term_to_text(goal)} raised {err}") from None
+        except StepLimitExceeded:
+            raise SchemalogError(f"{shown or term_to_text(goal)} exceeded the step limit of "
+                                 f"{self.engine.max_steps:,} steps (raise it with --max-steps N)") from None
+
+    def _succeeds(self, goal: Term) -> bool:
+        return self._first(goal) is not None
 
     def agent(self, label: Term) -> str:
         """Who performs `label`: the first `agent(Label, A)` answer, else `arm`."""
@@ -214,10 +228,7 @@ class Instantiator:
         agent = DEFAULT_AGENT
         if self._has["agent"]:
             a = Var("A")
-            try:
-                b = self.engine.first(Struct("agent", (label, a)))
-            except PrologError as err:
-                raise SchemalogError(f"agent({term_to_text(label)}, A) raised {err}") from None
+            b = self._first(Struct("agent", (label, a)), f"agent({term_to_text(label)}, A)")
             if b is not None:
                 value = b.resolve(a)
                 if not isinstance(value, Atom):
@@ -236,10 +247,7 @@ class Instantiator:
         result: tuple[Term, ...] | None = None
         if self._has["objects"]:
             v = Var("Os")
-            try:
-                b = self.engine.first(Struct("objects", (label, v)))
-            except PrologError as err:
-                raise SchemalogError(f"objects({term_to_text(label)}, Os) raised {err}") from None
+            b = self._first(Struct("objects", (label, v)), f"objects({term_to_text(label)}, Os)")
             if b is not None:
                 items, tail = list_items(b.resolve(v))
                 if tail != NIL:
@@ -272,7 +280,7 @@ class Instantiator:
         return found[0] if found else ()
 
     def _read_origins(self, goal: Struct, pos: SourcePos | None, many: bool) -> list[tuple[Origin, ...]]:
-        b = self.engine.first(goal)
+        b = self._first(goal)
         if b is None:
             return []
         value = b.resolve(goal.args[1])
