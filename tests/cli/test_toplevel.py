@@ -8,7 +8,9 @@ import sys
 import pytest
 
 from schemalog.cli.relations import Workspace
-from schemalog.cli.toplevel import answer_text, answers, complete_input, read_query
+from schemalog.cli.toplevel import answer_of, answer_text, answers, complete_input, read_query
+from schemalog.logic.engine import Engine
+from schemalog.logic.kb import KnowledgeBase
 
 from conftest import COFFEE, MIX, ROOT
 
@@ -138,3 +140,13 @@ def test_query_output_of_write_goes_with_the_answers():
     assert run("query", "write(hello), fail").stdout == "hello\nfalse\n"
     r = run("query", "write(hello), nl", "--json")
     assert json.loads(r.stdout) == [{}] and r.stderr.endswith("hello\n")
+
+
+def test_a_cyclic_copy_prints_closed_on_its_own_name():
+    # swipl's top level: Y = f(Y); the copy's inner variable was printed, as f(f(_))
+    for text, shown in (("X = f(X), copy_term(X, Y)", "X = f(X), Y = f(Y)"),
+                        ("X = [a|X], copy_term(X, Y)", "X = [a|X], Y = [a|Y]"),
+                        ("X = f(X), Y = X", "X = f(X), Y = f(Y)")):
+        query = read_query(text)
+        b = Engine(KnowledgeBase()).first(query.goal)
+        assert answer_text(answer_of(query, b)) == shown

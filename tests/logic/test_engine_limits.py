@@ -255,3 +255,4 @@ def test_consult_takes_the_step_limit_of_its_directives(tmp_path):
     kb.consult(path, max_steps=10_000)
     assert [w for w in kb.warnings if "exceeded the step limit of 10,000" in w]
     assert path.read_bytes() == before
+

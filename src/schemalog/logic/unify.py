@@ -147,7 +147,9 @@ class Bindings:
     def resolve_finite(self, term: Term) -> Term:
         """Like `resolve`, but where a variable's value contains the variable itself
         (X = f(X), made without the occurs check) the variable is left in place, so the
-        result is finite: X resolves to f(X), as SWI-Prolog's top level prints it."""
+        result is finite: X resolves to f(X), as SWI-Prolog's top level prints it. A cycle
+        back to the term's own value through another variable (Y = X', X' = f(X'), which
+        copy_term makes) is closed on `term` itself, so Y resolves to f(Y), not f(X')."""
         active: set[Var] = set()
         values = self.values
 
@@ -167,6 +169,7 @@ class Bindings:
         if not isinstance(root, Struct) or chain is None:
             return root
         active.update(chain)
+        own = set(chain) if type(term) is Var else ()   # the variables standing for the whole term
         stack: list[tuple[Struct, list[Term], list[Var]]] = [(root, [], chain)]
         result: Term = root
         while stack:
@@ -181,11 +184,14 @@ class Bindings:
                     result = rebuilt
                 continue
             arg, chain = deref(node.args[len(done)])
-            if isinstance(arg, Struct) and chain is not None:
+            if own and chain and arg is root:
+                # back at the very node the term's value is (Y bound to the value f(X') of X'): Y = f(Y)
+                done.append(term)
+            elif isinstance(arg, Struct) and chain is not None:
                 active.update(chain)
                 stack.append((arg, [], chain))
             else:
-                done.append(arg)
+                done.append(term if chain is None and arg in own else arg)
         return result
 
     def unify(self, x: Term, y: Term, occurs_check: bool = False) -> bool:
