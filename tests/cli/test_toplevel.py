@@ -150,3 +150,12 @@ def test_a_cyclic_copy_prints_closed_on_its_own_name():
         query = read_query(text)
         b = Engine(KnowledgeBase()).first(query.goal)
         assert answer_text(answer_of(query, b)) == shown
+
+
+def test_printing_answers_counts_against_the_step_limit():
+    # select(X, L, R) with L unbound has ever longer answers: each cost one resolution step
+    # and O(n) to print, so --max-steps 20000 let it print without end (fuzz, long profile)
+    done = subprocess.run([sys.executable, "-m", "schemalog", "query", str(MIX), "--max-steps", "20000",
+                           "select(X, L, R)"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2 and "step limit of 20,000 resolution steps exceeded" in done.stderr, done.stderr
+    assert 50 < len(done.stdout.splitlines()) < 1000

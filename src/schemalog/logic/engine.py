@@ -145,6 +145,8 @@ class Engine:
                 if goals is None:
                     self.deterministic = not cps
                     yield b
+                    if b.work:       # the answer's printing (resolve_finite) is the query's work too
+                        self._charge_work(b)
                     self.steps += 1  # an answer counts: between(1, inf, X) alone stops at the limit
                     if self.steps > max_steps:
                         raise self._over()

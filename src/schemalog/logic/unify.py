@@ -149,7 +149,8 @@ class Bindings:
         (X = f(X), made without the occurs check) the variable is left in place, so the
         result is finite: X resolves to f(X), as SWI-Prolog's top level prints it. A cycle
         back to the term's own value through another variable (Y = X', X' = f(X'), which
-        copy_term makes) is closed on `term` itself, so Y resolves to f(Y), not f(X')."""
+        copy_term makes) is closed on `term` itself, so Y resolves to f(Y), not f(X').
+        Its nodes count as work, as `resolve`'s do: printing an answer is charged to the query."""
         active: set[Var] = set()
         values = self.values
 
@@ -172,6 +173,7 @@ class Bindings:
         own = set(chain) if type(term) is Var else ()   # the variables standing for the whole term
         stack: list[tuple[Struct, list[Term], list[Var]]] = [(root, [], chain)]
         result: Term = root
+        nodes = 1
         while stack:
             node, done, entered = stack[-1]
             if len(done) == len(node.args):
@@ -190,8 +192,10 @@ class Bindings:
             elif isinstance(arg, Struct) and chain is not None:
                 active.update(chain)
                 stack.append((arg, [], chain))
+                nodes += 1
             else:
                 done.append(term if chain is None and arg in own else arg)
+        self.work += nodes
         return result
 
     def unify(self, x: Term, y: Term, occurs_check: bool = False) -> bool:
