@@ -37,6 +37,9 @@ def register(sub, parents: Parents) -> None:
                    help=f"the proximity radius the demonstration is planned for (default {defaults.RADIUS} m)")
     p.add_argument("--max-bytes", type=positive, default=defaults.MAX_BYTES,
                    help=f"refuse input files larger than this (default {defaults.MAX_BYTES:,})")
+    p.add_argument("--max-steps", type=positive, default=defaults.MAX_STEPS, metavar="N",
+                   help=f"resolution steps one directive of a file, or one look-up of the task's "
+                        f"knowledge, may take (default {defaults.MAX_STEPS:,})")
     p.set_defaults(run=run)
 
 
@@ -56,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"which task knowledge? {args.scene} names none (knowledge: in the scene): "
                          f"give the task file, e.g. kb/tasks/prepare_coffee_and_tea.pl")
     check_output(args.output, inputs_of(args, files))
-    kb = load_kb(files, args.max_bytes)
+    kb = load_kb(files, args.max_bytes, args.max_steps)
     inputs = inputs_of(args, files, kb.files)
     check_output(args.output, inputs)            # and every file they consult, before simulating
     task = choose_tasks(kb, args.task)[0]
