@@ -40,6 +40,32 @@ def kb_of():
     return make
 
 
+# A schemalog process whose writes stop after the first kilobyte and hang: a signal or the time
+# limit then arrives during a write (python -c SLOW_WRITE ARGS... runs the command line ARGS).
+SLOW_WRITE = """
+import sys, time
+import schemalog.formats.documents as documents
+def slow(handle, text):
+    handle.write(text[:1000]); handle.flush(); time.sleep(60)
+documents._write_text = slow
+sys.argv[0] = "schemalog"
+from schemalog.cli.main import run
+run()
+"""
+
+
+def wide_task(n: int):
+    """A knowledge base with one task, t0, of n sub-tasks in sequence (c0 released by `go`, each
+    next by the one before), and its tree: the wide shape of benchmarks/bench_scale.py."""
+    from schemalog.task.tree import instantiate
+
+    kb = KnowledgeBase()
+    entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
+    kb.consult_text(f"initial(go).\nschema(t0, [{entries}], t0.done).\n"
+                    + "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n)), "w.pl")
+    return kb, instantiate(kb, parse_term("t0"))
+
+
 def read_fifo_in_thread(fifo):
     """Start reading `fifo` from a thread; join() and then got[0] is what was read."""
     got = []

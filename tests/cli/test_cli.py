@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from conftest import COFFEE, MIX, ROOT, SEED_COFFEE, read_fifo_in_thread
+from conftest import COFFEE, MIX, ROOT, SEED_COFFEE, SLOW_WRITE, read_fifo_in_thread
 
 
 def run(*args, cwd=None):
@@ -573,19 +573,7 @@ def test_output_never_overwrites_any_input(tmp_path):
     assert (tmp_path / "X.pl").read_text() == "object(cup).\n" == (tmp_path / "m.pl").read_text()
 
 
-# The write is made slow (it stops after the first kilobyte) so that the signal arrives during it.
-SLOW_WRITE = """
-import sys, time
-import schemalog.formats.documents as documents
-def slow(handle, text):
-    handle.write(text[:1000]); handle.flush(); time.sleep(60)
-documents._write_text = slow
-sys.argv[0] = "schemalog"
-from schemalog.cli.main import run
-run()
-"""
-
-
+# SLOW_WRITE (conftest.py) stops after the first kilobyte, so that the signal arrives during the write.
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
 def test_a_signal_during_a_write_leaves_no_temporary_file(tmp_path, signum):
     p = subprocess.Popen([sys.executable, "-c", SLOW_WRITE, "generate", "--depth", "4", "--children", "3", "-o", "out.pl"],

@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from conftest import COFFEE, MIX, ROOT
+from conftest import COFFEE, MIX, ROOT, SLOW_WRITE
 
 STRUCTURE = ROOT / "kb" / "tasks" / "coffee_structure.pl"
 FIG2_SCENE = ROOT / "kb" / "scenes" / "mix_with_spoon.yaml"
@@ -52,19 +52,7 @@ def test_a_read_that_blocks_on_a_fifo_stops_at_the_time_limit(tmp_path, args):
     assert r.returncode == 124 and "time limit of 0.5 s exceeded" in r.stderr and clean(r), (args, r.stderr)
 
 
-# The write is made slow (it stops after the first kilobyte) so that the time runs out during it.
-SLOW_WRITE = """
-import sys, time
-import schemalog.formats.documents as documents
-def slow(handle, text):
-    handle.write(text[:1000]); handle.flush(); time.sleep(60)
-documents._write_text = slow
-sys.argv[0] = "schemalog"
-from schemalog.cli.main import run
-run()
-"""
-
-
+# SLOW_WRITE (conftest.py) stops after the first kilobyte, so that the time runs out during the write.
 def test_a_time_limit_during_a_write_leaves_no_file(tmp_path):
     r = python(SLOW_WRITE, "generate", "--depth", 3, "--children", 3, "-o", "out.pl", "--timeout", 1, cwd=tmp_path)
     assert r.returncode == 124 and "time limit of 1 s exceeded" in r.stderr and clean(r), r.stderr

@@ -17,7 +17,7 @@ from schemalog.logic.terms import term_to_text
 from schemalog.task.tree import Behaviour, Origin, count_nodes, instantiate, walk
 from schemalog.run.world import World, initial_state
 
-from conftest import COFFEE, MIX, ROOT
+from conftest import COFFEE, MIX, ROOT, wide_task
 
 KITCHEN = read_scene(ROOT / "kb" / "scenes" / "kitchen.yaml")
 FIG2_SCENE = read_scene(ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
@@ -509,17 +509,8 @@ def test_activation_ranks_leaves_as_the_selector_does(compressed):
     assert ex.outcome.completed
 
 
-def _wide(n):
-    from schemalog.logic.kb import KnowledgeBase
-    kb = KnowledgeBase()
-    entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
-    kb.consult_text(f"initial(go).\nschema(t0, [{entries}], t0.done).\n"
-                    + "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n)), "w.pl")
-    return kb, instantiate(kb, t("t0"))
-
-
 def test_2000_siblings_run_in_order_original_and_compressed_refreshing_only_live_leaves():
-    kb, tree = _wide(2000)
+    kb, tree = wide_task(2000)
 
     class Visits(list):
         count = 0

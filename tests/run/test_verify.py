@@ -13,7 +13,7 @@ from schemalog.task.tree import Behaviour, instantiate
 from schemalog.run.verify import Verifier, all_states, constraints, free_atoms, verify_by_parts
 from schemalog.run.world import World, initial_state
 
-from conftest import COFFEE, MIX
+from conftest import COFFEE, MIX, wide_task
 from strategies import task_trees
 
 
@@ -235,17 +235,8 @@ def test_parts_check_the_compressed_behaviour_itself():
     assert parts is None or not parts.complete
 
 
-def _wide(n):
-    from schemalog.logic.kb import KnowledgeBase
-    kb = KnowledgeBase()
-    entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
-    kb.consult_text(f"initial(go).\nschema(t0, [{entries}], t0.done).\n"
-                    + "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n)), "w.pl")
-    return kb, instantiate(kb, t("t0"))
-
-
 def test_2000_siblings_compress_to_one_merged_leaf_that_is_proved():
-    kb, tree = _wide(2000)
+    kb, tree = wide_task(2000)
     compressed = compress(tree).tree
     world = World(tree)
     world.reset(initial_state(kb))
@@ -254,7 +245,7 @@ def test_2000_siblings_compress_to_one_merged_leaf_that_is_proved():
 
 
 def test_the_state_limit_bounds_the_work_and_a_stopped_verify_proves_nothing():
-    kb, tree = _wide(300)
+    kb, tree = wide_task(300)
     compressed = compress(tree).tree
     world = World(tree)
     world.reset(initial_state(kb))
