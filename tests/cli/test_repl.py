@@ -268,6 +268,31 @@ def test_ctrl_c_interrupts_a_long_proof(tmp_path, generated):
     assert child.exitstatus == 0
 
 
+
+def test_ctrl_c_at_the_moment_of_the_enter_interrupts_what_the_enter_began(tmp_path):
+    # Pressed as the input is taken, Ctrl-C falls in prompt_toolkit's last moments: raw mode
+    # (a byte typed ahead) or cooked mode with its SIGINT handler still in place (a signal that
+    # was lost: the query then ran to its end, "false."). Each round must say "% interrupted".
+    child = spawn(MIX, history=tmp_path / "history", timeout=60)
+    child.expect(r"\?-")
+    said = []
+    for delay in (0, 0, 0, 0, 0, 0.0005, 0.001, 0.002, 0.005, 0.02):
+        child.send("between(1, 5000000, _), fail.\r")
+        child.expect(r"\x1b\[\?2004l")
+        time.sleep(delay)
+        child.sendintr()
+        child.expect([r"% interrupted", r"false\."])
+        said.append(child.after)
+        child.expect(r"\?-")
+    assert said == ["% interrupted"] * 10
+    os.kill(child.pid, signal.SIGINT)            # a signal while the prompt reads: the line goes
+    child.send("X = 1.\r")
+    child.expect(r"X = 1\.")
+    child.sendeof()
+    child.expect(pexpect.EOF)
+    child.close()
+    assert child.exitstatus == 0
+
 # -- the end of the process: a signal after main() returned ----------------------------------
 
 # The console script's wrapper: import, then run(). It says when run() has begun (its first

@@ -305,7 +305,7 @@ class Repl:
             try:
                 queries = [text] if stripped.startswith(":") and not stripped.startswith(":-") \
                     else split_queries(text)[0]
-                with signals_from_keyboard(getattr(prompt, "input", None)):
+                with signals_from_keyboard(prompt):
                     for query in queries:
                         if not self.handle(query, more):
                             return 0

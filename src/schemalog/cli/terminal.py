@@ -9,6 +9,7 @@ query needs for Ctrl-C to be a signal.
 from __future__ import annotations
 
 import os
+import signal
 import sys
 from pathlib import Path
 from typing import Callable
@@ -67,10 +68,27 @@ def prompts(workspace: Workspace) -> tuple[Callable[[], str], Callable[[], bool]
         except (KeyboardInterrupt, EOFError):
             return False
 
+    # SIGINT while the query prompt reads. prompt_toolkit's own handler (handle_sigint) stays
+    # in place for a while after the Enter that ended the input, with the terminal back in
+    # cooked mode: a Ctrl-C pressed then was lost and the query ran to its end. Ours passes a
+    # signal on to the prompt while it reads, and after the Enter keeps it for the command.
+    interrupted: list[int] = []
+
+    def on_sigint(signum, frame) -> None:
+        app = session.app
+        if app.is_running and not app.is_done:
+            app.loop.call_soon_threadsafe(app.key_processor.send_sigint)
+        else:
+            interrupted.append(signum)
+
     def prompt() -> str:
-        return session.prompt("?- ")
+        interrupted.clear()
+        # left in place when the input is taken: signals_from_keyboard replaces it
+        signal.signal(signal.SIGINT, on_sigint)
+        return session.prompt("?- ", handle_sigint=False)
 
     prompt.input = session.input         # whose keys typed ahead signals_from_keyboard looks at
+    prompt.interrupted = interrupted     # and the Ctrl-C that came as a signal after the Enter
     return prompt, more
 
 
@@ -78,13 +96,19 @@ class signals_from_keyboard:
     """While a query or command runs, Ctrl-C must reach it as SIGINT: the terminal can still
     be in the raw mode prompt_toolkit read the input in (no ISIG), where Ctrl-C is only a byte.
     A Ctrl-C typed with the Enter that ended the input came in raw mode: it is found among the
-    keys typed ahead and raises KeyboardInterrupt at once (the other keys stay for the prompt)."""
+    keys typed ahead and raises KeyboardInterrupt at once (the other keys stay for the prompt);
+    one that came as a signal after the Enter (the prompt's `interrupted`) raises it too."""
 
-    def __init__(self, input_obj=None) -> None:
-        self.input = input_obj
+    def __init__(self, prompt=None) -> None:
+        self.input = getattr(prompt, "input", None)
+        self.interrupted = getattr(prompt, "interrupted", [])
 
     def __enter__(self) -> None:
         self.saved = None
+        self.handler = signal.signal(signal.SIGINT, signal.default_int_handler)
+        if self.interrupted:
+            self.__exit__()
+            raise KeyboardInterrupt
         try:
             import termios
 
@@ -101,6 +125,7 @@ class signals_from_keyboard:
             raise KeyboardInterrupt
 
     def __exit__(self, *exc) -> None:
+        signal.signal(signal.SIGINT, self.handler)
         if self.saved is not None:
             import termios
 
