@@ -74,12 +74,7 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     "strings-17": _missing("number_string/2"),
     # Text builtins: other results and error terms.
     "atoms-04": "swipl reads the \\uXXXX escape in quoted atoms (5 chars); schemalog's reader does not (9)",
-    "atoms-07": "atom_chars(X,[]): swipl gives X='' ; schemalog gives X=[] (the empty list text)",
-    "atoms-40": _TEXT,
-    "catch_throw-24": _TEXT,
     "strings-20": _TEXT,
-    "iso_errors-17": "atom_chars(X,[a|_]): swipl raises instantiation_error; schemalog type_error(atomic,_)",
-    "iso_errors-18": "atom_chars(X,[a,f(b)]): swipl raises type_error(character,f(b)); schemalog type_error(atomic,[a,f(b)])",
     "strings-12": "split_string: swipl collapses adjacent separators that are also pad chars; schemalog keeps an empty string",
     "output-67": "format ~d of a float: swipl raises format_argument_type(d,1.0); schemalog type_error(integer,1.0)",
     "output-72": "format with too few arguments: swipl writes 'a-' first and raises format('...') with an atom; schemalog writes nothing, raises with a string",
@@ -96,7 +91,6 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     "arith_float-46": "copysign(2,-0.0): swipl gives the integer -2; schemalog gives -2.0",
     # Terms, control and the database.
     "assert-16": "assertz(append(a,b,c)): swipl defines user:append/3 (library predicates are not protected); schemalog raises permission_error",
-    "assert-18": "retract on a static predicate: swipl raises permission_error(modify,static_procedure,static_p/1); schemalog retracts",
     "typecheck-06": _EMPTY_ATOM,
     "typecheck-35": _EMPTY_ATOM,
 }

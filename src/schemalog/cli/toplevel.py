@@ -51,11 +51,26 @@ class Answer:
 
     values: tuple[tuple[str, Term], ...]
     names: dict
+    # Each value's group: values equal (==) under the bindings share one. Compared before
+    # resolving, as rational trees: X = f(X), Y = f(Y) are one group (X = Y, Y = f(Y)),
+    # though their finite forms f(X) and f(Y) differ. Empty: compare the values themselves.
+    classes: tuple[int, ...] = ()
 
     def groups(self) -> list[tuple[list[str], Term]]:
-        """The query variables grouped by equal (==) values, in order of first appearance."""
+        """The query variables grouped by equal (==) values, in order of first appearance;
+        a group's value is its last member's."""
         groups: list[tuple[list[str], Term]] = []
-        for name, value in self.values:
+        found: dict[int, int] = {}
+        for i, (name, value) in enumerate(self.values):
+            if self.classes:
+                at = found.get(self.classes[i])
+                if at is None:
+                    found[self.classes[i]] = len(groups)
+                    groups.append(([name], value))
+                else:
+                    groups[at][0].append(name)
+                    groups[at] = (groups[at][0], value)
+                continue
             for members, shared in groups:
                 if compare_terms(shared, value) == 0:     # ==, without recursion on deep terms
                     members.append(name)
@@ -68,7 +83,15 @@ class Answer:
 def answer_of(query: Query, b: Bindings) -> Answer:
     """The bindings of one answer, resolved."""
     values = tuple((name, b.resolve_finite(v)) for name, v in query.names)
-    answer = Answer(values, variable_names([value for _, value in values]))
+    leaders: list[Var] = []
+    classes = []
+    for _, v in query.names:
+        at = next((i for i, w in enumerate(leaders) if compare_terms(v, w, b) == 0), None)
+        if at is None:
+            at = len(leaders)
+            leaders.append(v)
+        classes.append(at)
+    answer = Answer(values, variable_names([value for _, value in values]), tuple(classes))
     for v in iter_vars(query.goal):             # `_Z` in the query keeps its name, as in SWI
         if v.name:
             answer.names[v] = v.name

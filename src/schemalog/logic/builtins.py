@@ -26,7 +26,7 @@ from ..errors import SchemalogError
 from .arith import _num, evaluate
 from .exceptions import CyclicTermError, PrologError, instantiation_error, iso_error, type_error
 from .terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
-                    int_text, is_ground, list_items, make_list, term_to_text)
+                    int_text, list_items, make_list, term_to_text)
 from .unify import Bindings, rename, variant
 
 
@@ -35,6 +35,8 @@ class Database(Protocol):
 
     predicates: dict
     files: list
+    flags: dict       # the Prolog flags (set_prolog_flag/2), name -> Term
+    operators: dict   # (name, "prefix" | "infix" | "postfix") -> (priority, type), for op/3
 
     def clauses(self, name: str, arity: int) -> list: ...
     def add_clause(self, head: Term, body: Term = TRUE, pos=None, front: bool = False) -> None: ...
@@ -42,6 +44,8 @@ class Database(Protocol):
     def library_predicates(self) -> set[tuple[str, int]]: ...
     def is_library(self, key: tuple[str, int]) -> bool: ...
     def forget_file(self, file: str) -> None: ...
+    def abolish(self, name: str, arity: int) -> None: ...
+    def declare_dynamic(self, name: str, arity: int) -> None: ...
     def consult(self, path, max_bytes: int = ..., pos=None) -> None: ...
 
 
@@ -52,12 +56,31 @@ class Machine(Protocol):
     write: Callable[[str], None]
 
     def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]: ...
+    def call_goal(self, goal: Term, b: Bindings) -> Iterator[Bindings]: ...
     def is_builtin(self, name: str, arity: int) -> bool: ...
     def charge(self, work: int) -> None: ...
 
 
 Builtin = Callable[[Machine, tuple, Bindings], bool]
 NondetBuiltin = Callable[[Machine, tuple, Bindings], Iterator[None]]
+
+
+_CONTROL_ARGS = {(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1)}
+
+
+def check_body(goal: Term, b: Bindings) -> None:
+    """A meta-called goal is checked whole first, as SWI-Prolog compiles it: a number or
+    string where a goal should be (`call((fail, 1))`) is type_error(callable, Goal)."""
+    stack = [goal]
+    seen: set[int] = set()  # a cyclic body, G = (a, G), is checked once round
+    while stack:
+        t = b.walk(stack.pop())
+        if isinstance(t, (Int, Float, Str)):
+            raise type_error("callable", b.resolve_finite(goal))
+        if isinstance(t, Struct) and (t.name, len(t.args)) in _CONTROL_ARGS and id(t) not in seen:
+            seen.add(id(t))
+            stack.extend(t.args)
+
 
 
 def _compare_numbers(op: Callable[[object, object], bool]) -> Builtin:
@@ -156,18 +179,25 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
 
 def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
+    if not isinstance(term, Var):
+        _check_list_or_partial(b, a[1])    # f(a) =.. foo: type_error(list, foo)
     if isinstance(term, Struct):
         e.charge(len(term.args))
         return b.unify(a[1], make_list([Atom(term.name), *term.args]))
     if not isinstance(term, Var):
         return b.unify(a[1], make_list([term]))
-    items, tail = list_items(resolve_list(b, a[1]))
-    if tail == NIL and not items:
-        raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
-    if tail != NIL or not items:
+    whole = resolve_list(b, a[1])
+    items, tail = list_items(whole)
+    if isinstance(whole, Var) or isinstance(tail, Var) or items and isinstance(items[0], Var):
         raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", whole)
+    if not items:
+        raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
     head = items[0]
     if len(items) == 1:
+        if isinstance(head, Struct):
+            raise type_error("atomic", head)
         return b.unify(term, head)
     if not isinstance(head, Atom):
         raise type_error("atom", head)
@@ -187,12 +217,30 @@ def resolve_list(b: Bindings, t: Term) -> Term:
         raise type_error("list", err.culprit) from None
 
 
+def list_spine(b: Bindings, t: Term) -> tuple[list[Term], Term]:
+    """The items of a list, unresolved, and its walked tail (NIL for a proper list); the
+    items may be cyclic terms. A cyclic list (X = [a|X]) is type_error(list, X), as in SWI."""
+    items: list[Term] = []
+    cell = b.walk(t)
+    seen: set[int] = set()
+    while isinstance(cell, Struct) and cell.name == CONS and len(cell.args) == 2:
+        if id(cell) in seen:
+            raise type_error("list", b.resolve_finite(t))
+        seen.add(id(cell))
+        items.append(cell.args[0])
+        cell = b.walk(cell.args[1])
+    b.work += len(items)
+    return items, cell
+
+
 def _length(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
-    whole = resolve_list(b, a[0])
-    items, tail = list_items(whole)
+    items, tail = list_spine(b, a[0])
+    whole = a[0]
     n = b.walk(a[1])
+    if not isinstance(n, (Var, Int)):       # length([], a): type_error(integer, a), as in SWI
+        raise type_error("integer", n)
     if not isinstance(tail, Var) and tail != NIL:
-        raise type_error("list", whole)
+        raise type_error("list", b.resolve_finite(whole))
     if isinstance(n, Int) and n.value < 0:
         raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), n)))
     if tail == NIL:
@@ -291,24 +339,99 @@ def text_of(e: Machine, t: Term, b: Bindings) -> str:
 
 def _atom_length(e, a, b):
     length = b.walk(a[1])
+    t = b.walk(a[0])
+    if isinstance(t, Struct) and not (t.name == CONS and len(t.args) == 2):
+        raise type_error("text", t)   # SWI-Prolog's word for what atom_length/2 takes
     text = text_of(e, a[0], b)
     if not isinstance(length, (Var, Int)):
         raise type_error("integer", length)
     return b.unify(length, Int(len(text)))
 
 
-def _atom_codes(e, a, b):
-    t = b.walk(a[0])
-    if not isinstance(t, Var):
-        return b.unify(a[1], make_list([Int(ord(c)) for c in text_of(e, t, b)]))
-    return b.unify(t, Atom(text_of(e, a[1], b)))
+def atomic_text(e: Machine, t: Term, b: Bindings, kind: str = "atom") -> str:
+    """The text of an atomic first argument of atom_chars/2, sub_atom/5...: an atom, a
+    number or a string, as SWI-Prolog takes them; a compound (a list too) is
+    type_error(Kind, T); [] is type_error(atom, []), as in SWI-Prolog 7, where [] is no atom."""
+    t = b.walk(t)
+    if isinstance(t, Var):
+        raise instantiation_error()
+    if isinstance(t, Struct) or t == NIL:
+        raise type_error(kind, t)
+    text = _text_of(t)
+    e.charge(len(text))
+    return text
 
 
-def _atom_chars(e, a, b):
-    t = b.walk(a[0])
-    if not isinstance(t, Var):
-        return b.unify(a[1], make_list([Atom(c) for c in text_of(e, t, b)]))
-    return b.unify(t, Atom(text_of(e, a[1], b)))
+def text_list(e: Machine, t: Term, b: Bindings, element: str) -> str | None:
+    """The text of a list of chars (`element` "character") or codes ("character_code"),
+    or of a string, for atom_chars/2, number_codes/2...: ISO's errors, in SWI-Prolog's
+    order: a partial list or an unbound element is instantiation_error, an element that
+    is no char (code) type_error(character (character_code), E), anything else that is no
+    list type_error(list, T). SWI-Prolog reads a list of the other kind too
+    (atom_codes(A, [a, b]) gives ab): the first element decides the kind."""
+    t = b.walk(t)
+    if isinstance(t, Str):
+        e.charge(len(t.value))
+        return t.value
+    if isinstance(t, Var):
+        raise instantiation_error()
+    whole = resolve_list(b, t)
+    items, tail = list_items(whole)
+    e.charge(len(items))
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", whole)
+    codes = element == "character_code"
+    for item in items:
+        if isinstance(item, Var):
+            raise instantiation_error()
+    if items and isinstance(items[0], Int):
+        codes = True
+    elif items and isinstance(items[0], Atom):
+        # [ab]: SWI-Prolog reads no char first, so a code list: type_error(character_code, ab)
+        codes = len(items[0].name) != 1
+    out = []
+    for item in items:
+        if codes:
+            if not isinstance(item, Int):
+                raise type_error("character_code", item)
+            out.append(code_char(item))
+        else:
+            if not (isinstance(item, Atom) and len(item.name) == 1):
+                raise type_error("character", item)
+            out.append(item.name)
+    return "".join(out)
+
+
+def _check_list_or_partial(b: Bindings, t: Term) -> None:
+    """type_error(list, T) unless T is a list or a partial list (the output of atom_chars/2)."""
+    t = b.walk(t)
+    seen: set[int] = set()   # a cyclic list (X = [a|X]) is walked once round
+    while isinstance(t, Struct) and t.name == CONS and len(t.args) == 2 and id(t) not in seen:
+        seen.add(id(t))
+        t = b.walk(t.args[1])
+    if not (isinstance(t, Var) or t == NIL or id(t) in seen):
+        raise type_error("list", t)
+
+
+def _text_split(element: str, make_item) -> Builtin:
+    """atom_chars/2 and atom_codes/2: an atomic first argument's text as a list, or the
+    atom of a list (a string) of chars or codes."""
+    def run(e: Machine, a: tuple, b: Bindings) -> bool:
+        t = b.walk(a[0])
+        if not isinstance(t, Var):
+            text = atomic_text(e, t, b)
+            whole = b.walk(a[1])
+            if not isinstance(whole, Str):
+                _check_list_or_partial(b, whole)
+            return b.unify(a[1], make_list([make_item(c) for c in text]))
+        return b.unify(t, Atom(text_list(e, a[1], b, element)))
+    return run
+
+
+_atom_codes = _text_split("character_code", lambda c: Int(ord(c)))
+_atom_chars = _text_split("character", Atom)
 
 
 def _atom_string(e, a, b):
@@ -348,15 +471,30 @@ def _term_text(e, a, b, make):
         raise iso_error(Struct("syntax_error", (Atom(err.message),))) from None
 
 
-def _read_number(text: str) -> Term | None:
+_LAYOUT = " \t\n\r\v\f"
+
+
+def _read_number(text: str, layout: bool = False) -> Term | None:
+    """The number `text` is written as, or None. With `layout`, leading layout is allowed,
+    as number_codes/2 allows it (ISO 8.16.7); a sign is read with its number only when
+    the digits follow it at once ("-1", "+1"; "- 1" is no number); a comment is no number."""
     from .parse import parse_term  # lark is loaded only when a number is read from text
-    if not text or text != text.strip():
+    if layout:
+        text = text.lstrip(_LAYOUT)
+    if not text or text != text.rstrip(_LAYOUT) and not text.startswith("0'"):
+        return None
+    body = text[1:] if text[0] in "+-" else text
+    if not body or not body[0].isdigit() or ("/*" in body or "%" in body) and not body.startswith("0'"):
         return None
     try:
-        value = parse_term(text)
+        value = parse_term(body)
     except SchemalogError:
         return None
-    return value if isinstance(value, (Int, Float)) else None
+    if not isinstance(value, (Int, Float)):
+        return None
+    if text[0] == "-":
+        return Int(-value.value) if isinstance(value, Int) else Float(-value.value)
+    return value
 
 
 def _atom_number(e, a, b):
@@ -370,16 +508,39 @@ def _atom_number(e, a, b):
     return value is not None and b.unify(a[1], value)
 
 
-def _number_codes(e, a, b):
-    number = b.walk(a[0])
-    if not isinstance(number, Var):
+def _number_text(element: str, make_item) -> Builtin:
+    """number_codes/2 and number_chars/2: a complete list (or string) is read as a number
+    and unified, so number_codes(33.0, "3.3E+01") holds; else the number is written."""
+    def run(e: Machine, a: tuple, b: Bindings) -> bool:
+        number, listed = b.walk(a[0]), b.walk(a[1])
+        if not isinstance(number, (Var, Int, Float)):
+            raise type_error("number", number)
+        if isinstance(number, Var) or _complete_list(b, listed):
+            value = _read_number(text_list(e, listed, b, element), layout=True)
+            if value is None:
+                raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
+            return b.unify(number, value)
+        _check_list_or_partial(b, listed)
         text = term_to_text(number)
         e.charge(len(text))
-        return b.unify(a[1], make_list([Int(ord(c)) for c in text]))
-    value = _read_number(text_of(e, a[1], b))
-    if value is None:
-        raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
-    return b.unify(number, value)
+        return b.unify(listed, make_list([make_item(c) for c in text]))
+    return run
+
+
+def _complete_list(b: Bindings, t: Term) -> bool:
+    """Whether `t` is a string or a proper list with no unbound element."""
+    if isinstance(t, Str):
+        return True
+    t = b.walk(t)
+    while isinstance(t, Struct) and t.name == CONS and len(t.args) == 2:
+        if isinstance(b.walk(t.args[0]), Var):
+            return False
+        t = b.walk(t.args[1])
+    return t == NIL
+
+
+_number_codes = _number_text("character_code", lambda c: Int(ord(c)))
+_number_chars = _number_text("character", Atom)
 
 
 def _assert(front: bool) -> Builtin:
@@ -391,20 +552,42 @@ def _assert(front: bool) -> Builtin:
             raise instantiation_error()
         if not isinstance(head, (Atom, Struct)):
             raise type_error("callable", head)
-        if isinstance(body, (Int, Float, Str)):
-            raise type_error("callable", body)
+        check_body(body, b)   # (foo :- X, 4): type_error(callable, (X, 4)), as SWI says
+        body = _body_calls(body)
         key = (head.name, len(head.args) if isinstance(head, Struct) else 0)
         # Adding a clause copies the predicate's clause list when a call in progress holds it
         # (the logical update view) or for asserta: 64 pointers copied cost about one step.
         pred = e.kb.predicates.get(key)
         copies = pred is not None and pred.copies_on_add(front)
         e.charge(1 + (len(pred.clauses) >> 6 if copies else 0))
-        if e.is_builtin(*key) or e.kb.is_library(key):
-            raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
-                                                        Struct("/", (Atom(key[0]), Int(key[1]))))))
+        if e.is_builtin(*key) or e.kb.is_library(key) or _static(pred):
+            raise _modify_static(key)
+        if pred is None or not pred.clauses:
+            e.kb.declare_dynamic(*key)    # a predicate assert creates is dynamic, as in SWI
         e.kb.add_clause(head, body, front=front)
         return True
     return run
+
+
+def _static(pred) -> bool:
+    """Whether a predicate is a static one of the user's files (assert and retract refuse
+    it, as SWI-Prolog does): clauses, not declared dynamic, not the library's."""
+    return pred is not None and not pred.dynamic and bool(pred.clauses) and not pred.library_only()
+
+
+def _modify_static(key: tuple[str, int]) -> PrologError:
+    return iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
+                                                 Struct("/", (Atom(key[0]), Int(key[1]))))))
+
+
+def _body_calls(body: Term) -> Term:
+    """A clause body with each variable goal G written call(G), as assert stores it (ISO
+    7.6.2): clause(foo(X), B) after assertz((foo(X) :- X)) gives B = call(X)."""
+    if isinstance(body, Var):
+        return Struct("call", (body,))
+    if isinstance(body, Struct) and (body.name, len(body.args)) in _CONTROL_ARGS:
+        return Struct(body.name, tuple(_body_calls(arg) for arg in body.args))
+    return body
 
 
 def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
@@ -417,6 +600,8 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     if ind is None:
         raise instantiation_error() if isinstance(head, Var) else type_error("callable", head)
     pred = e.kb.predicates.get(ind)
+    if e.is_builtin(*ind) or _static(pred):
+        raise _modify_static(ind)
     e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))  # the copy below: see assert
     for clause in list(e.kb.clauses(*ind)):
         mark = b.mark()
@@ -541,6 +726,7 @@ def _forall(e: Machine, a: tuple, b: Bindings) -> bool:
 
 
 def _findall(e: Machine, a: tuple, b: Bindings) -> bool:
+    check_body(a[1], b)   # findall(X, (q(X) ; 4), L): type_error(callable, (q(X) ; 4)), as SWI
     results = [rename(b.resolve(a[0])) for _ in e.sub_solve(a[1], b)]
     return b.unify(a[2], make_list(results))
 
@@ -592,6 +778,7 @@ def _bag(to_set: bool) -> NondetBuiltin:
         while isinstance(goal, Struct) and goal.name == "^" and len(goal.args) == 2:
             _variables(goal.args[0], b, excluded, seen)       # Goal = V^G: V is not free
             goal = b.walk(goal.args[1])
+        check_body(goal, b)
         witness: list[Var] = []
         _variables(goal, b, witness, seen)
         if not witness:
@@ -654,24 +841,33 @@ def _compare(e, a, b):
 
 
 def _proper_list(t: Term, b: Bindings) -> list[Term]:
-    """The items of a proper list; instantiation_error for a partial list, type_error(list) otherwise."""
-    whole = resolve_list(b, t)
-    items, tail = list_items(whole)
+    """The items of a proper list, unresolved (an item may be cyclic: X = f(X) sorts);
+    instantiation_error for a partial list, type_error(list) otherwise (a cyclic list too)."""
+    items, tail = list_spine(b, t)
     if isinstance(tail, Var):
         raise instantiation_error()
     if tail != NIL:
-        raise type_error("list", whole)
+        raise type_error("list", b.resolve_finite(t))
     return items
+
+
+def _order_key(b: Bindings):
+    """A sort key for the standard order of terms under the bindings."""
+    return functools.cmp_to_key(lambda x, y: compare_terms(x, y, b))
 
 
 def _msort(e, a, b):
     items = _proper_list(a[0], b)
-    return b.unify(a[1], make_list(sorted(items, key=standard_order_key)))
+    return b.unify(a[1], make_list(sorted(items, key=_order_key(b))))
 
 
 def _sort(e, a, b):
-    items = _proper_list(a[0], b)
-    return b.unify(a[1], make_list(_sorted_set(items)))
+    items = sorted(_proper_list(a[0], b), key=_order_key(b))
+    unique: list[Term] = []
+    for item in items:
+        if not unique or compare_terms(unique[-1], item, b) != 0:
+            unique.append(item)
+    return b.unify(a[1], make_list(unique))
 
 
 CORE: dict[tuple[str, int], Builtin] = {
@@ -701,6 +897,8 @@ CORE: dict[tuple[str, int], Builtin] = {
     ("atomic", 1): _type_check(lambda t: isinstance(t, (Atom, Int, Float, Str))),
     ("compound", 1): _type_check(lambda t: isinstance(t, Struct)),
     ("callable", 1): _type_check(_is_callable),
+    ("cyclic_term", 1): lambda e, a, b: b.is_cyclic(a[0]),
+    ("acyclic_term", 1): lambda e, a, b: not b.is_cyclic(a[0]),
     ("is_list", 1): lambda e, a, b: not b.is_cyclic(a[0]) and list_items(b.resolve(a[0]))[1] == NIL,
     ("string", 1): _type_check(lambda t: isinstance(t, Str)),
     ("ground", 1): _ground,
@@ -717,6 +915,7 @@ CORE: dict[tuple[str, int], Builtin] = {
     ("term_string", 2): lambda e, a, b: _term_text(e, a, b, Str),
     ("split_string", 4): _split_string,
     ("number_codes", 2): _number_codes,
+    ("number_chars", 2): _number_chars,
     ("assert", 1): _assert(front=False),
     ("assertz", 1): _assert(front=False),
     ("asserta", 1): _assert(front=True),

@@ -24,11 +24,11 @@ from typing import Callable, Iterator
 
 from .. import defaults
 from ..errors import SchemalogError
-from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin
+from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin, check_body as _check_body
 from .exceptions import (PrologError, StepLimitExceeded, existence_error, instantiation_error, iso_error,
                          type_error)
 from .library import EXTRA, EXTRA_NONDET
-from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var
+from .terms import TRUE, Atom, Struct, Term, Var
 from .unify import Bindings, rename
 
 DEFAULT_MAX_STEPS = defaults.MAX_STEPS
@@ -284,6 +284,11 @@ class Engine:
                 # User predicates ---------------------------------------------
                 pred = predicates.get(key)
                 if pred is None:
+                    if getattr(kb, "flags", {}).get("unknown") in _UNKNOWN_FAILS:  # set_prolog_flag(unknown, fail)
+                        goals = self._backtrack(cps, b)
+                        if goals is False:
+                            return
+                        continue
                     raise existence_error(name, arity)
                 candidates = pred.select(args, b)
                 if len(candidates) == 1:  # one clause to try: no choicepoint to leave
@@ -369,6 +374,12 @@ class Engine:
         asserted for one is kept, as in a file, though the relation answers first."""
         return is_builtin(name, arity)
 
+    def call_goal(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
+        """Solve `goal` in a sub-machine sharing the bindings, keeping them after it: what
+        setup_call_cleanup/3 runs its setup and goal in (the caller undoes)."""
+        _check_body(goal, b)
+        return self._run(goal, b)
+
     def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
         """Solve `goal` in a sub-machine sharing the bindings (findall, forall)."""
         mark = b.mark()
@@ -377,23 +388,6 @@ class Engine:
                 yield b
         finally:
             b.undo(mark)
-
-
-_CONTROL_ARGS = {(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1)}
-
-
-def _check_body(goal: Term, b: Bindings) -> None:
-    """A meta-called goal is checked whole first, as SWI-Prolog compiles it: a number or
-    string where a goal should be (`call((fail, 1))`) is type_error(callable, Goal)."""
-    stack = [goal]
-    seen: set[int] = set()  # a cyclic body, G = (a, G), is checked once round
-    while stack:
-        t = b.walk(stack.pop())
-        if isinstance(t, (Int, Float, Str)):
-            raise type_error("callable", b.resolve_finite(goal))
-        if isinstance(t, Struct) and (t.name, len(t.args)) in _CONTROL_ARGS and id(t) not in seen:
-            seen.add(id(t))
-            stack.extend(t.args)
 
 
 def _add_args(goal: Term, extra: tuple) -> Term:
@@ -405,6 +399,9 @@ def _add_args(goal: Term, extra: tuple) -> Term:
         raise instantiation_error()
     raise type_error("callable", goal)
 
+
+# set_prolog_flag(unknown, fail | warning): an unknown procedure fails instead of raising.
+_UNKNOWN_FAILS = (Atom("fail"), Atom("warning"))
 
 # Control constructs the machine handles itself (so `is_builtin` knows them).
 CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("not", 1), ("!", 0),

@@ -420,6 +420,23 @@ def _prelude() -> tuple[Clause, ...]:
                       lambda: tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause)))
 
 
+# SWI-Prolog 9's values of the flags ISO names (SWI-Prolog 9.0.4 is unbounded and has no
+# max_integer/min_integer flags: current_prolog_flag(max_integer, X) fails there too).
+INITIAL_FLAGS: dict[str, Term] = {
+    "bounded": Atom("false"), "unknown": Atom("error"), "double_quotes": Atom("string"),
+    "debug": Atom("false"), "char_conversion": Atom("false"),
+    "max_arity": Atom("unbounded"), "occurs_check": Atom("false"),
+}
+
+
+def initial_operators() -> dict[tuple[str, str], tuple[int, str]]:
+    """The reader's operator table (terms.py), keyed (name, prefix | infix)."""
+    from .terms import INFIX_OPS, PREFIX_OPS
+    table = {(name, "infix"): op for name, op in INFIX_OPS.items()}
+    table.update({(name, "prefix"): op for name, op in PREFIX_OPS.items()})
+    return table
+
+
 class KnowledgeBase:
     """Clauses, consulted from files or added programmatically."""
 
@@ -430,6 +447,10 @@ class KnowledgeBase:
         self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
         self.max_steps = defaults.MAX_STEPS  # the step limit each directive runs under (--max-steps)
         self._consulting: list[Path] = []
+        # The Prolog flags (set_prolog_flag/2) and the operator table op/3 and current_op/3
+        # see (the reader keeps its own fixed table: docs/syntax.md).
+        self.flags: dict[str, Term] = dict(INITIAL_FLAGS)
+        self.operators: dict[tuple[str, str], tuple[int, str]] = initial_operators()
         if prelude:
             for clause in _prelude():
                 self._store(StoredClause(clause.head, clause.body, clause.pos, library=True))
@@ -519,6 +540,10 @@ class KnowledgeBase:
             kept = [c for c in pred.clauses if c.pos is None or c.pos.file != file]
             if len(kept) != len(pred.clauses):
                 pred.replace(kept)
+
+    def abolish(self, name: str, arity: int) -> None:
+        """Forget `name/arity` whole, clauses and dynamic declaration (abolish/1)."""
+        self.predicates.pop((name, arity), None)
 
     def declare_dynamic(self, name: str, arity: int) -> None:
         """Make `name/arity` known, so calling it without clauses fails instead of raising."""

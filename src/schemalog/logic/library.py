@@ -14,9 +14,9 @@ from pathlib import Path
 from typing import Iterator
 
 from .arith import evaluate
-from .builtins import (Machine, _read_number, _text_of, _variables, code_char, compare_terms, resolve_list,
+from .builtins import (Machine, _read_number, atomic_text, _text_of, _variables, code_char, compare_terms, resolve_list,
                        standard_order_key, text_of)
-from .exceptions import instantiation_error, iso_error, type_error
+from .exceptions import PrologError, instantiation_error, iso_error, type_error
 from .terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
 from .unify import Bindings, rename
 
@@ -34,6 +34,15 @@ def _integer(t: Term, allow_var: bool = True) -> int | None:
     if not isinstance(t, Int):
         raise type_error("integer", t)
     return t.value
+
+
+def _count(t: Term) -> int | None:
+    """A length or position argument: None for an unbound one; a negative integer is
+    domain_error(not_less_than_zero, N), as ISO's sub_atom/5 and length/2 say."""
+    value = _integer(t)
+    if value is not None and value < 0:
+        raise _domain_error("not_less_than_zero", t)
+    return value
 
 
 def _natural(t: Term) -> int | None:
@@ -74,6 +83,8 @@ def _char_code(e: Machine, a: tuple, b: Bindings) -> bool:
     if isinstance(char, Atom):
         if len(char.name) != 1:
             raise type_error("character", char)
+        if not isinstance(code, (Var, Int)):
+            raise type_error("integer", code)
         return b.unify(code, Int(ord(char.name)))
     if not isinstance(char, Var):
         raise type_error("character", char)
@@ -122,13 +133,16 @@ def _string_code(e: Machine, a: tuple, b: Bindings) -> bool:
 
 def _sub_text(make) -> callable:
     """sub_atom/5 and sub_string/5: Sub is the text of length L after B characters, A after it."""
+    # sub_atom/5 takes atomic text only (type_error(atom, f(a)), as ISO and SWI say).
+    read = atomic_text if make is Atom else text_of
+
     def run(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
-        text = text_of(e, a[0], b)
+        text = read(e, a[0], b)
         n = len(text)
-        before, length, after = (_natural(b.walk(t)) for t in a[1:4])
+        before, length, after = (_count(b.walk(t)) for t in a[1:4])
         sub = b.walk(a[4])
         if not isinstance(sub, Var):                     # known Sub: each place it occurs
-            part = text_of(e, sub, b)
+            part = read(e, sub, b)
             starts = [i for i in range(n - len(part) + 1) if text.startswith(part, i)]
             triples = [(i, len(part), n - i - len(part)) for i in starts]
         elif before is not None and length is not None:
@@ -332,6 +346,11 @@ def _retractall(e: Machine, a: tuple, b: Bindings) -> bool:
     if not isinstance(head, (Atom, Struct)):
         raise type_error("callable", head)
     name, arity = head.name, len(head.args) if isinstance(head, Struct) else 0
+    pred = e.kb.predicates.get((name, arity))
+    if e.is_builtin(name, arity) or pred is not None and not pred.dynamic and pred.clauses \
+            and not pred.library_only():
+        raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
+                                                    Struct("/", (Atom(name), Int(arity))))))
     if not e.kb.clauses(name, arity):
         e.kb.declare_dynamic(name, arity)     # as in SWI: the predicate now exists, dynamic
     for clause in list(e.kb.clauses(name, arity)):
@@ -376,7 +395,333 @@ def _consult(e: Machine, a: tuple, b: Bindings) -> bool:
     return True
 
 
+# -- clauses and predicates (ISO 8.8, 8.9) -----------------------------------------
+
+def _indicator(t: Term) -> Struct:
+    return Struct("/", (Atom(t[0]), Int(t[1]))) if isinstance(t, tuple) else t
+
+
+def _permission(action: str, kind: str, key: tuple[str, int]):
+    return iso_error(Struct("permission_error", (Atom(action), Atom(kind), _indicator(key))))
+
+
+def _head_key(head: Term) -> tuple[str, int]:
+    """The predicate a clause head names; instantiation_error, type_error(callable) else."""
+    if isinstance(head, Var):
+        raise instantiation_error()
+    if isinstance(head, Atom):
+        return head.name, 0
+    if isinstance(head, Struct):
+        return head.name, len(head.args)
+    raise type_error("callable", head)
+
+
+def _clause(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """clause(+Head, ?Body): each clause of a user predicate whose head and body unify,
+    in order (the clauses when it was called: the logical update view). A built-in is
+    permission_error(access, private_procedure, PI); the library's predicates are not
+    visible, as SWI-Prolog's are not before they are autoloaded."""
+    head, body = b.walk(a[0]), b.walk(a[1])
+    key = _head_key(head)
+    if e.is_builtin(*key):
+        raise _permission("access", "private_procedure", key)
+    if e.kb.is_library(key):
+        return
+    for clause in e.kb.clauses(*key):
+        mark = b.mark()
+        h, bd = clause.renamed()
+        e.charge(1)
+        if b.unify(head, h) and b.unify(body, bd):
+            yield
+        b.undo(mark)
+
+
+def _predicate_indicator(e: Machine, t: Term, b: Bindings, *, open_ok: bool) -> tuple[Term, Term]:
+    """Name and Arity of Name/Arity; with `open_ok` either may be unbound (current_predicate/1),
+    else instantiation_error (abolish/1)."""
+    t = b.walk(t)
+    if isinstance(t, Var):
+        if open_ok:
+            return t, Var("_")
+        raise instantiation_error()
+    if not (isinstance(t, Struct) and t.name == "/" and len(t.args) == 2):
+        raise type_error("predicate_indicator", b.resolve_finite(t))
+    name, arity = b.walk(t.args[0]), b.walk(t.args[1])
+    if open_ok:
+        if not isinstance(name, (Var, Atom)) or not isinstance(arity, (Var, Int)):
+            raise type_error("predicate_indicator", b.resolve_finite(t))
+        return name, arity
+    if isinstance(name, Var) or isinstance(arity, Var):
+        raise instantiation_error()
+    if not isinstance(name, Atom):
+        raise type_error("atom", name)
+    if not isinstance(arity, Int):
+        raise type_error("integer", arity)
+    if arity.value < 0:
+        raise _domain_error("not_less_than_zero", arity)
+    return name, arity
+
+
+def _abolish(e: Machine, a: tuple, b: Bindings) -> bool:
+    """abolish(+Name/Arity): forget the predicate, clauses and all; a built-in or a library
+    predicate is permission_error(modify, static_procedure, PI). A static user predicate
+    is abolished too, as SWI-Prolog does (ISO would refuse it)."""
+    name, arity = _predicate_indicator(e, a[0], b, open_ok=False)
+    key = (name.name, arity.value)
+    if e.is_builtin(*key) or e.kb.is_library(key):
+        raise _permission("modify", "static_procedure", key)
+    e.kb.abolish(*key)
+    return True
+
+
+def _visible(e: Machine) -> list[tuple[str, int]]:
+    """The user's predicates: with clauses or declared dynamic, not the library's."""
+    return [key for key, pred in list(e.kb.predicates.items())
+            if (pred.clauses or pred.dynamic) and not pred.library_only()]
+
+
+def _current_predicate(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """current_predicate(?Name/?Arity): the user's predicates, and a built-in named whole."""
+    name, arity = _predicate_indicator(e, a[0], b, open_ok=True)
+    if isinstance(name, Atom) and isinstance(arity, Int):
+        key = (name.name, arity.value)
+        if e.is_builtin(*key) or key in _visible(e):
+            mark = b.mark()
+            if b.unify(a[0], _indicator(key)):
+                yield
+            b.undo(mark)
+        return
+    for key in _visible(e):
+        mark = b.mark()
+        if b.unify(a[0], _indicator(key)):
+            yield
+        b.undo(mark)
+
+
+def _predicate_property(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """predicate_property(?Head, ?Property): built_in, defined, dynamic, static,
+    number_of_clauses(N) (not of a built-in), visible."""
+    head = b.walk(a[0])
+    if isinstance(head, Var):
+        keys = _visible(e)
+    else:
+        keys = [_head_key(head)]
+    for key in keys:
+        builtin = e.is_builtin(*key)
+        pred = e.kb.predicates.get(key)
+        if not builtin and (pred is None or not (pred.clauses or pred.dynamic) or pred.library_only()):
+            continue
+        dynamic = pred is not None and pred.dynamic and not builtin
+        props = [Atom("visible"), Atom("defined"), Atom("dynamic" if dynamic else "static")]
+        if builtin:
+            props.append(Atom("built_in"))
+        else:
+            props.append(Struct("number_of_clauses", (Int(len(pred.clauses)),)))
+        for prop in props:
+            mark = b.mark()
+            if b.unify(a[0], Struct(key[0], tuple(Var("_") for _ in range(key[1]))) if key[1] else Atom(key[0])) \
+                    and b.unify(a[1], prop):
+                yield
+            b.undo(mark)
+
+
+# -- flags (ISO 8.17) ------------------------------------------------------------
+
+# The values a flag may take; a flag not named here takes any atomic value.
+_FLAG_VALUES = {
+    "unknown": ("error", "fail", "warning"),
+    "double_quotes": ("string",),   # the reader always reads "..." as a string: docs/queries.md
+    "debug": ("true", "false"),
+    "occurs_check": ("false",),
+    "char_conversion": ("false",),
+}
+_READ_ONLY_FLAGS = ("bounded", "max_arity")
+
+
+def _flag_name(t: Term, allow_var: bool) -> str | None:
+    if isinstance(t, Var):
+        if allow_var:
+            return None
+        raise instantiation_error()
+    if not isinstance(t, Atom):
+        raise type_error("atom", t)
+    return t.name
+
+
+def _current_prolog_flag(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """current_prolog_flag(?Flag, ?Value), in the knowledge base's flags."""
+    name = _flag_name(b.walk(a[0]), allow_var=True)
+    flags = e.kb.flags
+    names = [name] if name is not None else list(flags)
+    for flag in names:
+        if flag not in flags:
+            continue
+        mark = b.mark()
+        if b.unify(a[0], Atom(flag)) and b.unify(a[1], flags[flag]):
+            yield
+        b.undo(mark)
+
+
+def _set_prolog_flag(e: Machine, a: tuple, b: Bindings) -> bool:
+    """set_prolog_flag(+Flag, +Value): a read-only flag is permission_error(modify, flag, F),
+    a value the flag does not take domain_error(F, Value), as SWI-Prolog says; a new flag
+    is created, as SWI-Prolog does. double_quotes keeps `string` (the reader's only mode):
+    another value is permission_error(modify, flag, double_quotes)."""
+    name = _flag_name(b.walk(a[0]), allow_var=False)
+    value = b.walk(a[1])
+    if isinstance(value, Var):
+        raise instantiation_error()
+    if name in _READ_ONLY_FLAGS:
+        raise iso_error(Struct("permission_error", (Atom("modify"), Atom("flag"), Atom(name))))
+    allowed = _FLAG_VALUES.get(name)
+    if allowed is not None:
+        if name == "double_quotes" and isinstance(value, Atom) and value.name in ("codes", "chars", "atom"):
+            raise iso_error(Struct("permission_error", (Atom("modify"), Atom("flag"), Atom(name))))
+        if not (isinstance(value, Atom) and value.name in allowed):
+            raise _domain_error(name, value)
+    elif isinstance(value, Struct):
+        raise type_error("atomic", value)
+    e.kb.flags[name] = value
+    return True
+
+
+# -- operators (ISO 8.14.3, 8.14.4) --------------------------------------------------
+
+_OP_TYPES = {"xfx": "infix", "xfy": "infix", "yfx": "infix", "fy": "prefix", "fx": "prefix",
+             "xf": "postfix", "yf": "postfix"}
+
+
+def _op_priority(t: Term, allow_var: bool) -> int | None:
+    if isinstance(t, Var):
+        if allow_var:
+            return None
+        raise instantiation_error()
+    if not isinstance(t, Int):
+        raise type_error("integer", t)
+    if not 0 <= t.value <= 1200:
+        raise _domain_error("operator_priority", t)
+    return t.value
+
+
+def _op_type(t: Term, allow_var: bool) -> str | None:
+    if isinstance(t, Var):
+        if allow_var:
+            return None
+        raise instantiation_error()
+    if not isinstance(t, Atom):
+        raise type_error("atom", t)
+    if t.name not in _OP_TYPES:
+        raise _domain_error("operator_specifier", t)
+    return t.name
+
+
+def _op(e: Machine, a: tuple, b: Bindings) -> bool:
+    """op(+Priority, +Type, +Name or [Name, ...]): define (priority 0: remove) operators in
+    the table current_op/3 reads. The reader's own table stays fixed (docs/syntax.md)."""
+    priority = _op_priority(b.walk(a[0]), allow_var=False)
+    kind = _op_type(b.walk(a[1]), allow_var=False)
+    names = b.walk(a[2])
+    if isinstance(names, Var):
+        raise instantiation_error()
+    if isinstance(names, Atom) and names != NIL:
+        items = [names]
+    else:
+        items, tail = list_items(resolve_list(b, names))
+        if isinstance(tail, Var):
+            raise instantiation_error()
+        if tail != NIL:
+            raise type_error("list", names)
+    for item in items:
+        if isinstance(item, Var):
+            raise instantiation_error()
+        if not isinstance(item, Atom):
+            raise type_error("atom", item)
+        if item.name == ",":
+            raise iso_error(Struct("permission_error", (Atom("modify"), Atom("operator"), item)))
+        if item.name == "|" and (_OP_TYPES[kind] != "infix" or 0 < priority < 1001):
+            raise iso_error(Struct("permission_error", (Atom("create"), Atom("operator"), item)))
+        if item.name in ("[]", "{}"):
+            raise iso_error(Struct("permission_error", (Atom("create"), Atom("operator"), item)))
+    for item in items:
+        key = (item.name, _OP_TYPES[kind])
+        if priority == 0:
+            e.kb.operators.pop(key, None)
+        else:
+            e.kb.operators[key] = (priority, kind)
+    return True
+
+
+def _current_op(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """current_op(?Priority, ?Type, ?Name): the operators of the table op/3 changes."""
+    _op_priority(b.walk(a[0]), allow_var=True)
+    _op_type(b.walk(a[1]), allow_var=True)
+    name = b.walk(a[2])
+    if not isinstance(name, (Var, Atom)):
+        raise type_error("atom", name)
+    order = {"prefix": 0, "infix": 1, "postfix": 2}
+    table = sorted(e.kb.operators.items(), key=lambda item: (item[0][0], order[item[0][1]]))
+    for (op, _), (priority, kind) in table:
+        if isinstance(name, Atom) and name.name != op:
+            continue
+        mark = b.mark()
+        if b.unify(a[0], Int(priority)) and b.unify(a[1], Atom(kind)) and b.unify(a[2], Atom(op)):
+            yield
+        b.undo(mark)
+
+
+# -- cleanup (SWI-Prolog's setup_call_cleanup/3) -------------------------------------
+
+def _run_cleanup(e: Machine, goal: Term, b: Bindings) -> None:
+    """once(Cleanup), its bindings undone; its failure is ignored, its exception raised."""
+    mark = b.mark()
+    run = e.call_goal(goal, b)
+    try:
+        next(run, None)
+    finally:
+        run.close()
+        b.undo(mark)
+
+
+def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
+    """setup_call_cleanup(+Setup, +Goal, +Cleanup): once(Setup), then Goal's answers;
+    Cleanup runs once Goal is done: it failed, raised, gave its last answer (no
+    alternative left), or was cut (this generator is closed then)."""
+    setup, goal, cleanup = (b.walk(t) for t in a)
+    if isinstance(setup, Var) or isinstance(goal, Var) or isinstance(cleanup, Var):
+        raise instantiation_error()
+    run = e.call_goal(setup, b)
+    try:
+        if next(run, None) is None:
+            return
+    finally:
+        run.close()
+    run = e.call_goal(goal, b)
+    done = False
+    try:
+        while True:
+            if next(run, None) is None:
+                done = True
+                _run_cleanup(e, cleanup, b)
+                return
+            if e.deterministic:   # the last answer: clean up before it is seen, as SWI does
+                done = True
+                run.close()
+                _run_cleanup(e, cleanup, b)
+                yield
+                return
+            yield
+    except (PrologError, GeneratorExit):
+        if not done:
+            done = True
+            run.close()
+            _run_cleanup(e, cleanup, b)
+        raise
+
+
 EXTRA = {
+    ("abolish", 1): _abolish,
+    ("set_prolog_flag", 2): _set_prolog_flag,
+    ("op", 3): _op,
     ("consult", 1): _consult,
     ("[|]", 2): _consult,
     ("succ", 2): _succ,
@@ -403,6 +748,13 @@ EXTRA = {
 }
 
 EXTRA_NONDET = {
+    ("clause", 2): _clause,
+    ("current_predicate", 1): _current_predicate,
+    ("predicate_property", 2): _predicate_property,
+    ("current_prolog_flag", 2): _current_prolog_flag,
+    ("current_op", 3): _current_op,
+    ("setup_call_cleanup", 3): _setup_call_cleanup,
+    ("call_cleanup", 2): lambda e, a, b: _setup_call_cleanup(e, (Atom("true"), *a), b),
     ("sub_atom", 5): _sub_text(Atom),
     ("sub_string", 5): _sub_text(Str),
     ("atom_concat", 3): _concat(Atom),
