@@ -8,7 +8,7 @@ from schemalog.logic.engine import Engine
 from schemalog.logic.exceptions import PrologError, StepLimitExceeded
 from schemalog.logic.kb import KnowledgeBase
 from schemalog.logic.parse import parse_term
-from schemalog.logic.terms import term_to_text
+from schemalog.logic.terms import iter_vars, term_to_text
 
 from conftest import ask
 
@@ -65,8 +65,16 @@ def test_logical_update_view_for_assert_during_iteration():
 
 
 def test_retract_and_assert():
-    assert ask("f(1). f(2). f(3).", "retract(f(2)), findall(X, f(X), L)")[0].endswith("[1,3])")
+    assert ask(":- dynamic f/1. f(1). f(2). f(3).", "retract(f(2)), findall(X, f(X), L)")[0].endswith("[1,3])")
     assert ask(":- dynamic g/1.", "asserta(g(2)), asserta(g(1)), findall(X, g(X), L)")[0].endswith("[1,2])")
+
+
+def test_a_static_predicate_is_not_changed():
+    """As in SWI-Prolog: a predicate a file defines without `:- dynamic` is static."""
+    for query in ("retract(f(2))", "assertz(f(4))", "retractall(f(_))", "retract((atom(_) :- true))"):
+        answers = ask("f(1). f(2). f(3).", f"catch({query}, error(E, _), true), findall(X, f(X), L)")
+        assert "permission_error(modify,static_procedure," in answers[0] and answers[0].endswith("[1,2,3])")
+    assert ask("", "assertz(new(1)), assertz(new(2)), retract(new(1)), findall(X, new(X), L)")[0].endswith("[2])")
 
 
 @pytest.mark.parametrize("query, formal", [
@@ -458,3 +466,38 @@ def test_quoting_a_long_atom_takes_memory_linear_in_its_text():
         tracemalloc.stop()
     assert text == "f('" + "it\\'s\\n" * 400_000 + "')"
     assert peak < 4 * len(text)
+
+
+CLEANUP = "q(1). q(2). q(3).\n"
+
+
+@pytest.mark.parametrize("query, answers, written", [
+    # the cleanup runs once: after the last answer, on failure, on an exception, on a cut
+    ("setup_call_cleanup(true, q(X), write(done))", ["1", "2", "3"], "done"),
+    ("setup_call_cleanup(true, fail, write(done))", [], "done"),
+    ("setup_call_cleanup(write(s), q(X), write(c)), !", ["1"], "sc"),
+    ("catch(setup_call_cleanup(true, throw(x), write(done)), x, X = caught)", ["caught"], "done"),
+    ("setup_call_cleanup(true, (X = 1 ; X = 2), write(done)), X > 1", ["2"], "done"),
+    ("findall(X, call_cleanup(q(X), write(done)), [X|_])", ["1"], "done"),
+    ("setup_call_cleanup(X = 7, true, true)", ["7"], ""),             # the setup's bindings stay
+    ("setup_call_cleanup(fail, write(goal), write(done))", [], ""),
+])
+def test_setup_call_cleanup_runs_its_cleanup_once_when_the_goal_is_done(query, answers, written):
+    kb = KnowledgeBase()
+    kb.consult_text(CLEANUP, "t.pl")
+    out: list[str] = []
+    goal = parse_term(query)
+    x = next((v for v in iter_vars(goal) if v.name == "X"), None)
+    got = [term_to_text(b.resolve(x)) for b in Engine(kb, output=out.append).solve(goal)]
+    assert got == answers and "".join(out) == written
+
+
+def test_clause_abolish_and_flags_change_what_later_goals_see():
+    program = ":- dynamic d/1. d(1). d(2). s(a). r(X) :- d(X), X > 1."
+    assert len(ask(program, "clause(r(X), B), B = (d(Y), Y > 1), X == Y")) == 1
+    assert ask(program, "clause(s(X), true)") == ["clause(s(a),true)"]
+    assert ask(program, "abolish(d/1), catch(d(_), error(E, _), true)")[0].count("existence_error") == 1
+    assert ask(program, "set_prolog_flag(unknown, fail), \\+ nowhere(1)") != []
+    assert ask(program, "catch(nowhere(1), error(existence_error(procedure, nowhere/1), _), true)") != []
+    assert ask(program, "predicate_property(d(_), dynamic), predicate_property(s(_), static)") != []
+    assert ask(program, "op(700, xfx, ===>), current_op(700, xfx, ===>)") != []

@@ -162,6 +162,8 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
         name, arity = b.walk(a[1]), b.walk(a[2])
         if isinstance(name, Var) or isinstance(arity, Var):
             raise instantiation_error()
+        if isinstance(name, Struct):
+            raise type_error("atomic", name)
         if not isinstance(arity, Int):
             raise type_error("integer", arity)
         if arity.value < 0:
@@ -180,7 +182,20 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
 def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
     if not isinstance(term, Var):
-        _check_list_or_partial(b, a[1])    # f(a) =.. foo: type_error(list, foo)
+        whole = b.walk(a[1])
+        if not isinstance(whole, Var) and not (isinstance(whole, Struct) and whole.name == CONS
+                                               and len(whole.args) == 2):
+            raise type_error("list", whole)   # f(a) =.. foo, as SWI says
+        name = Atom(term.name) if isinstance(term, Struct) else term
+        parts = make_list([name, *term.args]) if isinstance(term, Struct) else make_list([term])
+        e.charge(len(term.args) if isinstance(term, Struct) else 1)
+        if b.unify(whole, parts):
+            return True
+        # SWI-Prolog checks the arguments' list once the name fits: a =.. [a|b] is
+        # type_error(list, b), ab =.. [a|b] fails
+        if isinstance(whole, Struct) and _unifiable(whole.args[0], name, b):
+            _check_list_or_partial(b, whole.args[1])
+        return False
     if isinstance(term, Struct):
         e.charge(len(term.args))
         return b.unify(a[1], make_list([Atom(term.name), *term.args]))
@@ -239,10 +254,10 @@ def _length(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     n = b.walk(a[1])
     if not isinstance(n, (Var, Int)):       # length([], a): type_error(integer, a), as in SWI
         raise type_error("integer", n)
+    if isinstance(n, Int) and n.value < 0:  # before the list's type, as in SWI
+        raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), n)))
     if not isinstance(tail, Var) and tail != NIL:
         raise type_error("list", b.resolve_finite(whole))
-    if isinstance(n, Int) and n.value < 0:
-        raise iso_error(Struct("domain_error", (Atom("not_less_than_zero"), n)))
     if tail == NIL:
         if b.unify(n, Int(len(items))):
             yield
@@ -307,11 +322,23 @@ def _text_of(t: Term) -> str:
     if isinstance(t, Var):
         raise instantiation_error()
     items, tail = list_items(t)
-    if tail == NIL and all(isinstance(i, (Int, Atom)) for i in items):
+    if isinstance(tail, Var) or any(isinstance(i, Var) for i in items):
+        raise instantiation_error()   # a partial list, or an unbound element: as SWI says
+    if tail == NIL:
+        # SWI-Prolog's reading of a text list: a char list when the first element is a
+        # char, else a code list; another element is type_error(character(_code), E)
+        chars = isinstance(items[0], Atom) and len(items[0].name) == 1
+        out = []
         for i in items:
-            if isinstance(i, Atom) and len(i.name) != 1:  # [ab] is no text: swipl's error
-                raise type_error("character_code", i)
-        return "".join(code_char(i) if isinstance(i, Int) else i.name for i in items)
+            if chars:
+                if not (isinstance(i, Atom) and len(i.name) == 1):
+                    raise type_error("character", i)
+                out.append(i.name)
+            else:
+                if not isinstance(i, Int):
+                    raise type_error("character_code", i)
+                out.append(code_char(i))
+        return "".join(out)
     raise type_error("atomic", t)
 
 
@@ -340,8 +367,12 @@ def text_of(e: Machine, t: Term, b: Bindings) -> str:
 def _atom_length(e, a, b):
     length = b.walk(a[1])
     t = b.walk(a[0])
-    if isinstance(t, Struct) and not (t.name == CONS and len(t.args) == 2):
-        raise type_error("text", t)   # SWI-Prolog's word for what atom_length/2 takes
+    if isinstance(t, Struct):   # SWI-Prolog's word for what atom_length/2 takes: text
+        items, tail = list_spine(b, t)
+        if isinstance(tail, Var):
+            raise instantiation_error()
+        if tail != NIL or not (t.name == CONS and len(t.args) == 2):
+            raise type_error("text", b.resolve_finite(t))
     text = text_of(e, a[0], b)
     if not isinstance(length, (Var, Int)):
         raise type_error("integer", length)
@@ -382,15 +413,12 @@ def text_list(e: Machine, t: Term, b: Bindings, element: str) -> str | None:
         raise instantiation_error()
     if tail != NIL:
         raise type_error("list", whole)
-    codes = element == "character_code"
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()
-    if items and isinstance(items[0], Int):
-        codes = True
-    elif items and isinstance(items[0], Atom):
-        # [ab]: SWI-Prolog reads no char first, so a code list: type_error(character_code, ab)
-        codes = len(items[0].name) != 1
+    # SWI-Prolog reads a char list when the first element is a char, else a code list:
+    # [ab] and [f(x)] are type_error(character_code, _)
+    codes = not (items and isinstance(items[0], Atom) and len(items[0].name) == 1)
     out = []
     for item in items:
         if codes:
@@ -406,13 +434,13 @@ def text_list(e: Machine, t: Term, b: Bindings, element: str) -> str | None:
 
 def _check_list_or_partial(b: Bindings, t: Term) -> None:
     """type_error(list, T) unless T is a list or a partial list (the output of atom_chars/2)."""
-    t = b.walk(t)
+    whole = t = b.walk(t)
     seen: set[int] = set()   # a cyclic list (X = [a|X]) is walked once round
     while isinstance(t, Struct) and t.name == CONS and len(t.args) == 2 and id(t) not in seen:
         seen.add(id(t))
         t = b.walk(t.args[1])
     if not (isinstance(t, Var) or t == NIL or id(t) in seen):
-        raise type_error("list", t)
+        raise type_error("list", b.resolve_finite(whole))
 
 
 def _text_split(element: str, make_item) -> Builtin:
@@ -423,8 +451,9 @@ def _text_split(element: str, make_item) -> Builtin:
         if not isinstance(t, Var):
             text = atomic_text(e, t, b)
             whole = b.walk(a[1])
-            if not isinstance(whole, Str):
-                _check_list_or_partial(b, whole)
+            if _complete_list(b, whole):   # read as text, as SWI-Prolog does: its errors too
+                return text_list(e, whole, b, element) == text
+            _check_list_or_partial(b, whole)
             return b.unify(a[1], make_list([make_item(c) for c in text]))
         return b.unify(t, Atom(text_list(e, a[1], b, element)))
     return run
@@ -498,14 +527,26 @@ def _read_number(text: str, layout: bool = False) -> Term | None:
 
 
 def _atom_number(e, a, b):
-    atom = b.walk(a[0])
+    """atom_number(?Atom, ?Number), as SWI-Prolog: text that is no number fails; a Number
+    that is no number is type_error(number, N) unless Atom is text that is no number."""
+    number, atom = b.walk(a[1]), b.walk(a[0])
+    bad_number = not isinstance(number, (Var, Int, Float))
     if isinstance(atom, Var):
-        number = b.walk(a[1])
         if isinstance(number, Var):
             raise instantiation_error()
+        if bad_number:
+            raise type_error("number", number)
         return b.unify(atom, Atom(term_to_text(number)))
-    value = _read_number(text_of(e, atom, b))
-    return value is not None and b.unify(a[1], value)
+    try:
+        text = text_of(e, atom, b)
+    except PrologError:
+        text = None
+    value = _read_number(text) if text is not None else None
+    if text is not None and value is None:
+        return False
+    if bad_number:
+        raise type_error("number", number)
+    return value is not None and b.unify(number, value)
 
 
 def _number_text(element: str, make_item) -> Builtin:
@@ -600,7 +641,7 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     if ind is None:
         raise instantiation_error() if isinstance(head, Var) else type_error("callable", head)
     pred = e.kb.predicates.get(ind)
-    if e.is_builtin(*ind) or _static(pred):
+    if e.is_builtin(*ind) and ind != ("[|]", 2) or _static(pred):
         raise _modify_static(ind)
     e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))  # the copy below: see assert
     for clause in list(e.kb.clauses(*ind)):

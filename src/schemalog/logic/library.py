@@ -17,7 +17,7 @@ from .arith import evaluate
 from .builtins import (Machine, _read_number, atomic_text, _text_of, _variables, code_char, compare_terms, resolve_list,
                        standard_order_key, text_of)
 from .exceptions import PrologError, instantiation_error, iso_error, type_error
-from .terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
+from .terms import NIL, is_ground, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
 from .unify import Bindings, rename
 
 
@@ -200,8 +200,16 @@ def _atom_to_term(e: Machine, a: tuple, b: Bindings) -> bool:
 def _concat(make) -> callable:
     """atom_concat/3 and string_concat/3 in every mode: with the whole known and a part
     unknown, each split of the whole that fits the known part, in order."""
+    def read(e: Machine, t: Term, b: Bindings) -> str:
+        if make is Atom and isinstance(t, Struct):   # atom_concat(f(a), b, X): type_error(atomic, f(a))
+            raise type_error("atomic", b.resolve_finite(t))
+        return text_of(e, t, b)
+
     def run(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         left, right, whole = (b.walk(t) for t in a)
+        for part in (left, right, whole):
+            if make is Atom and isinstance(part, Struct):
+                read(e, part, b)
         if not isinstance(left, Var) and not isinstance(right, Var):
             mark = b.mark()
             if b.unify(whole, make(text_of(e, left, b) + text_of(e, right, b))):
@@ -416,6 +424,10 @@ def _head_key(head: Term) -> tuple[str, int]:
     raise type_error("callable", head)
 
 
+# Control constructs and [X|Y] (consult): clause/2 fails on them, as in SWI-Prolog.
+_NO_CLAUSES = frozenset({(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("!", 0), ("[|]", 2)})
+
+
 def _clause(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     """clause(+Head, ?Body): each clause of a user predicate whose head and body unify,
     in order (the clauses when it was called: the logical update view). A built-in is
@@ -423,6 +435,8 @@ def _clause(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     visible, as SWI-Prolog's are not before they are autoloaded."""
     head, body = b.walk(a[0]), b.walk(a[1])
     key = _head_key(head)
+    if key in _NO_CLAUSES:
+        return
     if e.is_builtin(*key):
         raise _permission("access", "private_procedure", key)
     if e.kb.is_library(key):
@@ -504,8 +518,10 @@ def _predicate_property(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     head = b.walk(a[0])
     if isinstance(head, Var):
         keys = _visible(e)
-    else:
+    elif isinstance(head, (Atom, Struct)):
         keys = [_head_key(head)]
+    else:
+        return    # predicate_property(1, P) fails, as in SWI-Prolog
     for key in keys:
         builtin = e.is_builtin(*key)
         pred = e.kb.predicates.get(key)
@@ -579,8 +595,10 @@ def _set_prolog_flag(e: Machine, a: tuple, b: Bindings) -> bool:
             raise iso_error(Struct("permission_error", (Atom("modify"), Atom("flag"), Atom(name))))
         if not (isinstance(value, Atom) and value.name in allowed):
             raise _domain_error(name, value)
-    elif isinstance(value, Struct):
-        raise type_error("atomic", value)
+    elif not is_ground(b.resolve_finite(value)):
+        raise instantiation_error()
+    else:
+        value = b.resolve(value)
     e.kb.flags[name] = value
     return True
 
@@ -618,8 +636,14 @@ def _op_type(t: Term, allow_var: bool) -> str | None:
 def _op(e: Machine, a: tuple, b: Bindings) -> bool:
     """op(+Priority, +Type, +Name or [Name, ...]): define (priority 0: remove) operators in
     the table current_op/3 reads. The reader's own table stays fixed (docs/syntax.md)."""
-    priority = _op_priority(b.walk(a[0]), allow_var=False)
-    kind = _op_type(b.walk(a[1]), allow_var=False)
+    # SWI-Prolog's order of checks: the types of Type and Priority, their domains, the names
+    kind_term, priority_term = b.walk(a[1]), b.walk(a[0])
+    if isinstance(kind_term, Var):
+        raise instantiation_error()
+    if not isinstance(kind_term, Atom):
+        raise type_error("atom", kind_term)
+    priority = _op_priority(priority_term, allow_var=False)
+    kind = _op_type(kind_term, allow_var=False)
     names = b.walk(a[2])
     if isinstance(names, Var):
         raise instantiation_error()
@@ -653,11 +677,11 @@ def _op(e: Machine, a: tuple, b: Bindings) -> bool:
 
 def _current_op(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     """current_op(?Priority, ?Type, ?Name): the operators of the table op/3 changes."""
-    _op_priority(b.walk(a[0]), allow_var=True)
-    _op_type(b.walk(a[1]), allow_var=True)
-    name = b.walk(a[2])
+    name = b.walk(a[2])   # SWI-Prolog's order of checks: the name, the type, the priority
     if not isinstance(name, (Var, Atom)):
         raise type_error("atom", name)
+    _op_priority(b.walk(a[0]), allow_var=True)
+    _op_type(b.walk(a[1]), allow_var=True)
     order = {"prefix": 0, "infix": 1, "postfix": 2}
     table = sorted(e.kb.operators.items(), key=lambda item: (item[0][0], order[item[0][1]]))
     for (op, _), (priority, kind) in table:
