@@ -325,21 +325,27 @@ def _text_of(t: Term) -> str:
     if isinstance(tail, Var) or any(isinstance(i, Var) for i in items):
         raise instantiation_error()   # a partial list, or an unbound element: as SWI says
     if tail == NIL:
-        # SWI-Prolog's reading of a text list: a char list when the first element is a
-        # char, else a code list; another element is type_error(character(_code), E)
-        chars = isinstance(items[0], Atom) and len(items[0].name) == 1
-        out = []
-        for i in items:
-            if chars:
-                if not (isinstance(i, Atom) and len(i.name) == 1):
-                    raise type_error("character", i)
-                out.append(i.name)
-            else:
-                if not isinstance(i, Int):
-                    raise type_error("character_code", i)
-                out.append(code_char(i))
-        return "".join(out)
+        return _list_text(items)
     raise type_error("atomic", t)
+
+
+def _list_text(items: list[Term]) -> str:
+    """The text of a proper list of bound elements, read as SWI-Prolog reads it: a char
+    list when the first element is a char, else a code list (so [ab] and [f(x)] are
+    type_error(character_code, _)); another element is type_error(character, E) in a
+    char list, type_error(character_code, E) in a code list."""
+    out = []
+    if items and isinstance(items[0], Atom) and len(items[0].name) == 1:
+        for item in items:
+            if not (isinstance(item, Atom) and len(item.name) == 1):
+                raise type_error("character", item)
+            out.append(item.name)
+    else:
+        for item in items:
+            if not isinstance(item, Int):
+                raise type_error("character_code", item)
+            out.append(code_char(item))
+    return "".join(out)
 
 
 def code_char(code: Int) -> str:
@@ -393,13 +399,12 @@ def atomic_text(e: Machine, t: Term, b: Bindings, kind: str = "atom") -> str:
     return text
 
 
-def text_list(e: Machine, t: Term, b: Bindings, element: str) -> str | None:
-    """The text of a list of chars (`element` "character") or codes ("character_code"),
-    or of a string, for atom_chars/2, number_codes/2...: ISO's errors, in SWI-Prolog's
-    order: a partial list or an unbound element is instantiation_error, an element that
-    is no char (code) type_error(character (character_code), E), anything else that is no
-    list type_error(list, T). SWI-Prolog reads a list of the other kind too
-    (atom_codes(A, [a, b]) gives ab): the first element decides the kind."""
+def text_list(e: Machine, t: Term, b: Bindings) -> str:
+    """The text of a list of chars or codes, or of a string, for atom_chars/2,
+    number_codes/2...: ISO's errors, in SWI-Prolog's order: a partial list or an unbound
+    element is instantiation_error, anything that is no list type_error(list, T), an
+    element of the wrong kind as `_list_text` says. SWI-Prolog reads a list of the other
+    kind too (atom_codes(A, [a, b]) gives ab): the first element decides the kind."""
     t = b.walk(t)
     if isinstance(t, Str):
         e.charge(len(t.value))
@@ -416,20 +421,7 @@ def text_list(e: Machine, t: Term, b: Bindings, element: str) -> str | None:
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()
-    # SWI-Prolog reads a char list when the first element is a char, else a code list:
-    # [ab] and [f(x)] are type_error(character_code, _)
-    codes = not (items and isinstance(items[0], Atom) and len(items[0].name) == 1)
-    out = []
-    for item in items:
-        if codes:
-            if not isinstance(item, Int):
-                raise type_error("character_code", item)
-            out.append(code_char(item))
-        else:
-            if not (isinstance(item, Atom) and len(item.name) == 1):
-                raise type_error("character", item)
-            out.append(item.name)
-    return "".join(out)
+    return _list_text(items)
 
 
 def _check_list_or_partial(b: Bindings, t: Term) -> None:
@@ -443,7 +435,7 @@ def _check_list_or_partial(b: Bindings, t: Term) -> None:
         raise type_error("list", b.resolve_finite(whole))
 
 
-def _text_split(element: str, make_item) -> Builtin:
+def _text_split(make_item) -> Builtin:
     """atom_chars/2 and atom_codes/2: an atomic first argument's text as a list, or the
     atom of a list (a string) of chars or codes."""
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -452,15 +444,15 @@ def _text_split(element: str, make_item) -> Builtin:
             text = atomic_text(e, t, b)
             whole = b.walk(a[1])
             if _complete_list(b, whole):   # read as text, as SWI-Prolog does: its errors too
-                return text_list(e, whole, b, element) == text
+                return text_list(e, whole, b) == text
             _check_list_or_partial(b, whole)
             return b.unify(a[1], make_list([make_item(c) for c in text]))
-        return b.unify(t, Atom(text_list(e, a[1], b, element)))
+        return b.unify(t, Atom(text_list(e, a[1], b)))
     return run
 
 
-_atom_codes = _text_split("character_code", lambda c: Int(ord(c)))
-_atom_chars = _text_split("character", Atom)
+_atom_codes = _text_split(lambda c: Int(ord(c)))
+_atom_chars = _text_split(Atom)
 
 
 def _atom_string(e, a, b):
@@ -549,7 +541,7 @@ def _atom_number(e, a, b):
     return value is not None and b.unify(number, value)
 
 
-def _number_text(element: str, make_item) -> Builtin:
+def _number_text(make_item) -> Builtin:
     """number_codes/2 and number_chars/2: a complete list (or string) is read as a number
     and unified, so number_codes(33.0, "3.3E+01") holds; else the number is written."""
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -557,7 +549,7 @@ def _number_text(element: str, make_item) -> Builtin:
         if not isinstance(number, (Var, Int, Float)):
             raise type_error("number", number)
         if isinstance(number, Var) or _complete_list(b, listed):
-            value = _read_number(text_list(e, listed, b, element), layout=True)
+            value = _read_number(text_list(e, listed, b), layout=True)
             if value is None:
                 raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
             return b.unify(number, value)
@@ -580,8 +572,8 @@ def _complete_list(b: Bindings, t: Term) -> bool:
     return t == NIL
 
 
-_number_codes = _number_text("character_code", lambda c: Int(ord(c)))
-_number_chars = _number_text("character", Atom)
+_number_codes = _number_text(lambda c: Int(ord(c)))
+_number_chars = _number_text(Atom)
 
 
 def _assert(front: bool) -> Builtin:
