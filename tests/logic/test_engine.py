@@ -481,6 +481,9 @@ CLEANUP = "q(1). q(2). q(3).\n"
     ("findall(X, call_cleanup(q(X), write(done)), [X|_])", ["1"], "done"),
     ("setup_call_cleanup(X = 7, true, true)", ["7"], ""),             # the setup's bindings stay
     ("setup_call_cleanup(fail, write(goal), write(done))", [], ""),
+    # the goal's bindings survive backtracking into it (the engine undoes them between answers)
+    ("setup_call_cleanup(Y = 5, member(X, [1, 2, 3]), write(done)), X > Y - 4", ["2", "3"], "done"),
+    ("setup_call_cleanup(true, member(X, [a, b]), true), member(Y, [1, 2])", ["a", "a", "b", "b"], ""),
 ])
 def test_setup_call_cleanup_runs_its_cleanup_once_when_the_goal_is_done(query, answers, written):
     kb = KnowledgeBase()

@@ -713,6 +713,7 @@ def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     setup, goal, cleanup = (b.walk(t) for t in a)
     if isinstance(setup, Var) or isinstance(goal, Var) or isinstance(cleanup, Var):
         raise instantiation_error()
+    start = b.mark()
     run = e.call_goal(setup, b)
     try:
         if next(run, None) is None:
@@ -733,7 +734,13 @@ def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
                 _run_cleanup(e, cleanup, b)
                 yield
                 return
+            # The engine undoes this call's bindings before it asks for the next answer;
+            # the sub-machine still in progress counts on them: bind them again.
+            made = [(v, b.values[v]) for v in b.trail[start:]]
             yield
+            for v, value in made:
+                if v not in b.values:
+                    b.bind(v, value)
     except (PrologError, GeneratorExit):
         if not done:
             done = True
