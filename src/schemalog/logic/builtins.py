@@ -753,7 +753,10 @@ def _float_format(value: int | float, places: int, kind: str) -> str:
 
 
 def _forall(e: Machine, a: tuple, b: Bindings) -> bool:
-    for _ in e.sub_solve(Struct(",", (a[0], Struct("\\+", (a[1],)))), b):
+    """forall(+Cond, +Action): \\+ (Cond, \\+ Action), Action called (and checked whole)
+    only when Cond has a solution: forall(fail, 4) holds, as in SWI-Prolog."""
+    check_body(a[0], b)
+    for _ in e.sub_solve(Struct(",", (a[0], Struct("\\+", (Struct("call", (a[1],)),)))), b):
         return False
     return True
 

@@ -143,7 +143,9 @@ class Engine:
         while True:
             try:
                 if goals is None:
-                    self.deterministic = not cps
+                    # no alternative left: an exited catch frame and a disabled else-branch are none
+                    self.deterministic = not cps or all(
+                        cp[0] == _DEAD or cp[0] == _CATCH and cp[2] is None for cp in reversed(cps))
                     yield b
                     if b.work:       # the answer's printing (resolve_finite) is the query's work too
                         self._charge_work(b)
@@ -364,7 +366,8 @@ class Engine:
             b.undo(mark)
             before = b.mark()
             if b.unify(catcher, rename(ball)):
-                return (recovery, len(cps), rest)  # the recovery goal is called: its cut is local
+                # the recovery goal is called (call/1: its cut is local, its body checked whole)
+                return (Struct("call", (recovery,)), len(cps), rest)
             b.undo(before)
         raise err.__class__(ball) if isinstance(err, PrologError) else err
 

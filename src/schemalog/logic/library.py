@@ -695,23 +695,26 @@ def _current_op(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
 
 # -- cleanup (SWI-Prolog's setup_call_cleanup/3) -------------------------------------
 
-def _run_cleanup(e: Machine, goal: Term, b: Bindings) -> None:
-    """once(Cleanup), its bindings undone; its failure is ignored, its exception raised."""
-    mark = b.mark()
+def _run_cleanup(e: Machine, goal: Term, b: Bindings, quiet: bool = False) -> None:
+    """once(Cleanup): its bindings stay (as SWI-Prolog's do after a deterministic exit), its
+    failure is ignored, its exception raised, unless `quiet` (the goal raised already:
+    that exception wins, as in SWI-Prolog)."""
     run = e.call_goal(goal, b)
     try:
         next(run, None)
+    except PrologError:
+        if not quiet:
+            raise
     finally:
         run.close()
-        b.undo(mark)
 
 
 def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     """setup_call_cleanup(+Setup, +Goal, +Cleanup): once(Setup), then Goal's answers;
     Cleanup runs once Goal is done: it failed, raised, gave its last answer (no
     alternative left), or was cut (this generator is closed then)."""
-    setup, goal, cleanup = (b.walk(t) for t in a)
-    if isinstance(setup, Var) or isinstance(goal, Var) or isinstance(cleanup, Var):
+    setup = b.walk(a[0])
+    if isinstance(setup, Var):
         raise instantiation_error()
     start = b.mark()
     run = e.call_goal(setup, b)
@@ -720,6 +723,9 @@ def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
             return
     finally:
         run.close()
+    goal, cleanup = b.walk(a[1]), b.walk(a[2])
+    if isinstance(goal, Var) or isinstance(cleanup, Var):
+        raise instantiation_error()
     run = e.call_goal(goal, b)
     done = False
     try:
@@ -741,7 +747,13 @@ def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
             for v, value in made:
                 if v not in b.values:
                     b.bind(v, value)
-    except (PrologError, GeneratorExit):
+    except PrologError:
+        if not done:
+            done = True
+            run.close()
+            _run_cleanup(e, cleanup, b, quiet=True)
+        raise
+    except GeneratorExit:
         if not done:
             done = True
             run.close()
