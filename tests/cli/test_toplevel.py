@@ -118,7 +118,7 @@ def test_a_program_without_tasks_keeps_its_own_run_and_holds(tmp_path):
 
 
 def test_deep_terms_are_answered():
-    r = run("repl", stdin=f"assertz((mk(0, a) :- !)), assertz((mk(N, f(T)) :- M is N - 1, mk(M, T))).\n"
+    r = run("repl", stdin="assertz((mk(0, a) :- !)), assertz((mk(N, f(T)) :- M is N - 1, mk(M, T))).\n"
                           "mk(50000, T), mk(50000, U), T == U, copy_term(T, C), C == T, Ok = yes.\nX = 1.\n")
     assert r.returncode == 0 and "Ok = yes." in r.stdout and "X = 1." in r.stdout, r.stdout[-500:]
 
