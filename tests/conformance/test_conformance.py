@@ -71,7 +71,6 @@ _EMPTY_ATOM = "swipl: [] is a reserved symbol, not an atom (atom([]) fails); sch
 KNOWN_DIFFERENCES: dict[str, str] = {
     # Builtins and library predicates swipl has and schemalog does not.
     "maplist-10": _missing("yall lambdas >>/N"),
-    "strings-17": _missing("number_string/2"),
     # Text builtins: other results and error terms.
     "atoms-04": "swipl reads the \\uXXXX escape in quoted atoms (5 chars); schemalog's reader does not (9)",
     "atoms-07": "atom_chars(X,[]): swipl gives X='' ; schemalog gives X=[] (the empty list text)",
@@ -80,7 +79,6 @@ KNOWN_DIFFERENCES: dict[str, str] = {
     "strings-20": _TEXT,
     "iso_errors-17": "atom_chars(X,[a|_]): swipl raises instantiation_error; schemalog type_error(atomic,_)",
     "iso_errors-18": "atom_chars(X,[a,f(b)]): swipl raises type_error(character,f(b)); schemalog type_error(atomic,[a,f(b)])",
-    "strings-12": "split_string: swipl collapses adjacent separators that are also pad chars; schemalog keeps an empty string",
     "output-67": "format ~d of a float: swipl raises format_argument_type(d,1.0); schemalog type_error(integer,1.0)",
     "output-72": "format with too few arguments: swipl writes 'a-' first and raises format('...') with an atom; schemalog writes nothing, raises with a string",
     # Arithmetic.
