@@ -28,7 +28,9 @@ def run(args: argparse.Namespace) -> int:
     from ..formats.documents import Document, YAML_SUFFIXES, read_document, to_pl, to_yaml
     from ..logic.parse import Clause
     from ..task.schema import check_schemas
-    from .common import check_output, choose_tasks, emit, inputs_of, instantiate_task, task_term
+    from ..errors import SchemalogError
+    from ..logic.terms import term_to_text
+    from .common import check_output, defines, emit, inputs_of, instantiate_task, root_candidates, task_term
 
     check_output(args.output, inputs_of(args))
     doc = read_document(args.input, args.max_bytes)
@@ -45,7 +47,13 @@ def run(args: argparse.Namespace) -> int:
     if args.task:
         # A task the file does not define would be declared and written: refuse it, and
         # build it, so that a rule that fails or loops is said here rather than on loading.
-        instantiate_task(loaded, choose_tasks(loaded, args.task)[0], args)
+        term = task_term(args.task)
+        if not defines(loaded, term):
+            roots = [r for r in root_candidates(loaded) if r != term_to_text(term)]
+            hint = f"; its tasks: {', '.join(roots[:8])}" if roots else ""
+            raise SchemalogError(f"{term_to_text(term)} is not a task of {doc.file}: no schema for it "
+                                 f"(nothing written){hint}")
+        instantiate_task(loaded, term, args)
     if target == "seed":
         text = _seed(loaded, doc, args)
     elif target == "yaml":

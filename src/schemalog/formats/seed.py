@@ -180,10 +180,16 @@ def _read_strings(releasers: Term, pos: SourcePos | None) -> Term:
     def read(t: Term) -> Term:
         if isinstance(t, Str) and t.value.upper() not in ("TRUE", "FALSE"):
             try:
-                return parse_term(t.value)
+                read_term = parse_term(t.value)
             except SchemalogError as err:
                 raise SchemalogError(f"the releaser {term_to_text(t)} does not read as a literal: "
                                      f"{err.message.splitlines()[0]}", pos) from None
+            if any(True for _ in iter_vars(read_term)):
+                # SEED takes a string's text as the name of a working-memory variable, as written:
+                # its `Obj` is never the schema's Obj.
+                raise SchemalogError(f"the releaser {term_to_text(t)} names a variable inside a string, "
+                                     f"which SEED never instantiates; write it without the quotes", pos)
+            return read_term
         return t
     items, tail = list_items(releasers)
     if tail == NIL and isinstance(releasers, Struct):
