@@ -37,7 +37,7 @@ def test_compress_to_prolog_writes_seed_that_keeps_the_compressed_tree(tmp_path)
     seed, pl = tmp_path / "c.prolog", tmp_path / "c.pl"
     assert run("compress", MIX, "-o", seed).returncode == 0
     assert run("compress", MIX, "-o", pl).returncode == 0
-    assert "disjunctive_releaser(use(spoon), 0, 2," in seed.read_text()
+    assert "exact_releaser(use(spoon), 0, 2," in seed.read_text()
     assert shown(seed) == shown(pl)
     r = run("decompress", seed, "--json")
     assert r.returncode == 0, r.stderr
@@ -78,12 +78,14 @@ def test_a_rule_that_loops_is_one_message_at_its_clause_exit_1_nothing_written(t
         assert not out.exists()
 
 
-def test_an_unsayable_releaser_is_refused_with_the_reason(tmp_path):
+def test_a_releaser_too_large_for_seed_is_refused_with_the_reason(tmp_path):
+    # (a1 or b1) and ... and (a10 or b10): 1024 disjuncts, more than a SEED file should hold
+    releaser = " and ".join(f"(a{i}.x or b{i}.x)" for i in range(10))
     task = tmp_path / "t.pl"
-    task.write_text("task(t).\nschema(t, [(a, x and not x)], t.done).\nschema(a, [], a.done).\n")
+    task.write_text(f"task(t).\nschema(t, [(a, {releaser})], t.done).\nschema(a, [], a.done).\n")
     out = tmp_path / "t.prolog"
     r = run("convert", task, "-o", out)
-    assert r.returncode == 1 and "the releaser of a is never true" in r.stderr
+    assert r.returncode == 1 and "the releaser of a has more than 512 disjuncts" in r.stderr
     assert not out.exists() and "Traceback" not in r.stderr
 
 

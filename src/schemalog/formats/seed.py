@@ -21,8 +21,9 @@ goal/2 per behaviour. Literals are written `[Obj|prop]`, which is the term ECLiP
 for SEED's `Obj.prop` (its list cell is '.'/2), and which SWI-Prolog 9 reads without
 turning it into a dict call. A releaser SEED cannot say, a disjunction, is written as one
 entry per disjunct (SEED releases a behaviour when any node of its instance is
-released), with a `disjunctive_releaser(Parent, Index, Copies, Releaser)` fact that SEED
-never asks and the importer reads back. Provenance, agents, objects and the initial state
+released), with an `exact_releaser(Parent, Index, Copies, Releaser)` fact that SEED
+never asks and the importer reads back (also written where the lists hold the releaser only
+up to equivalence, `x and not x` as `["FALSE"]`). Provenance, agents, objects and the initial state
 are facts SEED ignores, written with `,` `;` `-` only.
 """
 
@@ -44,7 +45,7 @@ from ..logic.unify import Bindings, rename, variant
 VOCABULARY = frozenset({("task", 1), ("object", 1), ("objects", 2), ("agent", 2), ("initial", 1),
                         ("constraint", 1), ("no_merge", 1), ("behaviour", 1), ("origins", 2),
                         ("task_origins", 2)})
-DISJUNCTION = ("disjunctive_releaser", 4)
+EXACT_RELEASER = ("exact_releaser", 4)
 
 
 @dataclass
@@ -100,7 +101,7 @@ def import_seed(items: list[Clause | Directive]) -> SeedImport:
             ind = indicator(head)
             if ind in VOCABULARY or ind in reached:
                 out.clauses.append(item)
-            elif ind != DISJUNCTION:
+            elif ind != EXACT_RELEASER:
                 skipped[f"{ind[0]}/{ind[1]}" if ind else term_to_text(head)] += 1
             continue
         name, subs = head.args
@@ -198,23 +199,23 @@ def _read_strings(releasers: Term, pos: SourcePos | None) -> Term:
 
 
 def _disjunctions(clauses: list[Clause]) -> dict[tuple[Term, int], tuple[int, cond.Condition]]:
-    """The disjunctive_releaser/4 facts of an export: (parent, index) -> (copies, releaser)."""
+    """The exact_releaser/4 facts of an export: (parent, index) -> (copies, releaser)."""
     found = {}
     for c in clauses:
-        if indicator(c.head) == DISJUNCTION and c.body == TRUE:
+        if indicator(c.head) == EXACT_RELEASER and c.body == TRUE:
             parent, index, copies, releaser = c.head.args
             if not (isinstance(index, Int) and isinstance(copies, Int) and copies.value >= 1):
-                raise SchemalogError("disjunctive_releaser(Parent, Index, Copies, Releaser) needs whole "
+                raise SchemalogError("exact_releaser(Parent, Index, Copies, Releaser) needs whole "
                                      "numbers for Index and Copies", c.pos)
             try:
                 found[(parent, index.value)] = (copies.value, cond.from_term(releaser))
             except cond.NotACondition as err:
-                raise SchemalogError(f"disjunctive_releaser: {err}", c.pos) from None
+                raise SchemalogError(f"exact_releaser: {err}", c.pos) from None
     return found
 
 
 def _collapse(name: Term, entries: list[Entry], disjunctions) -> list[Entry]:
-    """Read back the copies an export wrote for a disjunctive releaser as one sub-task."""
+    """Read back the entries an export wrote for one sub-task (a disjunction: one per disjunct)."""
     if not disjunctions:
         return entries
     out, i = [], 0
@@ -272,7 +273,7 @@ def _declares_kept(goal: Term, kept: set, keep_seed: bool) -> bool:
         items, tail = list_items(t)
         specs.extend(items if tail == NIL and isinstance(t, Struct) and t.name == CONS else [t])
     for s in specs:
-        if not (isinstance(s, Struct) and s.name == "/" and isinstance(s.args[0], Atom)
+        if not (isinstance(s, Struct) and s.name == "/" and len(s.args) == 2 and isinstance(s.args[0], Atom)
                 and isinstance(s.args[1], Int)):
             return False
         ind = (s.args[0].name, s.args[1].value)
@@ -373,8 +374,9 @@ def seed_text(document_clauses: list[Clause], header: str | None = None) -> str:
         seed_entries: list[str] = []
         for e in entries:
             disjuncts = _disjuncts(e.releaser, label, e.behaviour)
-            if len(disjuncts) > 1:
-                markers.append(Struct("disjunctive_releaser", (label, Int(len(seed_entries)), Int(len(disjuncts)),
+            if len(disjuncts) > 1 or cond.conjoin(list(disjuncts[0])) != e.releaser:
+                # SEED's lists say it only up to equivalence: the exact releaser goes beside them.
+                markers.append(Struct("exact_releaser", (label, Int(len(seed_entries)), Int(len(disjuncts)),
                                                                _safe_condition(e.releaser))))
             for lits in disjuncts:
                 releasers = make_list([_literal_term(x) for x in lits]) if lits else make_list([Str("TRUE")])
@@ -409,8 +411,7 @@ def _disjuncts(releaser: cond.Condition, label: Term, sub: Term) -> list[tuple[c
                              f"has more than {cond.DEFAULT_DNF_LIMIT} disjuncts (SEED's releasers are "
                              f"conjunctions of literals)")
     if not dnf:
-        raise SchemalogError(f"cannot write {term_to_text(label)} as SEED: the releaser of {term_to_text(sub)} "
-                             f"is never true, and a SEED releaser list always can be")
+        return [(cond.FALSE,)]  # SEED's working memory holds FALSE = 0: ["FALSE"] is never released
     order = cond._appearance(releaser)
     ranked = cond.from_dnf(dnf, order)
     parts = ranked.items if isinstance(ranked, cond.Or) else (ranked,)
@@ -429,6 +430,8 @@ def _cell(atom: Term) -> Term:
 
 
 def _literal_term(lit: cond.Condition) -> Term:
+    if lit == cond.FALSE:
+        return Str("FALSE")
     assert isinstance(lit, cond.Lit)
     return _cell(lit.atom) if lit.positive else Struct("-", (_cell(lit.atom),))
 
