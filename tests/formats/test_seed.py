@@ -132,6 +132,8 @@ def test_server_code_is_skipped_but_helpers_and_the_memory_rules_ask_for_are_kep
     assert "known/1" not in note
     text = to_pl(doc)
     assert "known(Object) :-" in text and "schema(speech(take),[])." in text
+    # and the converted file, schema/3 beside the SEED clauses its rules ask, gives the same tree
+    assert instantiate(document_from_text(text, "hri.pl").to_kb(), parse_term("serve(tea)")) == hri_tree()
 
 
 def test_string_releasers_read_as_the_literals_they_name():
