@@ -5,7 +5,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from conftest import MIX, ROOT, SEED_COFFEE
+from conftest import COFFEE, MIX, ROOT, SEED_COFFEE
 
 HRI = ROOT / "tests" / "formats" / "seed" / "hri_ltm.prolog"
 
@@ -96,3 +96,14 @@ def test_readme_seed_commands_work(tmp_path):
         r = run(*args)
         assert r.returncode == 0, r.stderr
         assert shown(Path(args[-1]))[0] == nodes
+
+
+def test_the_sources_constraints_and_helpers_survive_the_seed_file(tmp_path):
+    # prepare_coffee_and_tea.pl's constraint/1 rules call its ingredient/1 facts
+    out = tmp_path / "c.prolog"
+    assert run("compress", COFFEE, "-o", out).returncode == 0
+    assert "constraint((-[O|used];[O|taken])):-ingredient(O)." in out.read_text()
+    r = run("verify", out, "--states", "all", "--json")
+    assert "ingredient" not in r.stderr
+    data = json.loads(r.stdout)
+    assert (data["states"], data["sound"], data["complete"]) == (64, True, True)

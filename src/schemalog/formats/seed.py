@@ -37,7 +37,7 @@ from ..errors import SchemalogError, SourcePos
 from ..logic.parse import Clause, Directive, parse_term
 from ..task.schema import DEFAULT_AGENT, Entry, SchemaDef, read_entry, schema_term
 from ..logic.terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator,
-                           iter_vars, list_items, make_list, term_to_text)
+                           iter_vars, list_items, make_list, term_to_text, variable_names)
 from ..logic.unify import Bindings, rename, variant
 
 # Predicates of schemalog's own knowledge: a SEED file that carries them (an export does)
@@ -82,7 +82,7 @@ def import_seed(items: list[Clause | Directive]) -> SeedImport:
     goals = [c for c in clauses if _is(c.head, "goal", 2)]
     schema_heads = [c.head.args[0] for c in clauses if _is(c.head, "schema", 2)]
     disjunctions = _disjunctions(clauses)
-    reached = _reached(seed_clauses, clauses)
+    reached = _reached(seed_clauses + [c for c in clauses if indicator(c.head) in VOCABULARY], clauses)
     keep_seed = ("schema", 2) in reached or ("goal", 2) in reached
     skipped: Counter[str] = Counter()
     grippers: dict[str, Term] = {}
@@ -394,7 +394,7 @@ def seed_text(document_clauses: list[Clause], header: str | None = None) -> str:
     for c in document_clauses:
         if _is(c.head, "schema", 3):
             continue
-        lines.append(_text(_safe_clause(c)) + ".")
+        lines.append(_text(_safe_clause(c), 1200) + ".")
     for label in labels:
         if _mentions_gripper(label) and label not in agents:
             lines.append(_text(Struct("agent", (label, Atom(DEFAULT_AGENT)))) + ".")  # not the gripper
@@ -473,8 +473,8 @@ def _safe_clause(c: Clause) -> Term:
     return head if c.body == TRUE else Struct(":-", (head, c.body))
 
 
-def _text(t: Term) -> str:
-    return term_to_text(t, 1199, next_argument=True)
+def _text(t: Term, priority: int = 1199) -> str:
+    return term_to_text(t, priority, variable_names([t]), next_argument=True)
 
 
 __all__ = ["SeedImport", "is_seed", "import_seed", "default_post", "seed_text", "VOCABULARY"]
