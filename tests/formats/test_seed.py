@@ -230,9 +230,10 @@ def test_swipl_consults_the_export_and_reads_the_same_terms(tmp_path):
         if os.environ.get("CI"):
             pytest.fail("CI is set but swipl is not on PATH: the SEED export cannot be checked")
         pytest.skip("swipl is not installed")
-    compressed = compress(instantiate(read_document(COFFEE).to_kb(), parse_term("prepareboth"))).tree
+    kb = read_document(COFFEE).to_kb()
+    compressed = compress(instantiate(kb, parse_term("prepareboth"))).tree
     out = tmp_path / "ltm.prolog"
-    out.write_text(seed_of(compressed))
+    out.write_text(seed_of(compressed, kb))  # with the source's initial/1, constraint/1 rules, helpers
     r = subprocess.run([swipl, "-q", "-g", f"consult('{out}')", "-g",
                         "forall((schema(N, L) ; goal(N, L)), (writeq(N-L), nl))", "-t", "halt"],
                        capture_output=True, text=True, timeout=60)
