@@ -412,7 +412,9 @@ def _disjuncts(releaser: cond.Condition, label: Term, sub: Term) -> list[tuple[c
                              f"conjunctions of literals)")
     if not dnf:
         return [(cond.FALSE,)]  # SEED's working memory holds FALSE = 0: ["FALSE"] is never released
-    order = cond._appearance(releaser)
+    order: dict[cond.Lit, int] = {}
+    for lit in cond.literals(cond.nnf(releaser)):  # disjuncts and literals in the order written
+        order.setdefault(lit, len(order))
     ranked = cond.from_dnf(dnf, order)
     parts = ranked.items if isinstance(ranked, cond.Or) else (ranked,)
     return [tuple(p.items) if isinstance(p, cond.And) else () if p == cond.TRUE else (p,) for p in parts]
