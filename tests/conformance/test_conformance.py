@@ -71,11 +71,9 @@ _EMPTY_ATOM = "swipl: [] is a reserved symbol, not an atom (atom([]) fails); sch
 KNOWN_DIFFERENCES: dict[str, str] = {
     # Builtins and library predicates swipl has and schemalog does not.
     "maplist-10": _missing("yall lambdas >>/N"),
-    "strings-17": _missing("number_string/2"),
     # Text builtins: other results and error terms.
     "atoms-04": "swipl reads the \\uXXXX escape in quoted atoms (5 chars); schemalog's reader does not (9)",
     "strings-20": _TEXT,
-    "strings-12": "split_string: swipl collapses adjacent separators that are also pad chars; schemalog keeps an empty string",
     "output-67": "format ~d of a float: swipl raises format_argument_type(d,1.0); schemalog type_error(integer,1.0)",
     "output-72": "format with too few arguments: swipl writes 'a-' first and raises format('...') with an atom; schemalog writes nothing, raises with a string",
     # Arithmetic.

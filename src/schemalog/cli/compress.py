@@ -35,12 +35,11 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Merge sequential behaviours (Algorithm 1) and report the paper's figures."""
-    from ..formats.documents import to_pl, to_yaml
     from ..formats.render import carried_clauses, compare_dot, rich_tree, tree_document, tree_json
     from ..task.compress import compress, protected_labels
     from ..task.conditions import Simplifier
     from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
-    from .output import output_format, print_rich
+    from .output import output_format, print_rich, written
     from .verify import INCONCLUSIVE, verify_json, verify_lines
 
     kb, _ = load_files(args)
@@ -73,12 +72,12 @@ def run(args: argparse.Namespace) -> int:
     elif fmt == "dot":
         emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
               args.output, inputs)
-    elif fmt in ("pl", "yaml"):
+    elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
                   f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
-        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs)
+        emit(written(doc, fmt, header), args.output, inputs)
     else:
         from rich.console import Console, Group
         from rich.table import Table

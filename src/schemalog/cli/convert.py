@@ -12,11 +12,14 @@ from .options import Parents
 def register(sub, parents: Parents) -> None:
     """Add `schemalog convert` and its arguments to the command line."""
     p = sub.add_parser("convert", parents=[parents.limits, parents.resources],
-                       help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")
+                       help="convert knowledge: SEED or schema text or YAML -> schema text, YAML or SEED")
     p.add_argument("input", metavar="FILE")
-    p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml) picks the format")
-    p.add_argument("--to", choices=["pl", "yaml"], help="output format (default: from -o, else pl)")
-    p.add_argument("--task", help="declare this task (task/1) in the output")
+    p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml, .prolog) picks the format")
+    p.add_argument("--to", choices=["pl", "yaml", "seed"],
+                   help="output format (default: from -o, else pl); seed writes the tasks' trees as "
+                        "SEED long-term memory")
+    p.add_argument("--task", help="declare this task (task/1) in the output; with --to seed, the task "
+                                  "to write (default: every task/1)")
     p.set_defaults(run=run)
 
 
@@ -25,7 +28,9 @@ def run(args: argparse.Namespace) -> int:
     from ..formats.documents import Document, YAML_SUFFIXES, read_document, to_pl, to_yaml
     from ..logic.parse import Clause
     from ..task.schema import check_schemas
-    from .common import check_output, emit, inputs_of, task_term
+    from ..errors import SchemalogError
+    from ..logic.terms import term_to_text
+    from .common import check_output, defines, emit, inputs_of, instantiate_task, root_candidates, task_term
 
     check_output(args.output, inputs_of(args))
     doc = read_document(args.input, args.max_bytes)
@@ -35,9 +40,23 @@ def run(args: argparse.Namespace) -> int:
         declaration = Clause(Struct("task", (task_term(args.task),)), TRUE, None)
         doc = Document((declaration, *doc.items), doc.file, doc.notes, doc.seed)
     loaded = doc.to_kb()
+    loaded.max_steps = args.max_steps
     check_schemas(loaded)  # what is written must load again: check before writing
-    target = args.to or ("yaml" if args.output and args.output.endswith(YAML_SUFFIXES) else "pl")
-    if target == "yaml":
+    target = args.to or ("yaml" if args.output and args.output.endswith(YAML_SUFFIXES) else
+                         "seed" if args.output and args.output.endswith(SEED_SUFFIXES) else "pl")
+    if args.task:
+        # A task the file does not define would be declared and written: refuse it, and
+        # build it, so that a rule that fails or loops is said here rather than on loading.
+        term = task_term(args.task)
+        if not defines(loaded, term):
+            roots = [r for r in root_candidates(loaded) if r != term_to_text(term)]
+            hint = f"; its tasks: {', '.join(roots[:8])}" if roots else ""
+            raise SchemalogError(f"{term_to_text(term)} is not a task of {doc.file}: no schema for it "
+                                 f"(nothing written){hint}")
+        instantiate_task(loaded, term, args)
+    if target == "seed":
+        text = _seed(loaded, doc, args)
+    elif target == "yaml":
         text = to_yaml(doc)
     else:
         origin = "the SEED long-term memory" if doc.seed else ""
@@ -45,3 +64,25 @@ def run(args: argparse.Namespace) -> int:
         text = to_pl(doc, header=header)
     emit(text, args.output, inputs_of(args, loaded.files))
     return 0
+
+
+SEED_SUFFIXES = (".prolog",)
+
+
+def _seed(kb, doc, args: argparse.Namespace) -> str:
+    """The trees of the file's tasks (or --task) as SEED long-term memory."""
+    from ..formats.render import carried_clauses, tree_document
+    from ..formats.seed import seed_text
+    from ..logic.terms import term_to_text
+    from .common import choose_tasks, instantiate_task
+
+    tasks = choose_tasks(kb, args.task, every=True) or choose_tasks(kb, None)
+    clauses: list = []
+    for task in tasks:
+        for c in tree_document(instantiate_task(kb, task, args)).items:
+            if c not in clauses:
+                clauses.append(c)
+    clauses += carried_clauses(kb)
+    names = ", ".join(term_to_text(t) for t in tasks)
+    return seed_text(clauses, header=f"SEED long-term memory written by schemalog from {doc.file}, "
+                                     f"task{'s' if len(tasks) > 1 else ''} {names}.")

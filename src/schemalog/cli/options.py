@@ -117,7 +117,7 @@ def shared_parents() -> Parents:
                              f"(default {defaults.MAX_STEPS:,})")
 
     output = argparse.ArgumentParser(add_help=False)
-    output.add_argument("--format", choices=["text", "json", "dot", "yaml", "pl"],
+    output.add_argument("--format", choices=["text", "json", "dot", "yaml", "pl", "seed"],
                         help="output format (default: from -o's suffix, else text)")
     output.add_argument("--json", action="store_true", help="same as --format json")
     output.add_argument("-o", "--output", help="write here (atomically) instead of standard output")

@@ -16,7 +16,8 @@ from ..task.tree import Behaviour, count_nodes, depth
 from .common import emit, inputs_of
 
 
-SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml"}
+SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml",
+                  ".prolog": "seed"}
 
 
 def output_format(args: argparse.Namespace) -> str:
@@ -28,6 +29,14 @@ def output_format(args: argparse.Namespace) -> str:
     if args.output and args.output != "-":
         return SUFFIX_FORMATS.get(Path(args.output).suffix.lower(), "text")
     return "text"
+
+
+def written(doc, fmt: str, header: str) -> str:
+    """A tree's knowledge as text: schema text (pl), YAML, or SEED long-term memory."""
+    if fmt == "seed":
+        from ..formats.seed import seed_text
+        return seed_text(list(doc.items), header=header)
+    return to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc)
 
 
 def rendered(renderable, width: int = 120) -> str:
@@ -56,9 +65,9 @@ def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: s
         emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs)
     elif fmt == "dot":
         emit(to_dot(tree, term_to_text(task)), args.output, inputs)
-    elif fmt in ("pl", "yaml"):
+    elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
-        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs)
+        emit(written(doc, fmt, header), args.output, inputs)
     else:
         title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
         print_rich(rich_tree(tree, title), args.output, inputs)

@@ -83,7 +83,7 @@ def document_from_text(text: str, file: str = "<string>") -> Document:
     items = parse_text(text, file)
     if is_seed(items):
         imported = import_seed(items)
-        notes = tuple(f"{file}: note: {n}" for n in imported.notes)
+        notes = tuple(imported.warnings) + tuple(f"{file}: note: {n}" for n in imported.notes)
         return Document(tuple(imported.clauses), file, notes, seed=True)
     return Document(tuple(items), file)
 

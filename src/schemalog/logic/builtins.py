@@ -463,19 +463,30 @@ def _atom_string(e, a, b):
 
 
 def _split_string(e, a, b):
+    """split_string(+S, +SepChars, +PadChars, -Subs), as SWI-Prolog and ECLiPSe define it: the
+    padding is stripped from both ends first, and each field starts after the padding that
+    follows its separator, so separators that are also padding run together as one."""
     text, seps, pad = (text_of(e, x, b) for x in a[:3])
-    if seps:
-        parts, current = [], []
-        for ch in text:
-            if ch in seps:
-                parts.append("".join(current))
-                current = []
-            else:
-                current.append(ch)
-        parts.append("".join(current))
-    else:
-        parts = [text]
-    return b.unify(a[3], make_list([Str(p.strip(pad) if pad else p) for p in parts]))
+    start, end = 0, len(text)
+    while start < end and text[start] in pad:
+        start += 1
+    while end > start and text[end - 1] in pad:
+        end -= 1
+    parts = []
+    while True:
+        while start < end and text[start] in pad:
+            start += 1
+        stop = start
+        while stop < end and text[stop] not in seps:
+            stop += 1
+        field_end = stop
+        while field_end > start and text[field_end - 1] in pad:
+            field_end -= 1
+        parts.append(text[start:field_end])
+        if stop >= end:
+            break
+        start = stop + 1
+    return b.unify(a[3], make_list([Str(p) for p in parts]))
 
 
 def _term_text(e, a, b, make):

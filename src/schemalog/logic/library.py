@@ -109,17 +109,44 @@ def _string_to_atom(e: Machine, a: tuple, b: Bindings) -> bool:
 
 
 def _number_string(e: Machine, a: tuple, b: Bindings) -> bool:
-    """number_string(?N, +S): S read as a number (white space around it allowed)."""
+    """number_string(?N, +S): S read as a number, with no white space around it; fails when S
+    is not a number (SWI-Prolog and ECLiPSe agree)."""
     s = b.walk(a[1])
     if isinstance(s, Var):
         n = b.walk(a[0])
         if isinstance(n, Var):
             raise instantiation_error()
+        if not isinstance(n, (Int, Float)):
+            raise type_error("number", n)
         return b.unify(s, Str(term_to_text(n)))
-    value = _read_number(text_of(e, s, b).strip())
-    if value is None:
-        raise iso_error(Struct("syntax_error", (Atom("illegal_number"),)))
-    return b.unify(a[0], value)
+    text = text_of(e, s, b)
+    # A leading + belongs to the number here (`"+12"` is 12), not to an operator term.
+    value = _read_number(text[1:] if text[:1] == "+" and text[1:2].isdigit() else text)
+    return value is not None and b.unify(a[0], value)
+
+
+def _concat_string(e: Machine, a: tuple, b: Bindings) -> bool:
+    """concat_string(+List, ?Dest): ECLiPSe's; Dest is the string of List's atomic terms
+    (atoms, strings, numbers) one after the other."""
+    whole = b.walk(a[0])
+    if isinstance(whole, Var):
+        raise instantiation_error()
+    items, tail = list_items(resolve_list(b, whole))
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", whole)
+    for item in items:
+        if isinstance(item, Var):
+            raise instantiation_error()
+        if not isinstance(item, (Atom, Str, Int, Float)):
+            raise type_error("atomic", item)
+    dest = b.walk(a[1])
+    if not isinstance(dest, (Var, Str)):
+        raise type_error("string", dest)
+    text = "".join(_text_of(i) for i in items)
+    e.charge(len(text))
+    return b.unify(dest, Str(text))
 
 
 def _string_code(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -777,6 +804,7 @@ EXTRA = {
     ("string_length", 2): lambda e, a, b: b.unify(a[1], Int(len(text_of(e, a[0], b)))),
     ("string_to_atom", 2): _string_to_atom,
     ("number_string", 2): _number_string,
+    ("concat_string", 2): _concat_string,
     ("string_code", 3): _string_code,
     ("atom_to_term", 3): _atom_to_term,
     ("term_variables", 2): _term_variables,

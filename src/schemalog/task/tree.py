@@ -189,6 +189,11 @@ class Instantiator:
                     if self.engine.first(body, b) is None:
                         continue
                 except PrologError as err:
+                    missing = _missing_procedure(err.ball)
+                    if missing is not None:
+                        raise SchemalogError(f"while instantiating {term_to_text(label)}, the schema's body "
+                                             f"calls {missing}, which neither the file nor schemalog defines",
+                                             clause.pos) from None
                     raise SchemalogError(f"while instantiating {term_to_text(label)}, the schema's "
                                          f"body raised {err}", clause.pos) from None
                 except StepLimitExceeded:
@@ -390,6 +395,16 @@ class Instantiator:
             if not stack:
                 return node
             stack[-1].built.append(node)
+
+
+def _missing_procedure(ball: Term) -> str | None:
+    """`name/arity` of error(existence_error(procedure, PI), _), else None."""
+    if isinstance(ball, Struct) and ball.name == "error" and len(ball.args) == 2:
+        formal = ball.args[0]
+        if (isinstance(formal, Struct) and formal.name == "existence_error" and len(formal.args) == 2
+                and formal.args[0] == Atom("procedure")):
+            return term_to_text(formal.args[1])
+    return None
 
 
 def _origin(t: Term) -> Origin:
