@@ -15,6 +15,7 @@ engine, computed when called.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
@@ -40,6 +41,11 @@ from ..task.tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_n
 
 
 ORIGINAL, COMPRESSED = "original", "compressed"
+
+
+def _same_file(a: str, b: str) -> bool:
+    """Whether two names are one file (through links, relative or not)."""
+    return os.path.realpath(a) == os.path.realpath(b)
 
 # The relations a workspace adds, name/arity -> one line for :help and the docs' table.
 RELATIONS: dict[tuple[str, int], str] = {
@@ -169,9 +175,11 @@ class Workspace:
         self.reset()
 
     def load(self, path: str) -> None:
-        """Add a file and rebuild everything (clauses asserted since are not kept)."""
+        """Add a file and rebuild everything (clauses asserted since are not kept); a file
+        loaded already is read again in its place, its new clauses replacing its old ones."""
         before = self.files
-        self.files = [*self.files, path]
+        if not any(_same_file(path, f) for f in self.files):
+            self.files = [*self.files, path]
         try:
             self._build()
         except BaseException:
