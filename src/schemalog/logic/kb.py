@@ -490,7 +490,7 @@ class _Defined:
 
 def _shown(term: Term) -> str:
     """A term as a message shows it: its variables by name, `_` for a fresh one."""
-    return term_to_text(term, 999, variable_names([term]))
+    return term_to_text(term, 999, variable_names([term]), spaced=True, next_argument=True)
 
 
 class KnowledgeBase:
