@@ -74,7 +74,7 @@ def test_repl_reads_several_queries_on_a_line_and_skips_comments():
 def test_repl_load_and_unfinished_input(tmp_path):
     extra = tmp_path / "extra.pl"
     extra.write_text("colour(red). colour(green).\n")
-    r = run("repl", f"--plain", stdin=f":load {extra}\nfindall(C, colour(C), L).\nX = \n")
+    r = run("repl", "--plain", stdin=f":load {extra}\nfindall(C, colour(C), L).\nX = \n")
     assert "L = [red, green]" in r.stdout
     assert r.returncode == 2 and "input ended inside a query" in r.stdout
     r = run("repl", stdin=":load /no/such.pl\n:tree\n")
