@@ -266,3 +266,26 @@ def test_by_argument_multifile_by_the_arguments_name(tmp_path):
     c, = _files(tmp_path, c="p(g, 4).\n")
     with pytest.raises(SchemalogError, match=r"p\(g, \.\.\.\) here and p\(g, \.\.\.\) at .*b.pl:3:1"):
         kb.consult(c)
+
+
+def test_an_included_file_is_part_of_the_file_including_it(tmp_path):
+    """As in swipl: include/1 reads the text into the includer; consult/1 reads a file of its own."""
+    a, b = _files(tmp_path, a=":- include(b).\np(1).\n", b="p(2).\n")
+    kb = _consult_all([a])
+    assert _answers(kb, "p(X)") == ["p(2)", "p(1)"]
+    (c,) = _files(tmp_path, c=":- include(b).\n")
+    with pytest.raises(SchemalogError) as err:
+        kb.consult(c)                                      # b's text in c defines a's p/1 again
+    assert str(err.value.pos) == f"{b}:1:1" and f"{b}:1:1" in err.value.message
+
+
+def test_ensure_loaded_does_not_read_a_loaded_file_again(tmp_path):
+    a, b = _files(tmp_path, a="p(1).\n", b=":- ensure_loaded(a).\n:- consult(a).\nq(1).\n")
+    kb = _consult_all([a])
+    a.write_text("p(2).\n")
+    kb.consult(b)                                           # ensure_loaded keeps p(1); consult reads p(2)
+    assert _answers(kb, "p(X)") == ["p(2)"]
+    a.write_text("p(3).\n")
+    c, = _files(tmp_path, c=":- ensure_loaded(a).\n")
+    kb.consult(c)
+    assert _answers(kb, "p(X)") == ["p(2)"]

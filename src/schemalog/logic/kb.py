@@ -505,6 +505,7 @@ class KnowledgeBase:
         self._owners: dict[tuple[str, int], tuple[Path, SourcePos]] = {}
         self._arguments: dict[tuple[str, int], dict[Path, _Defined]] = {}
         self._read: set[Path] = set()   # files read (to the end or not): reading one again reloads it
+        self._sources: list[Path] = []  # whose clauses are being read: the file, or the one including it
         self.warnings: list[str] = []
         self.files: list[str] = []  # every file read, consulted ones included
         self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
@@ -562,7 +563,7 @@ class KnowledgeBase:
         if is_builtin(name, arity) or (name, arity) in ((",", 2), (";", 2), ("->", 2)):
             raise SchemalogError(f"no permission to modify the built-in predicate {name}/{arity}", pos)
         # A clause written in a file being read (not one asserted while it is read) belongs to it.
-        source = self._consulting[-1] if pos is not None and self._consulting else None
+        source = self._sources[-1] if pos is not None and self._sources else None
         if source is not None:
             self._check_definition(head, pos, source)
         self._store(StoredClause(head, body, pos, source=source), front=front)
@@ -666,31 +667,40 @@ class KnowledgeBase:
                 self.run_directive(item, base)
 
     @contextmanager
-    def reading(self, path: str | Path, pos: SourcePos | None = None) -> Iterator[None]:
+    def reading(self, path: str | Path, pos: SourcePos | None = None,
+                included: bool = False) -> Iterator[None]:
         """Mark `path` as being read while the block runs: a file that consults itself,
-        directly or through others, is an error naming the chain."""
+        directly or through others, is an error naming the chain. Its clauses are its own,
+        and replace those it gave before; `included` ones belong to the file including it
+        (`:- include(F).`, as in SWI-Prolog)."""
         key = Path(path).resolve()
         if key in self._consulting:
             chain = " -> ".join(str(f) for f in (*self._consulting, key))
             raise SchemalogError(f"consult cycle: {chain}", pos)
-        if key in self._read:
-            self.forget_file(key)    # read again: its new clauses replace its old ones
-        self._read.add(key)
+        if included and self._sources:
+            source = self._sources[-1]
+        else:
+            if key in self._read:
+                self.forget_file(key)    # read again: its new clauses replace its old ones
+            self._read.add(key)
+            source = key
         self.files.append(str(path))
         self._consulting.append(key)
+        self._sources.append(source)
         try:
             yield
         finally:
             self._consulting.pop()
+            self._sources.pop()
 
     def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None,
-                max_steps: int | None = None) -> None:
+                max_steps: int | None = None, included: bool = False) -> None:
         """Load a knowledge file; its directives (and those of the files it consults) run
         under `max_steps` each (default: the knowledge base's `max_steps`)."""
         if max_steps is not None:
             self.max_steps = max_steps
         p = Path(path)
-        with self.reading(p, pos):
+        with self.reading(p, pos, included):
             self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
 
     def run_directive(self, d: Directive, base: Path | None = None) -> None:
@@ -726,7 +736,9 @@ class KnowledgeBase:
                     path = path.with_suffix(".pl")
                 if not path.exists():
                     raise SchemalogError(f"consult: no such file {name!r}", d.pos)
-                self.consult(path, self.max_bytes, pos=d.pos)
+                if goal.name == "ensure_loaded" and path.resolve() in self._read:
+                    continue             # loaded already: ensure_loaded does not read it again
+                self.consult(path, self.max_bytes, pos=d.pos, included=goal.name == "include")
             return
         if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
                 or isinstance(goal, Atom) and goal.name == "use_module":
