@@ -88,7 +88,8 @@ def test_repl_load_of_a_loaded_file_reads_it_again_and_of_a_clashing_one_is_an_e
     r = run("repl", "--plain", stdin=f":load {extra}\n:load {extra}\nfindall(C, colour(C), L).\n"
                                      f":load {other}\nfindall(C, colour(C), L).\n")
     assert r.returncode == 0, r.stdout
-    assert r.stdout.count("L = [red, green]") == 2 and "error" not in r.stdout.split(f":load {other}")[0]
+    assert f"% loaded {extra}" in r.stdout and f"% read again {extra}" in r.stdout
+    assert r.stdout.count("L = [red, green]") == 2 and "error" not in r.stdout.split(f"{other}:2:1")[0]
     assert f"{other}:2:1: error: colour/1 is defined in two files, here and at {extra}:1:1" in r.stdout
     r = run("repl", "--plain", MIX, stdin=f":load {MIX}\n:tree\n")    # the file named at the start, again
     assert r.returncode == 0 and "error" not in r.stdout and "use(spoon)" in r.stdout, r.stdout

@@ -174,17 +174,20 @@ class Workspace:
         self._plans: dict[tuple[int, str], Plan] = {}
         self.reset()
 
-    def load(self, path: str) -> None:
+    def load(self, path: str) -> bool:
         """Add a file and rebuild everything (clauses asserted since are not kept); a file
-        loaded already is read again in its place, its new clauses replacing its old ones."""
+        loaded already is read again in its place, its new clauses replacing its old ones.
+        Whether the file is new to the workspace."""
         before = self.files
-        if not any(_same_file(path, f) for f in self.files):
+        new = not any(_same_file(path, f) for f in self.files)
+        if new:
             self.files = [*self.files, path]
         try:
             self._build()
         except BaseException:
             self.files = before
             raise
+        return new
 
     def reset(self) -> None:
         """Put the world back in the initial state (the files' initial/1), settled."""
