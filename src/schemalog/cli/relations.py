@@ -43,10 +43,6 @@ from ..task.tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_n
 ORIGINAL, COMPRESSED = "original", "compressed"
 
 
-def _same_file(a: str, b: str) -> bool:
-    """Whether two names are one file (through links, relative or not)."""
-    return os.path.realpath(a) == os.path.realpath(b)
-
 # The relations a workspace adds, name/arity -> one line for :help and the docs' table.
 RELATIONS: dict[tuple[str, int], str] = {
     ("task", 1): "task(T): T is a task (the files' task/1, else every root schema)",
@@ -174,20 +170,15 @@ class Workspace:
         self._plans: dict[tuple[int, str], Plan] = {}
         self.reset()
 
-    def load(self, path: str) -> bool:
-        """Add a file and rebuild everything (clauses asserted since are not kept); a file
-        loaded already is read again in its place, its new clauses replacing its old ones.
-        Whether the file is new to the workspace."""
-        before = self.files
-        new = not any(_same_file(path, f) for f in self.files)
-        if new:
-            self.files = [*self.files, path]
+    def load(self, path: str) -> None:
+        """Add a file, or read one loaded already again in its place; rebuild everything."""
+        before, new = self.files, os.path.realpath(path) not in map(os.path.realpath, self.files)
+        self.files = [*self.files, path] if new else self.files
         try:
             self._build()
         except BaseException:
             self.files = before
             raise
-        return new
 
     def reset(self) -> None:
         """Put the world back in the initial state (the files' initial/1), settled."""

@@ -131,7 +131,9 @@ class Repl:
         elif name == "load":
             if not rest:
                 raise SchemalogError(":load needs a file")
-            new = self.workspace.load(rest)
+            known = len(self.workspace.files)
+            self.workspace.load(rest)        # clauses asserted at the prompt are not kept
+            new = len(self.workspace.files) > known
             for note in self.workspace.notes:
                 self.say(note)
             self.say(f"% {'loaded' if new else 'read again'} {rest}: {self._tasks_line()}")
