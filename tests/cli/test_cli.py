@@ -626,3 +626,91 @@ def test_verify_says_when_selection_ran_with_no_scene_and_names_a_scene_given():
     assert "winner-take-all runs with no scene (every distance neutral)" in plain.stdout, plain.stdout
     placed = run("verify", MIX, "--scene", ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
     assert "winner-take-all runs in scene mix with spoon" in placed.stdout, placed.stdout
+
+
+# ---------------------------------------------------------------------------
+# The README's Task knowledge snippet, and several files as one program
+
+def _readme_snippet() -> str:
+    """The first ```prolog block of README.md's Task knowledge section, as written there."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme.split("\n## Task knowledge\n", 1)[1].split("\n## ", 1)[0]
+    return section.split("```prolog\n", 1)[1].split("```", 1)[0]
+
+
+def test_the_readme_task_knowledge_snippet_checks_and_runs_on_its_own(tmp_path):
+    task = tmp_path / "task.pl"
+    task.write_text(_readme_snippet())
+    r = run("check", task)
+    assert r.returncode == 0, r.stderr
+    assert "use(spoon) (9 behaviours, depth 3)" in r.stdout           # the figure README gives
+    r = run("run", task)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "completed: use(spoon) is accomplished (spoon.used)" in r.stdout
+    assert "6 decisions, 6 actions" in r.stdout                       # README: in 6 actions
+    r = run("verify", task)
+    assert r.returncode == 0 and "1 of 1 initial state(s) can complete" in r.stdout, r.stdout
+
+
+def test_the_readme_query_example_gives_its_bindings():
+    r = run("query", COFFEE, "merged(T, B, Parts), length(Parts, N), N > 2", "--json")
+    assert r.returncode == 0, r.stderr
+    answers = json.loads(r.stdout)
+    assert answers and all(a["T"] == "prepareboth" and a["N"] > 2 for a in answers)
+    assert {"[a3(cup), a4(cup), a5(cup), a6(cup), a7(cup)]"} <= {a["Parts"] for a in answers}
+
+
+def test_the_shipped_files_together_are_not_one_program():
+    """README: `schemalog check kb/tasks/*.pl` names the first thing two of them define."""
+    r = subprocess.run(["bash", "-c", f"{sys.executable} -m schemalog check kb/tasks/*.pl"],
+                       capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert r.returncode == 1 and "Traceback" not in r.stderr and r.stdout == ""
+    assert r.stderr.startswith("kb/tasks/mix_with_spoon.pl:19:1: error: agent(gripper(_), ...) here")
+    assert "at kb/tasks/coffee_structure.pl:22:1" in r.stderr and len(r.stderr.splitlines()) == 1
+
+
+LIBRARY = """agent(gripper(_), gripper).
+schema(gripper(close), [], not hand.free).
+schema(gripper(open), [], hand.free).
+"""
+GRAB = """task(grab(spoon)).
+object(spoon).
+initial(hand.free).
+schema(grab(spoon), [(a1(spoon), true), (gripper(close), a1.done)], spoon.taken).
+schema(a1(spoon), [], a1.done).
+"""
+
+
+def test_a_task_and_its_library_on_one_command_line(tmp_path):
+    library, task = tmp_path / "library.pl", tmp_path / "grab.pl"
+    library.write_text(LIBRARY)
+    task.write_text(GRAB)
+    r = run("check", library, task)
+    assert r.returncode == 0 and "grab(spoon) (3 behaviours, depth 2)" in r.stdout, r.stderr
+    r = run("run", library, task, "--json")
+    assert r.returncode == 0 and json.loads(r.stdout)["completed"], r.stderr
+    # The task file defines a gripper command of its own too: both places, one message.
+    task.write_text(GRAB + "\nschema(gripper(close), [], hand.closed).\n")
+    for command in ("check", "run", "compress", "query"):
+        r = run(command, library, task, *(["true"] if command == "query" else []))
+        # query's status for bad input is 2 (1 is "no answer")
+        assert r.returncode == (2 if command == "query" else 1) and "Traceback" not in r.stderr, (command, r.stderr)
+        assert r.stderr.startswith(f"{task}:7:1: error: schema(gripper(close), ...) here and "
+                                   f"schema(gripper(close), ...) at {library}:2:1"), r.stderr
+    task.write_text(":- multifile gripper/1.\n" + GRAB + "\nschema(gripper(close), [], hand.closed).\n")
+    r = run("check", library, task)
+    assert r.returncode == 0, r.stderr
+    r = run("check", task, task)                     # one file named twice is read once more
+    assert r.returncode == 0, r.stderr
+
+
+def test_a_prolog_predicate_in_two_files_on_the_command_line(tmp_path):
+    a, b = tmp_path / "a.pl", tmp_path / "b.pl"
+    a.write_text("colour(red).\n")
+    b.write_text("size(big).\ncolour(blue).\n")
+    r = run("query", a, b, "colour(C)")
+    assert r.returncode == 2 and r.stderr.startswith(f"{b}:2:1: error: colour/1 is defined in two files, "
+                                                     f"here and at {a}:1:1"), r.stderr
+    b.write_text(":- multifile colour/1.\nsize(big).\ncolour(blue).\n")
+    r = run("query", a, b, "colour(C)")
+    assert r.returncode == 0 and r.stdout.split() == ["C", "=", "red", "C", "=", "blue"], r.stdout

@@ -108,12 +108,35 @@ def test_a_compressed_file_is_read_with_its_provenance(tmp_path, mix):
     assert ask(ws, "verify(use(spoon), R)") == ["verify(use(spoon),proved)"]
 
 
-def test_ids_are_unique_across_files_and_trees():
-    ws = Workspace([str(MIX), str(COFFEE)])
-    assert [term_to_text(v.task) for v in ws.views] == ["use(spoon)", "prepareboth"]
+WAVE = """task(wave).
+schema(wave, [(w1, true), (w2, w1.done), (w3, w2.done)], w3.done).
+schema(w1, [], w1.done).  schema(w2, [], w2.done).  schema(w3, [], w3.done).
+"""
+
+
+def test_ids_are_unique_across_files_and_trees(tmp_path):
+    wave = tmp_path / "wave.pl"
+    wave.write_text(WAVE)
+    ws = Workspace([str(MIX), str(wave)])
+    assert [term_to_text(v.task) for v in ws.views] == ["use(spoon)", "wave"]
     ids = ask(ws, "findall(B, node(B, _), Bs), sort(Bs, S), length(Bs, N), length(S, N)")
     assert ids, "node ids repeat"
-    assert ask(ws, "task(T)") == ["task(use(spoon))", "task(prepareboth)"]
+    assert ask(ws, "task(T)") == ["task(use(spoon))", "task(wave)"]
+
+
+def test_loading_a_file_again_replaces_its_clauses(tmp_path):
+    wave = tmp_path / "wave.pl"
+    wave.write_text(WAVE + "colour(red).\n")
+    ws = Workspace([str(MIX)])
+    ws.load(str(wave))
+    ws.load(str(wave))                      # the same file again: not a redefinition of itself
+    assert ask(ws, "colour(C)") == ["colour(red)"]
+    wave.write_text(WAVE.replace("(w3, w2.done)", "(w3, w2.done), (w4, w3.done)")
+                    + "schema(w4, [], w4.done).\ncolour(blue).\n")
+    ws.load(str(tmp_path / "." / "wave.pl"))  # edited, and named another way
+    assert ws.files == [str(MIX), str(wave)]
+    assert ask(ws, "colour(C)") == ["colour(blue)"]
+    assert ask(ws, "original(wave, R), findall(C, child(R, C), Cs), length(Cs, N)")[0].endswith(",4)")
 
 
 def test_pure_prolog_files_get_no_relations(tmp_path):

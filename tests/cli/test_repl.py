@@ -74,11 +74,25 @@ def test_repl_reads_several_queries_on_a_line_and_skips_comments():
 def test_repl_load_and_unfinished_input(tmp_path):
     extra = tmp_path / "extra.pl"
     extra.write_text("colour(red). colour(green).\n")
-    r = run("repl", f"--plain", stdin=f":load {extra}\nfindall(C, colour(C), L).\nX = \n")
+    r = run("repl", "--plain", stdin=f":load {extra}\nfindall(C, colour(C), L).\nX = \n")
     assert "L = [red, green]" in r.stdout
     assert r.returncode == 2 and "input ended inside a query" in r.stdout
     r = run("repl", stdin=":load /no/such.pl\n:tree\n")
     assert "no such file" in r.stdout and "no task here" in r.stdout
+
+
+def test_repl_load_of_a_loaded_file_reads_it_again_and_of_a_clashing_one_is_an_error(tmp_path):
+    extra, other = tmp_path / "extra.pl", tmp_path / "other.pl"
+    extra.write_text("colour(red). colour(green).\n")
+    other.write_text("size(big).\ncolour(blue).\n")
+    r = run("repl", "--plain", stdin=f":load {extra}\n:load {extra}\nfindall(C, colour(C), L).\n"
+                                     f":load {other}\nfindall(C, colour(C), L).\n")
+    assert r.returncode == 0, r.stdout
+    assert f"% loaded {extra}" in r.stdout and f"% read again {extra}" in r.stdout
+    assert r.stdout.count("L = [red, green]") == 2 and "error" not in r.stdout.split(f"{other}:2:1")[0]
+    assert f"{other}:2:1: error: colour/1 is defined in two files, here and at {extra}:1:1" in r.stdout
+    r = run("repl", "--plain", MIX, stdin=f":load {MIX}\n:tree\n")    # the file named at the start, again
+    assert r.returncode == 0 and "error" not in r.stdout and "use(spoon)" in r.stdout, r.stdout
 
 
 def spawn(*files, history, timeout=30):

@@ -70,11 +70,15 @@ def test_query_prints_every_answer_one_per_line():
                                      "X = 8, Y = 9", "X = 9, Y = 10"]
 
 
-def test_query_json_over_several_files():
-    r = run("query", MIX, COFFEE, "merged(T, B, Parts), length(Parts, N), N > 2", "--json")
+def test_query_json_over_several_files(tmp_path):
+    wave = tmp_path / "wave.pl"             # a second task: one program with MIX (no sub-task of both)
+    wave.write_text("task(wave).\nschema(wave, [(w1, true), (w2, w1.done), (w3, w2.done)], w3.done).\n"
+                    "schema(w1, [], w1.done).  schema(w2, [], w2.done).  schema(w3, [], w3.done).\n")
+    r = run("query", MIX, wave, "merged(T, B, Parts), length(Parts, N), N > 2", "--json")
     assert r.returncode == 0, r.stderr
     data = json.loads(r.stdout)
-    assert {d["T"] for d in data} == {"use(spoon)", "prepareboth"}
+    assert {d["T"] for d in data} == {"use(spoon)", "wave"}
+    assert data[-1]["Parts"] == "[w1, w2, w3]"
     assert all(isinstance(d["B"], int) and d["N"] > 2 for d in data)
     assert data[0]["Parts"] == "[a3(cup), a4(cup), a5(cup), a6(cup), a7(cup)]"
 

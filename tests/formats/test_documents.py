@@ -1,4 +1,5 @@
-"""Knowledge files: pl <-> YAML round trips exactly; YAML errors have positions; writes are atomic."""
+"""Knowledge files: pl <-> YAML round trips exactly; YAML errors have positions; writes are atomic;
+several files load as one program, each sub-task's schema from one file."""
 
 import os
 import stat
@@ -8,8 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from schemalog.formats.documents import (document_from_text, document_from_yaml, read_document, to_pl, to_yaml,
-                                 write_atomically)
+from schemalog.formats.documents import (document_from_text, document_from_yaml, load_kb, read_document, to_pl,
+                                 to_yaml, write_atomically)
+from schemalog.logic.parse import parse_term
+from schemalog.task.tree import count_nodes, instantiate
 from schemalog.errors import SchemalogError
 
 from conftest import COFFEE, MIX, SEED_COFFEE, read_fifo_in_thread
@@ -200,3 +203,75 @@ def test_a_fifo_input_is_read_within_the_limit(tmp_path):
     writer.start()
     with pytest.raises(SchemalogError, match="over the 100 bytes limit"):
         read_document(fifo, max_bytes=100)
+
+
+# ---------------------------------------------------------------------------
+# Several files, one program (docs/syntax.md, Several files)
+
+PRIMITIVES = """% a library of primitive behaviours, shared by task files
+agent(gripper(_), gripper).
+schema(gripper(close), [], not hand.free).
+schema(gripper(open), [], hand.free).
+schema(a1(O), [], a1.done) :- object(O).
+"""
+TASK = """task(grab(spoon)).
+object(spoon).
+initial(hand.free).
+schema(grab(O), [(a1(O), true), (gripper(close), a1.done)], O.taken).
+"""
+
+
+def _write(tmp_path, name: str, text: str):
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def test_a_task_file_and_a_library_of_primitives_are_one_program(tmp_path):
+    kb = load_kb([_write(tmp_path, "prims.pl", PRIMITIVES), _write(tmp_path, "task.pl", TASK)])
+    tree = instantiate(kb, parse_term("grab(spoon)"))
+    assert count_nodes(tree) == 3 and tree.children[1].agent == "gripper"
+
+
+def test_a_schema_for_the_same_sub_task_in_two_files_names_both_places(tmp_path):
+    structure = _write(tmp_path, "structure.pl", "object(water).\n\nschema(subtask(take, O), [], O.taken).\n")
+    learned = _write(tmp_path, "learned.pl", "object(water).\nschema(a1(water), [], a1.done).\n"
+                     "schema(subtask(take, water), [(a1(water), true)], water.taken).\n")
+    with pytest.raises(SchemalogError) as err:
+        load_kb([structure, learned])
+    assert str(err.value.pos) == f"{learned}:3:1"
+    message = err.value.message
+    assert f"{structure}:3:1" in message and "subtask(take, water)" in message and "subtask(take, O)" in message
+    assert "multifile(subtask/2)" in message
+
+
+@pytest.mark.parametrize("declaration", [":- multifile(subtask/2).", ":- multifile schema/3."])
+def test_multifile_says_two_files_mean_to_define_one_sub_task(tmp_path, declaration):
+    structure = _write(tmp_path, "structure.pl", "schema(subtask(take, O), [], O.taken).\n")
+    learned = _write(tmp_path, "learned.pl", f"{declaration}\nschema(subtask(take, water), [], w.taken).\n")
+    kb = load_kb([structure, learned])
+    assert len(kb.clauses("schema", 3)) == 2
+
+
+def test_schemas_of_one_name_for_other_arguments_are_no_clash(tmp_path):
+    one = _write(tmp_path, "one.pl", "schema(a1(spoon), [], a1.done).\nobject(cup).\ninitial(hand.free).\n")
+    two = _write(tmp_path, "two.pl", "schema(a1(water), [], a1.done).\nobject(cup).\ninitial(cup.clean).\n")
+    kb = load_kb([one, two])
+    assert len(kb.clauses("schema", 3)) == 2
+    assert len(kb.clauses("initial", 1)) == 2          # declarations add up
+
+
+def test_a_task_declared_in_two_files_is_an_error(tmp_path):
+    one = _write(tmp_path, "one.pl", TASK)
+    two = _write(tmp_path, "two.pl", "task(grab(spoon)).\n")
+    with pytest.raises(SchemalogError, match=r"task\(grab\(spoon\)\) here and task\(grab\(spoon\)\) at .*one.pl:1:1"):
+        load_kb([one, two])
+
+
+def test_a_yaml_file_is_named_by_its_line_and_column(tmp_path):
+    one = _write(tmp_path, "one.pl", TASK)
+    two = _write(tmp_path, "two.yaml", "schemalog: 1\nitems:\n  - task: other\n  - schema: grab(X)\n"
+                 "    subtasks: []\n    post: X.taken\n")
+    with pytest.raises(SchemalogError) as err:
+        load_kb([one, two])
+    assert str(err.value.pos) == f"{two}:4:5" and f"{one}:4:1" in err.value.message

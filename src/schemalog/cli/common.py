@@ -21,7 +21,7 @@ from ..logic.terms import Struct, Term, Var, term_to_text
 from ..logic.unify import Bindings
 from ..run.scene import NO_SCENE, Scene, object_name, read_scene
 from ..run.world import state_atoms
-from ..task.schema import check_schemas
+from ..task.schema import check_schemas, knowledge_base
 from ..task.tree import Behaviour, declared_tasks, instantiate, walk
 
 
@@ -30,7 +30,7 @@ def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]
     they are read and against every file they consulted once they are."""
     output = getattr(args, "output", None)
     check_output(output, inputs_of(args))
-    kb = KnowledgeBase()
+    kb = knowledge_base()
     kb.max_bytes = args.max_bytes
     kb.max_steps = args.max_steps    # each directive's budget
     docs = []

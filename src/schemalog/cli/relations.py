@@ -15,6 +15,7 @@ engine, computed when called.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
@@ -40,6 +41,7 @@ from ..task.tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_n
 
 
 ORIGINAL, COMPRESSED = "original", "compressed"
+
 
 # The relations a workspace adds, name/arity -> one line for :help and the docs' table.
 RELATIONS: dict[tuple[str, int], str] = {
@@ -169,9 +171,9 @@ class Workspace:
         self.reset()
 
     def load(self, path: str) -> None:
-        """Add a file and rebuild everything (clauses asserted since are not kept)."""
-        before = self.files
-        self.files = [*self.files, path]
+        """Add a file, or read one loaded already again in its place; rebuild everything."""
+        before, new = self.files, os.path.realpath(path) not in map(os.path.realpath, self.files)
+        self.files = [*self.files, path] if new else self.files
         try:
             self._build()
         except BaseException:

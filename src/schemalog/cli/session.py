@@ -131,10 +131,12 @@ class Repl:
         elif name == "load":
             if not rest:
                 raise SchemalogError(":load needs a file")
-            self.workspace.load(rest)
+            known = len(self.workspace.files)
+            self.workspace.load(rest)        # clauses asserted at the prompt are not kept
+            new = len(self.workspace.files) > known
             for note in self.workspace.notes:
                 self.say(note)
-            self.say(f"% loaded {rest}: {self._tasks_line()}")
+            self.say(f"% {'loaded' if new else 'read again'} {rest}: {self._tasks_line()}")
         elif name in ("tree", "compress", "original"):
             view, kind = self._tree(rest)
             kind = COMPRESSED if name == "compress" else ORIGINAL if name == "original" else kind

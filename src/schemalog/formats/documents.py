@@ -26,7 +26,7 @@ import os
 import stat
 import tempfile
 from contextlib import nullcontext
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..inputs import check_yaml_nesting
@@ -34,7 +34,7 @@ from ..errors import CannotWrite, SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import MAX_BYTES, Clause, Directive, parse_text, read_source
 from ..task import conditions as cond
-from ..task.schema import DEFAULT_IMPORTANCE, Entry, schema_term, static_schema, write_clause
+from ..task.schema import DEFAULT_IMPORTANCE, Entry, knowledge_base, schema_term, static_schema, write_clause
 from .seed import import_seed, is_seed
 from ..logic.terms import TRUE, Struct, Term, term_to_text, variable_names
 
@@ -52,8 +52,8 @@ class Document:
     seed: bool = False
 
     def to_kb(self, kb: KnowledgeBase | None = None) -> KnowledgeBase:
-        """Load the document into a (new) knowledge base."""
-        kb = kb if kb is not None else KnowledgeBase()
+        """Load the document into a (new, schema-language) knowledge base."""
+        kb = kb if kb is not None else knowledge_base()
         real = bool(self.file) and not self.file.startswith("<")
         base = Path(self.file).parent if real else None
         with kb.reading(self.file) if real else nullcontext():
@@ -90,9 +90,10 @@ def document_from_text(text: str, file: str = "<string>") -> Document:
 
 def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES,
             max_steps: int | None = None) -> KnowledgeBase:
-    """Read every file into one knowledge base; files they consult are held to `max_bytes`
+    """Read every file into one knowledge base, one program: what two files define alike is
+    an error (docs/syntax.md, Several files); files they consult are held to `max_bytes`
     too, and every directive to `max_steps` resolution steps (default: the engine's)."""
-    kb = KnowledgeBase()
+    kb = knowledge_base()
     kb.max_bytes = max_bytes
     if max_steps is not None:
         kb.max_steps = max_steps
@@ -124,7 +125,9 @@ def document_from_yaml(text: str, file: str = "<string>") -> Document:
         line, column = marks[i] if i < len(marks) else (1, 1)
         pos = SourcePos(file, line, column)
         try:
-            items.extend(_record_items(record, f"items[{i}]", file, i))
+            # Each clause is where its record starts in the YAML file: messages that name it
+            # (a sub-task defined in two files) point into the file the user wrote.
+            items.extend(replace(item, pos=pos) for item in _record_items(record, f"items[{i}]", file, i))
         except SchemalogError as err:
             # The item's own place in the YAML file, and the clause it made, to see what broke.
             raise SchemalogError(err.message, pos, lines[line - 1] if line <= len(lines) else None) from None

@@ -66,7 +66,7 @@ def learn(demo_path: str, structure_path: str, task: Term | None, *, radius: flo
     """Segment the demonstration, teach the structure's task, and check what was learned."""
     demo = read_demonstration(demo_path, **({"max_bytes": max_bytes} if max_bytes else {}))
     structure = read_document(structure_path)
-    kb = structure.to_kb(KnowledgeBase())
+    kb = structure.to_kb()
     # The structure is copied into the output: as written, or as Prolog when it is YAML or SEED.
     plain = not structure.seed and not structure_path.endswith(YAML_SUFFIXES)
     structure_text = read_source(structure_path) if plain else to_pl(structure)
@@ -89,7 +89,7 @@ def learn(demo_path: str, structure_path: str, task: Term | None, *, radius: flo
     text = learned_text(teaching, kb, structure_text, demo_file=Path(demo_path).name,
                         structure_files=[structure_path], rows=rows, settings=settings)
     # What was learned must read back: the same checks `schemalog check` makes.
-    learned_kb = document_from_text(text, "<learned>").to_kb(KnowledgeBase())
+    learned_kb = document_from_text(text, "<learned>").to_kb()
     tree = instantiate(learned_kb, task)
     compressed = compress(tree, "full", protected_labels(learned_kb, tree)).tree
     lesson = Lesson(demo, segments, teaching, text, learned_kb, tree, compressed, radius)

@@ -5,10 +5,19 @@
     Predicate index          : dict[key, list[StoredClause]]  key = an argument's
                                                               principal functor
 
+    KnowledgeBase.multifile  : set[(name, arity)]             declared multifile
+    definitions              : Definitions                    which predicates files share
+
 A call whose first argument is bound only tries the clauses with the same key or
 a variable there; a call whose first argument is unbound uses the first other bound
 argument, indexed just in time. The lists are rebuilt (not mutated) on assert and
 retract, so a running call keeps its snapshot (the logical update view).
+
+Several files make one program, as SWI-Prolog consults them, but a predicate is defined by
+one file: a clause of it read from a second file is an error naming both places, unless the
+predicate was declared `multifile` first. `Definitions` lets a language built on the engine
+(the schema language) define some predicates per first argument, or let every file add to
+them. Reading a file again replaces what it defined (a reconsult).
 
 The knowledge base is the engine's `builtins.Database`; it sits above the engine because
 consulting runs directives (`:- Goal.`) with it, and the engine never imports it back.
@@ -28,8 +37,8 @@ from ..errors import SchemalogError, SourcePos
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
 from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
-from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, iter_vars, list_items, term_to_text
-from .unify import rename
+from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, iter_vars, list_items, quote_atom, term_to_text, variable_names
+from .unify import Bindings, rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
 
@@ -49,12 +58,13 @@ def first_arg_key(term: Term) -> Key | None:
 
 @dataclass(eq=False)
 class StoredClause:
-    """A clause in the knowledge base."""
+    """A clause in the knowledge base; `source` is the file it was read from (resolved)."""
 
     head: Term
     body: Term
     pos: SourcePos | None = None
     library: bool = False
+    source: Path | None = None
     key: Key | None = field(init=False)
     _copier: object = field(default=None, init=False, repr=False, compare=False)
     _matcher: object = field(default=None, init=False, repr=False, compare=False)
@@ -437,11 +447,82 @@ def initial_operators() -> dict[tuple[str, str], tuple[int, str]]:
     return table
 
 
+@dataclass(frozen=True)
+class Definitions:
+    """Which predicates several files may define together (every other one is defined by
+    one file, unless declared multifile).
+
+    by_argument: defined per first argument: files may each have clauses, but not two
+                 files clauses whose first arguments unify (the schema language's schema/3:
+                 one sub-task, one file), unless that predicate, or the first argument's
+                 own Name/Arity, is declared multifile.
+    shared:      every file adds to them (declarations whose union is meant)."""
+
+    by_argument: frozenset[tuple[str, int]] = frozenset()
+    shared: frozenset[tuple[str, int]] = frozenset()
+
+
+PROLOG = Definitions()   # plain Prolog: every predicate belongs to one file
+
+
+class _Defined:
+    """The first arguments one file gave a by-argument predicate, indexed to find one that
+    unifies with a new argument without scanning them all."""
+
+    __slots__ = ("ground", "keyed", "open_keyed", "variables")
+
+    def __init__(self) -> None:
+        self.ground: dict[Term, SourcePos] = {}
+        self.keyed: dict[Key, list[tuple[Term, SourcePos]]] = {}       # every non-variable one
+        self.open_keyed: dict[Key, list[tuple[Term, SourcePos]]] = {}  # those with variables
+        self.variables: list[tuple[Term, SourcePos]] = []
+
+    def add(self, arg: Term, pos: SourcePos) -> None:
+        key = first_arg_key(arg)
+        if key is None:
+            self.variables.append((arg, pos))
+            return
+        self.keyed.setdefault(key, []).append((arg, pos))
+        if is_ground(arg):
+            self.ground.setdefault(arg, pos)
+        else:
+            self.open_keyed.setdefault(key, []).append((arg, pos))
+
+    def clash(self, arg: Term) -> tuple[Term, SourcePos] | None:
+        """A first argument given here that unifies with `arg`, and where it was written."""
+        key = first_arg_key(arg)
+        if key is None:
+            candidates = [*self.variables, *(e for entries in self.keyed.values() for e in entries)]
+        elif is_ground(arg):
+            if arg in self.ground:
+                return arg, self.ground[arg]
+            candidates = [*self.open_keyed.get(key, ()), *self.variables]
+        else:
+            candidates = [*self.keyed.get(key, ()), *self.variables]
+        for term, pos in candidates:
+            if Bindings().unify(arg, rename(term)):
+                return term, pos
+        return None
+
+
+def _shown(term: Term) -> str:
+    """A term as a message shows it: its variables by name, `_` for a fresh one."""
+    return term_to_text(term, 999, variable_names([term]), spaced=True, next_argument=True)
+
+
 class KnowledgeBase:
     """Clauses, consulted from files or added programmatically."""
 
-    def __init__(self, prelude: bool = True) -> None:
+    def __init__(self, prelude: bool = True, definitions: Definitions = PROLOG) -> None:
         self.predicates: dict[tuple[str, int], Predicate] = {}
+        self.definitions = definitions
+        self.multifile: set[tuple[str, int]] = set()
+        # The file that defined each predicate first, and where; for a by-argument predicate,
+        # the first arguments each file gave it.
+        self._owners: dict[tuple[str, int], tuple[Path, SourcePos]] = {}
+        self._arguments: dict[tuple[str, int], dict[Path, _Defined]] = {}
+        self._read: set[Path] = set()   # files read (to the end or not): reading one again reloads it
+        self._sources: list[Path] = []  # whose clauses are being read: the file, or the one including it
         self.warnings: list[str] = []
         self.files: list[str] = []  # every file read, consulted ones included
         self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
@@ -502,7 +583,51 @@ class KnowledgeBase:
         name, arity = indicator(head)
         if is_builtin(name, arity) or (name, arity) in ((",", 2), (";", 2), ("->", 2)):
             raise SchemalogError(f"no permission to modify the built-in predicate {name}/{arity}", pos)
-        self._store(StoredClause(head, body, pos), front=front)
+        # A clause written in a file being read (not one asserted while it is read) belongs to it.
+        source = self._sources[-1] if pos is not None and self._sources else None
+        if source is not None:
+            self._check_definition(head, pos, source)
+        self._store(StoredClause(head, body, pos, source=source), front=front)
+
+    def _check_definition(self, head: Term, pos: SourcePos, source: Path) -> None:
+        """Refuse a clause from `source` for what another file already defines (see Definitions)."""
+        key = indicator(head)
+        if key in self.definitions.shared:
+            return
+        if key in self.definitions.by_argument and isinstance(head, Struct):
+            self._check_argument(key, head.args[0], pos, source)
+            return
+        owner = self._owners.get(key)
+        if owner is None:
+            self._owners[key] = (source, pos)
+        elif owner[0] != source and key not in self.multifile:
+            name, arity = key
+            raise SchemalogError(
+                f"{quote_atom(name)}/{arity} is defined in two files, here and at {owner[1]}: one file "
+                f"defines a predicate; keep one definition, or, if both files are meant to add to it, "
+                f"declare `:- multifile({quote_atom(name)}/{arity}).` before its first clause "
+                f"(docs/syntax.md, Several files)", pos)
+
+    def _check_argument(self, key: tuple[str, int], arg: Term, pos: SourcePos, source: Path) -> None:
+        unit = indicator(arg) if isinstance(arg, (Atom, Struct)) else None
+        files = self._arguments.setdefault(key, {})
+        if key not in self.multifile and unit not in self.multifile:
+            for other, defined in files.items():
+                clash = defined.clash(arg) if other != source else None
+                if clash is None:
+                    continue
+                name, arity = key
+                what = f"{quote_atom(unit[0])}/{unit[1]}" if unit is not None else f"{name}/{arity}"
+                rest = ", ..." if arity > 1 else ""
+                raise SchemalogError(
+                    f"{name}({_shown(arg)}{rest}) here and {name}({_shown(clash[0])}{rest}) at {clash[1]} "
+                    f"are in two files for the same {what}: one file defines it; keep one, or, if both "
+                    f"files are meant to, declare `:- multifile({what}).` before this clause "
+                    f"(docs/syntax.md, Several files)", pos)
+        defined = files.get(source)
+        if defined is None:
+            defined = files[source] = _Defined()
+        defined.add(arg, pos)
 
     def add_facts(self, facts: list[Term]) -> None:
         """Add many ground facts at once (a task tree's relations): one list per predicate
@@ -534,12 +659,18 @@ class KnowledgeBase:
         if pred is not None:
             pred.replace([c for c in pred.clauses if c is not clause])
 
-    def forget_file(self, file: str) -> None:
-        """Remove the clauses read from `file` (before it is consulted again)."""
+    def forget_file(self, file: str | Path) -> None:
+        """Remove the clauses read from `file`, and what it defined (before it is read again)."""
+        key = Path(file).resolve()
+        name = str(file)
         for pred in self.predicates.values():
-            kept = [c for c in pred.clauses if c.pos is None or c.pos.file != file]
+            kept = [c for c in pred.clauses if c.source != key
+                    and not (c.source is None and c.pos is not None and c.pos.file == name)]
             if len(kept) != len(pred.clauses):
                 pred.replace(kept)
+        self._owners = {k: owner for k, owner in self._owners.items() if owner[0] != key}
+        for files in self._arguments.values():
+            files.pop(key, None)
 
     def abolish(self, name: str, arity: int) -> None:
         """Forget `name/arity` whole, clauses and dynamic declaration (abolish/1)."""
@@ -561,34 +692,47 @@ class KnowledgeBase:
                 self.run_directive(item, base)
 
     @contextmanager
-    def reading(self, path: str | Path, pos: SourcePos | None = None) -> Iterator[None]:
+    def reading(self, path: str | Path, pos: SourcePos | None = None,
+                included: bool = False) -> Iterator[None]:
         """Mark `path` as being read while the block runs: a file that consults itself,
-        directly or through others, is an error naming the chain."""
+        directly or through others, is an error naming the chain. Its clauses are its own,
+        and replace those it gave before; `included` ones belong to the file including it
+        (`:- include(F).`, as in SWI-Prolog)."""
         key = Path(path).resolve()
         if key in self._consulting:
             chain = " -> ".join(str(f) for f in (*self._consulting, key))
             raise SchemalogError(f"consult cycle: {chain}", pos)
+        if included and self._sources:
+            source = self._sources[-1]
+        else:
+            if key in self._read:
+                self.forget_file(key)    # read again: its new clauses replace its old ones
+            self._read.add(key)
+            source = key
         self.files.append(str(path))
         self._consulting.append(key)
+        self._sources.append(source)
         try:
             yield
         finally:
             self._consulting.pop()
+            self._sources.pop()
 
     def consult(self, path: str | Path, max_bytes: int = MAX_BYTES, pos: SourcePos | None = None,
-                max_steps: int | None = None) -> None:
+                max_steps: int | None = None, included: bool = False) -> None:
         """Load a knowledge file; its directives (and those of the files it consults) run
         under `max_steps` each (default: the knowledge base's `max_steps`)."""
         if max_steps is not None:
             self.max_steps = max_steps
         p = Path(path)
-        with self.reading(p, pos):
+        with self.reading(p, pos, included):
             self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
 
     def run_directive(self, d: Directive, base: Path | None = None) -> None:
         """Declare (dynamic), include (consult) or run the goal of a directive."""
         goal = d.goal
-        if isinstance(goal, Struct) and goal.name in ("dynamic", "discontiguous") and len(goal.args) == 1:
+        if isinstance(goal, Struct) and goal.name in ("dynamic", "discontiguous", "multifile") \
+                and len(goal.args) == 1:
             for spec in conjuncts(goal.args[0]):
                 items, _ = list_items(spec)
                 for s in items or [spec]:
@@ -597,6 +741,8 @@ class KnowledgeBase:
                         raise SchemalogError(f"{goal.name} expects Name/Arity, not {term_to_text(s)}", d.pos)
                     if goal.name == "dynamic":
                         self.declare_dynamic(s.args[0].name, s.args[1].value)
+                    elif goal.name == "multifile":
+                        self.multifile.add((s.args[0].name, s.args[1].value))
             return
         if isinstance(goal, Struct) and goal.name == "op" and len(goal.args) == 3:
             self.warnings.append(f"{d.pos}: warning: op/3 ignored: schemalog's operator table is "
@@ -615,7 +761,9 @@ class KnowledgeBase:
                     path = path.with_suffix(".pl")
                 if not path.exists():
                     raise SchemalogError(f"consult: no such file {name!r}", d.pos)
-                self.consult(path, self.max_bytes, pos=d.pos)
+                if goal.name == "ensure_loaded" and path.resolve() in self._read:
+                    continue             # loaded already: ensure_loaded does not read it again
+                self.consult(path, self.max_bytes, pos=d.pos, included=goal.name == "include")
             return
         if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
                 or isinstance(goal, Atom) and goal.name == "use_module":
@@ -634,4 +782,4 @@ class KnowledgeBase:
 
 
 
-__all__ = ["KnowledgeBase", "StoredClause", "Predicate", "first_arg_key"]
+__all__ = ["KnowledgeBase", "StoredClause", "Predicate", "Definitions", "PROLOG", "first_arg_key"]

@@ -211,7 +211,7 @@ INFIX_OPS: dict[str, tuple[int, str]] = {
 }
 PREFIX_OPS: dict[str, tuple[int, str]] = {
     ":-": (1200, "fx"), "?-": (1200, "fx"),
-    "dynamic": (1150, "fx"), "discontiguous": (1150, "fx"),
+    "dynamic": (1150, "fx"), "discontiguous": (1150, "fx"), "multifile": (1150, "fx"),
     "initialization": (1150, "fx"), "table": (1150, "fx"),
     "\\+": (900, "fy"), "not": (900, "fy"), "-": (200, "fy"), "\\": (200, "fy"),
 }

@@ -12,6 +12,11 @@
     SchemaDef = (task, entries: tuple[Entry], post: Condition, body: Term, pos)
     Entry     = (behaviour: Term, releaser: Condition, importance: number)
 
+Several files are one program (docs/syntax.md, Several files): what a schema/3,
+behaviour/1, task/1, agent/2, objects/2 or origins/2 clause defines is its first
+argument's, and belongs to one file; object/1, initial/1, free/1, constraint/1,
+no_merge/1 and action/1 are declarations every file adds to (SCHEMA_LANGUAGE).
+
 A schema may be a rule (`schema(en(S), [...], P) :- string(S), ...`): its body runs
 when the task is instantiated. `Knowledge` is a whole file as an ordered list of
 items, so that text -> YAML -> text round-trips exactly.
@@ -26,12 +31,25 @@ from dataclasses import dataclass
 from . import conditions as cond
 from .conditions import Condition, NotACondition
 from ..errors import SchemalogError, SourcePos
-from ..logic.kb import KnowledgeBase, StoredClause
+from ..logic.kb import Definitions, KnowledgeBase, StoredClause
 from ..logic.terms import (NIL, TRUE, Atom, Float, Int, Struct, Term, Var, conjuncts, list_items, make_list, term_to_text,
                     variable_names)
 
 DEFAULT_AGENT = "arm"
 DEFAULT_IMPORTANCE = 1
+
+# How files share the schema language's predicates: a sub-task's schema is defined in one
+# file (two files with schemas for unifying tasks are an error), declarations add up.
+SCHEMA_LANGUAGE = Definitions(
+    by_argument=frozenset({("schema", 3), ("behaviour", 1), ("task", 1), ("agent", 2), ("objects", 2),
+                           ("origins", 2), ("task_origins", 2)}),
+    shared=frozenset({("object", 1), ("initial", 1), ("free", 1), ("constraint", 1), ("no_merge", 1),
+                      ("action", 1)}))
+
+
+def knowledge_base() -> KnowledgeBase:
+    """An empty knowledge base that reads files in the schema language."""
+    return KnowledgeBase(definitions=SCHEMA_LANGUAGE)
 
 
 @dataclass(frozen=True)
