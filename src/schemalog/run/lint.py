@@ -300,7 +300,7 @@ def unreachable_releasers(flat: _Flat, reach: _Reachability, facts: Facts, expla
         for lit in lits:
             producers.setdefault(lit, []).append(i)
     known: list[str] | None = None
-    found = []
+    found: list[tuple[str, Finding]] = []     # (kind of cause, finding)
     for i in reach.blocked():
         if i in explained:
             continue
@@ -313,6 +313,7 @@ def unreachable_releasers(flat: _Flat, reach: _Reachability, facts: Facts, expla
             written = text if positive else f"not {text}"
             makers = producers.get((atom, positive), [])
             if makers:
+                kind = "derived" if any(flat.children[m] for m in makers) else "chained"
                 distinct = list(dict.fromkeys(flat.nodes[m].name for m in makers))
                 one = len(distinct) == 1
                 names = ", ".join(distinct[:4]) + (", ..." if len(distinct) > 4 else "")
@@ -322,6 +323,7 @@ def unreachable_releasers(flat: _Flat, reach: _Reachability, facts: Facts, expla
                 if not facts.initial and not facts.free:
                     hint += " (no initial/1 declares an initial state: nothing is true at the start)"
             elif positive:
+                kind = "root"
                 why = "no post-condition, initial/1, free/1 or completion ever makes it true"
                 if known is None:
                     known = sorted({term_to_text(a) for a in reach.can_true})
@@ -330,12 +332,20 @@ def unreachable_releasers(flat: _Flat, reach: _Reachability, facts: Facts, expla
                     f"correct the atom, declare initial({text}) or free({text}), or give a behaviour " \
                     f"the post-condition {text}"
             else:
+                kind = "root"
                 why = "it holds initially (initial/1) and no post-condition ever makes it false"
                 hint = f"give a behaviour the post-condition not {text}, or declare free({text})"
             pos = _locate(flat.releaser_pos(i), text)
-            found.append(Finding(pos, ERROR, "unreachable-releaser",
-                                 f"{node.name} can never be released: {written} never holds ({why})", hint))
-    return found
+            found.append((kind, Finding(pos, ERROR, "unreachable-releaser",
+                                        f"{node.name} can never be released: {written} never holds ({why})", hint)))
+    # Report the causes, not their consequences: an atom nothing makes true explains the rest;
+    # failing that (a deadlock), the atoms only primitive behaviours make true (kukahand.free),
+    # not the sub-tasks' posts that follow from them.
+    for kind in ("root", "chained", "derived"):
+        chosen = [f for k, f in found if k == kind]
+        if chosen:
+            return chosen
+    return []
 
 
 def undone_posts(flat: _Flat) -> list[Finding]:
@@ -643,7 +653,11 @@ def _locate(pos: SourcePos | None, needle: str, span: int = 400) -> SourcePos | 
     """The place of `needle` within the clause that starts at `pos`, else `pos`."""
     if pos is None:
         return None
-    lines = _source_lines(pos.file)
+    try:
+        stat = os.stat(pos.file)
+    except (OSError, ValueError):
+        return pos
+    lines = _source_lines(os.path.abspath(pos.file), stat.st_mtime_ns, stat.st_size)
     if not lines:
         return pos
     for k in range(pos.line - 1, min(len(lines), pos.line - 1 + span)):
@@ -654,11 +668,11 @@ def _locate(pos: SourcePos | None, needle: str, span: int = 400) -> SourcePos | 
     return pos
 
 
-@functools.lru_cache(maxsize=8)     # a few files, read once per lint
-def _source_lines(name: str) -> list[str] | None:
+@functools.lru_cache(maxsize=8)     # a few files, read once per lint; a changed file is read again
+def _source_lines(name: str, mtime_ns: int, size: int) -> list[str] | None:
     """A regular file's lines, or None: a FIFO, a device or a missing file is not reread."""
     try:
-        if os.path.isfile(name) and os.path.getsize(name) <= 64 << 20:
+        if os.path.isfile(name) and size <= 64 << 20:
             with open(name, encoding="utf-8", errors="replace") as handle:
                 return handle.read().splitlines()
     except OSError:
