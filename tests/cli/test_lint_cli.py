@@ -156,3 +156,11 @@ def test_lint_of_a_generated_task_is_clean(tmp_path):
     assert run("generate", "--depth", "4", "--children", "3", "--rd", "0.5", "-o", out).returncode == 0
     r = run("lint", out, "--strict")
     assert r.returncode == 0, r.stdout
+
+
+def test_a_compressed_file_is_linted_as_its_original(tmp_path):
+    out = tmp_path / "out.pl"
+    assert run("compress", COFFEE, "-o", out).returncode == 0
+    r = run("lint", out, "--strict")
+    assert r.returncode == 0, r.stdout       # merged take-and-pour leaves are not a livelock
+    assert run("check", out).stderr.count("warning") == 0

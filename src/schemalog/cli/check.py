@@ -18,6 +18,7 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Parse, read every schema, and instantiate the tasks."""
+    from ..task.compress import original_of
     from ..task.schema import check_schemas
     from ..task.tree import count_nodes, depth
     from .common import choose_tasks, instantiate_task, load_files
@@ -30,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     trees = []
     for task in tasks:
         tree = instantiate_task(kb, task, args)
-        trees.append(tree)
+        trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
     _warn(kb, trees)
     summary = f"ok: {files}: {len(schemas)} schemas"

@@ -27,6 +27,7 @@ from ..logic.kb import KnowledgeBase
 from ..logic.terms import Atom, Float, Int, Str, Struct, Term, Var, iter_vars, term_to_text
 from ..logic.unify import Bindings, rename, variant
 from ..task import conditions as cond
+from ..task.compress import original_of
 from ..task.schema import schema_clauses
 from ..task.tree import Behaviour, instantiate
 
@@ -80,7 +81,8 @@ def lint_kb(kb: KnowledgeBase, max_depth: int, max_nodes: int,
     trees = []
     for task, pos in task_declarations(kb) if tasks is None else tasks:
         try:
-            trees.append(instantiate(kb, task, max_depth, max_nodes))
+            # A compressed file runs against its original's world: the original is what can work.
+            trees.append(original_of(instantiate(kb, task, max_depth, max_nodes)))
         except SchemalogError as err:
             findings.append(Finding(err.pos or pos, ERROR, "load", f"task {term_to_text(task)}: {err.message}",
                                     "correct the schema the message names"))
@@ -366,7 +368,7 @@ def undone_posts(flat: _Flat) -> list[Finding]:
                         f"{flat.nodes[p].name}: {a.name} is enabled again (a livelock) and "
                         f"{flat.nodes[p].name} can never complete",
                         f"end {flat.nodes[p].name} with one gripper command and give the other to its own "
-                        f"sub-task (docs/syntax.md, Learned sub-tasks)"))
+                        f"sub-task (docs/lint.md)"))
                 seen.setdefault((atom, positive), k)
     return found
 
