@@ -164,3 +164,10 @@ def test_a_compressed_file_is_linted_as_its_original(tmp_path):
     r = run("lint", out, "--strict")
     assert r.returncode == 0, r.stdout       # merged take-and-pour leaves are not a livelock
     assert run("check", out).stderr.count("warning") == 0
+
+
+def test_without_a_declared_task_lint_says_it_linted_only_the_clauses():
+    r = run("lint", SEED_COFFEE, "--json")
+    assert r.returncode == 0 and json.loads(r.stdout)["tasks"] == []
+    assert "no task/1 declared" in run("lint", SEED_COFFEE).stderr
+    assert json.loads(run("lint", SEED_COFFEE, "--task", "prepareboth", "--json").stdout)["tasks"] == ["prepareboth"]

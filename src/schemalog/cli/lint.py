@@ -24,7 +24,8 @@ def run(args: argparse.Namespace) -> int:
     """Load the files, instantiate their tasks, print every finding; 1 with errors (--strict: any)."""
     from ..errors import SchemalogError, UsageError
     from ..logic.kb import KnowledgeBase
-    from ..run.lint import ERROR, error_finding, lint_kb
+    from ..logic.terms import term_to_text
+    from ..run.lint import ERROR, error_finding, lint_kb, task_declarations
     from .common import load_files, task_term
 
     tasks = None if args.task is None else [(task_term(args.task), None)]
@@ -33,13 +34,16 @@ def run(args: argparse.Namespace) -> int:
     except UsageError:
         raise
     except SchemalogError as err:        # what the loader refuses is the first finding, and the last
-        kb, findings = KnowledgeBase(), (error_finding(err),)
+        kb, findings, loaded = KnowledgeBase(), (error_finding(err),), False
     else:
+        loaded = True
+        tasks = task_declarations(kb) if tasks is None else tasks
         findings = lint_kb(kb, args.max_depth, args.max_nodes, tasks)
+    names = [term_to_text(t) for t, _ in tasks or []]
     errors = sum(1 for f in findings if f.severity == ERROR)
     warnings = len(findings) - errors
     if args.json:
-        print(json.dumps({"files": list(args.files), "errors": errors, "warnings": warnings,
+        print(json.dumps({"files": list(args.files), "tasks": names, "errors": errors, "warnings": warnings,
                           "findings": [f.as_json() for f in findings]}, indent=2))
     else:
         for f in findings:
@@ -49,6 +53,9 @@ def run(args: argparse.Namespace) -> int:
             print(f"lint: {files}: {_count(errors, 'error')}, {_count(warnings, 'warning')}", file=sys.stderr)
         else:
             print(f"lint: {files}: clean", file=sys.stderr)
+        if loaded and not names:
+            print("note: no task/1 declared: the clauses were linted, no task tree (name one with --task)",
+                  file=sys.stderr)
     return 1 if errors or (args.strict and warnings) else 0
 
 
