@@ -171,3 +171,9 @@ def test_without_a_declared_task_lint_says_it_linted_only_the_clauses():
     assert r.returncode == 0 and json.loads(r.stdout)["tasks"] == []
     assert "no task/1 declared" in run("lint", SEED_COFFEE).stderr
     assert json.loads(run("lint", SEED_COFFEE, "--task", "prepareboth", "--json").stdout)["tasks"] == ["prepareboth"]
+
+
+def test_a_task_named_with_task_does_not_make_the_declared_ones_unused():
+    r = run("lint", COFFEE, "--task", "preparecoffee", "--strict")
+    assert r.returncode == 0, r.stdout
+    assert "warning" not in run("check", COFFEE, "--task", "preparecoffee").stderr

@@ -33,14 +33,14 @@ def run(args: argparse.Namespace) -> int:
         tree = instantiate_task(kb, task, args)
         trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
-    _warn(kb, trees)
+    _warn(kb, trees, unused=args.task is None)
     summary = f"ok: {files}: {len(schemas)} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
     print(summary)
     return 0
 
 
-def _warn(kb, trees) -> None:
+def _warn(kb, trees, unused: bool) -> None:
     """Print lint's findings as warnings, as SWI-Prolog warns while it consults (exit unchanged)."""
     import sys
 
@@ -48,7 +48,7 @@ def _warn(kb, trees) -> None:
     from ..run.lint import error_finding, facts_of, lint_knowledge
 
     try:
-        findings = lint_knowledge(kb, trees, facts_of(kb))
+        findings = lint_knowledge(kb, trees, facts_of(kb), unused)
     except SchemalogError as err:
         findings = (error_finding(err),)
     for finding in findings:

@@ -90,7 +90,8 @@ def lint_kb(kb: KnowledgeBase, max_depth: int, max_nodes: int,
         facts = facts_of(kb)
     except SchemalogError as err:
         return (*findings, error_finding(err))
-    return (*findings, *lint_knowledge(kb, trees, facts))
+    # Unused schemas are judged against the declared tasks, not one named on the command line.
+    return (*findings, *lint_knowledge(kb, trees, facts, unused=tasks is None))
 
 
 def task_declarations(kb: KnowledgeBase) -> list[tuple[Term, SourcePos | None]]:
@@ -111,12 +112,14 @@ def facts_of(kb: KnowledgeBase) -> Facts:
     return Facts(frozenset(initial_state(kb)), free)
 
 
-def lint_knowledge(kb: KnowledgeBase, trees: list[Behaviour], facts: Facts) -> tuple[Finding, ...]:
-    """The findings about the clauses of `kb` and the original trees of its tasks."""
+def lint_knowledge(kb: KnowledgeBase, trees: list[Behaviour], facts: Facts,
+                   unused: bool = True) -> tuple[Finding, ...]:
+    """The findings about the clauses of `kb` and the original trees of its tasks (with `unused`,
+    also the schemas none of those trees uses)."""
     found: list[Finding] = []
     found += duplicate_tasks(kb)
     found += shadowed_schemas(kb)
-    if trees:
+    if trees and unused:
         shadowed = {f.pos for f in found if f.code == "shadowed-schema"}
         found += [f for f in unused_schemas(kb, trees) if f.pos not in shadowed]
     for tree in trees:
