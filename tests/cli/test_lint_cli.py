@@ -177,3 +177,12 @@ def test_a_task_named_with_task_does_not_make_the_declared_ones_unused():
     r = run("lint", COFFEE, "--task", "preparecoffee", "--strict")
     assert r.returncode == 0, r.stdout
     assert "warning" not in run("check", COFFEE, "--task", "preparecoffee").stderr
+
+
+def test_a_free_rule_that_raises_is_a_finding_and_check_still_passes(tmp_path):
+    path = tmp_path / "f.pl"
+    path.write_text("task(t).\nfree(X) :- throw(oops).\nschema(t, [], t.done).\n")
+    r = run("lint", path)
+    assert r.returncode == 1 and f"{path}:2:1: error: asking free/1 failed: oops" in r.stdout
+    checked = run("check", path)
+    assert checked.returncode == 0 and "warning: asking free/1 failed" in checked.stderr

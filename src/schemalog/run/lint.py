@@ -105,10 +105,15 @@ def task_declarations(kb: KnowledgeBase) -> list[tuple[Term, SourcePos | None]]:
 
 def facts_of(kb: KnowledgeBase) -> Facts:
     """initial/1 and free/1 of the knowledge base (SchemalogError when they cannot be read)."""
+    from ..logic.exceptions import PrologError, StepLimitExceeded
     from .verify import free_atoms
     from .world import initial_state
 
-    free = frozenset(free_atoms(kb, Behaviour(Atom("none")))) if kb.clauses("free", 1) else frozenset()
+    try:
+        free = frozenset(free_atoms(kb, Behaviour(Atom("none")))) if kb.clauses("free", 1) else frozenset()
+    except (PrologError, StepLimitExceeded) as err:
+        pos = kb.clauses("free", 1)[0].pos
+        raise SchemalogError(f"asking free/1 failed: {err}", pos) from None
     return Facts(frozenset(initial_state(kb)), free)
 
 
