@@ -89,6 +89,35 @@ def test_mutated_knowledge(command, text, old):
     assert_kept(*probe_knowledge(command, text, old))
 
 
+LIMITS = ("--max-nodes", "3000", "--max-steps", "200000", "--max-depth", "64")
+
+
+@profile(40)
+@given(text=m.knowledge(long=LONG))
+def test_lint_never_crashes_or_hangs_where_check_accepts(text):
+    """Lint on mutated knowledge: a finding or a clean report, never a traceback or a hang, and on
+    what check accepts nothing but 0 (clean) or 1 (errors found)."""
+    files = (("k.pl", text[1]),)
+    checked = invoke(Case(("check", "k.pl", *LIMITS), files=files), GUARD)
+    for argv in (("lint", "k.pl", *LIMITS), ("lint", "k.pl", "--json", "--strict", *LIMITS)):
+        case = Case(argv, files=files)
+        outcome = invoke(case, GUARD)
+        assert_kept(case, outcome)
+        if checked.status == 0:
+            assert outcome.status in (0, 1), case.reproducer()
+
+
+def test_lint_over_every_file_the_suite_loads():
+    """The shipped knowledge and every conformance program: lint reports, never crashes."""
+    programs = sorted((Path(__file__).parents[1] / "conformance" / "programs").glob("*.pl"))
+    assert len(programs) > 30
+    for path in [MIX, COFFEE, STRUCTURE, SEED, *programs]:
+        case = Case(("lint", path.name, *LIMITS), files=((path.name, path.read_bytes()),))
+        outcome = invoke(case, 30)
+        assert_kept(case, outcome)
+        assert outcome.status in (0, 1), (path, outcome.stderr)
+
+
 SCENE_COMMANDS = {
     "run": ["run", "mix_with_spoon.pl", "--scene", "s.yaml", "--max-decisions", "300"],
     "run-coffee": ["run", "prepare_coffee_and_tea.pl", "--task", "preparecoffee", "--scene", "s.yaml",

@@ -18,6 +18,7 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Parse, read every schema, and instantiate the tasks."""
+    from ..task.compress import original_of
     from ..task.schema import check_schemas
     from ..task.tree import count_nodes, depth
     from .common import choose_tasks, instantiate_task, load_files
@@ -27,10 +28,31 @@ def run(args: argparse.Namespace) -> int:
     tasks = choose_tasks(kb, args.task, every=True)
     files = ", ".join(args.files)
     report = []
+    trees = []
     for task in tasks:
         tree = instantiate_task(kb, task, args)
+        trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
+    _warn(kb, trees, unused=args.task is None)
     summary = f"ok: {files}: {len(schemas)} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
     print(summary)
     return 0
+
+
+def _warn(kb, trees, unused: bool) -> None:
+    """Print lint's findings as warnings, as SWI-Prolog warns while it consults (exit unchanged)."""
+    import sys
+
+    from ..errors import SchemalogError
+    from ..run.lint import error_finding, facts_of, lint_knowledge
+
+    try:
+        findings = lint_knowledge(kb, trees, facts_of(kb), unused)
+    except SchemalogError as err:
+        findings = (error_finding(err),)
+    for finding in findings:
+        print(finding.text("warning"), file=sys.stderr)
+    if findings:
+        print(f"({len(findings)} warning{'s' if len(findings) != 1 else ''}: schemalog lint explains them, "
+              f"and fails on its errors)", file=sys.stderr)

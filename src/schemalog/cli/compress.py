@@ -39,8 +39,9 @@ def run(args: argparse.Namespace) -> int:
     from ..task.compress import compress, protected_labels
     from ..task.conditions import Simplifier
     from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
+    from ..run.world import World
     from .output import output_format, print_rich, written
-    from .verify import INCONCLUSIVE, verify_json, verify_lines
+    from .verify import exit_status, vacuity_of, verify_json, verify_lines
 
     kb, _ = load_files(args)
     inputs = inputs_of(args, kb.files)
@@ -54,8 +55,9 @@ def run(args: argparse.Namespace) -> int:
                f"RD = (Bi - Bm) / (Bi - D) = {result.reduction_degree:.2f}")
     fmt = output_format(args)
     report = _verify_compression(kb, result, args) if args.verify else None
-    code = 0 if report is None else 1 if report.violated else (
-        0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE)
+    vacuity = None if report is None else vacuity_of(result.original, World(result.original),
+                                                     report.initial_states, defaults.MAX_STATES)
+    code = 0 if report is None else exit_status(report, vacuity)
     how = f"propagate {result.propagate}"
     if fmt == "json":
         data = {"task": term_to_text(task), "propagate": result.propagate,
@@ -66,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
                                "needed_sympy": result.simplifier.sympy_calls},
                 "notes": result.notes, "tree": tree_json(result.tree)}
         if report is not None:
-            data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after)
+            data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after, vacuity)
         emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
         return code
     elif fmt == "dot":
@@ -97,7 +99,8 @@ def run(args: argparse.Namespace) -> int:
         print_rich(view, args.output, inputs)
     if report is not None:
         # After the compressed task (or alone, when that went to a file): what verify would print.
-        print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default")))
+        print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default",
+                                                vacuity)))
     return code
 
 

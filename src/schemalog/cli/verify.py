@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .. import defaults
@@ -90,15 +91,115 @@ def run(args: argparse.Namespace) -> int:
         report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
     if report is None:
         report = verifier.verify(initial, scene, task)
+    vacuity = vacuity_of(original, World(original), report.initial_states, args.max_states)
     if args.json:
-        emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
-              args.output, inputs_of(args, inputs))
+        emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed), vacuity),
+                        indent=2) + "\n", args.output, inputs_of(args, inputs))
     else:
-        lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states)
+        lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states, vacuity)
         emit("\n".join(lines) + "\n", args.output, inputs_of(args, inputs))
-    if report.violated:
+    return exit_status(report, vacuity)
+
+
+def exit_status(report, vacuity: "Vacuity | None" = None) -> int:
+    """1 on a counterexample or when the task itself never completes (a vacuous proof), 0 for a
+    proof, INCONCLUSIVE otherwise."""
+    if report.violated or (vacuity is not None and vacuity.vacuous):
         return 1
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
+
+
+@dataclass(frozen=True)
+class Vacuity:
+    """Which covered initial states let the ORIGINAL task complete, and why not when none does.
+
+    completes[i] is True (a run completes), False (none does: every run gets stuck or loops)
+    or None (not decided within the state limit), for the report's initial state i."""
+
+    states: tuple
+    completes: tuple
+    cause: "object | None" = None        # the lint Finding that explains it, when there is one
+
+    @property
+    def vacuous(self) -> bool:
+        """No covered initial state completes: a proof about such a task says nothing."""
+        return bool(self.completes) and all(c is False for c in self.completes)
+
+    @property
+    def failing(self) -> list:
+        return [s for s, c in zip(self.states, self.completes) if c is False]
+
+
+def vacuity_of(original, world, states: list, max_states: int) -> Vacuity:
+    """Search, from each initial state, for a run of the original that completes the task (any
+    choice of enabled behaviour, bounded by --max-states); explain with lint when none does."""
+    from ..run.lint import Facts, lint_tree, task_cannot_complete
+
+    completes = tuple(original_completes(original, world, s, max_states) for s in states)
+    cause = None
+    if completes and all(c is False for c in completes):
+        always = frozenset.intersection(*map(frozenset, states))
+        facts = Facts(always, frozenset().union(*states) - always)
+        cause = task_cannot_complete(lint_tree(original, facts))
+    return Vacuity(tuple(states), completes, cause)
+
+
+def original_completes(original, world, start, max_states: int) -> bool | None:
+    """Whether some run of the original tree from `start` accomplishes the task (depth first:
+    a completing task is found in about one run), None when the state limit stops the search."""
+    from ..run.execute import Executive, Status
+    from ..run.verify import Meter, Model, OutOfWork
+
+    # One winner-take-all run first: it completes a task that can in about one decision per
+    # action, where the search below would test every enabled leaf of every state it passes.
+    world.reset(start)
+    if Executive(original, world).run().status is Status.COMPLETED:
+        return True
+    model = Model(original, world, Meter(max_states * defaults.WORK_PER_STATE))
+    seen, stack = {start}, [start]
+    cut = False
+    try:
+        while stack:
+            state = stack.pop()
+            if model.accomplished(state):
+                return True
+            for leaf in reversed(model.enabled(state)):
+                after = model.step(state, leaf)[1]
+                nxt = after[-1] if after else state
+                if nxt in seen:
+                    continue
+                if len(seen) >= max_states:
+                    cut = True
+                    continue
+                seen.add(nxt)
+                stack.append(nxt)
+    except OutOfWork:
+        return None
+    return None if cut else False
+
+
+def vacuity_lines(vacuity: "Vacuity | None") -> list[str]:
+    """What the report says about the original task's own completion."""
+    from ..run.verify import state_text
+
+    if vacuity is None:
+        return []
+    if vacuity.vacuous:
+        n = len(vacuity.states)
+        where = "from the covered initial state" if n == 1 else f"from any of the {n} covered initial states"
+        lines = [f"the task itself cannot complete: no run of the original accomplishes it {where}, so the "
+                 f"properties above hold vacuously"]
+        if vacuity.cause is not None:
+            lines.append(f"  why (schemalog lint): {vacuity.cause.text()}")
+        else:
+            lines.append("  (lint finds no single cause: every run of the original gets stuck or loops)")
+        return lines
+    failing = vacuity.failing
+    if not failing:
+        return []
+    shown = "; ".join(state_text(s) for s in failing[:5]) + ("; ..." if len(failing) > 5 else "")
+    return [f"the original task cannot complete from {len(failing)} of {len(vacuity.states)} covered initial "
+            f"states (the proof says nothing about those): {shown}"]
 
 
 def _verify_inputs(args: argparse.Namespace):
@@ -169,7 +270,8 @@ def _initial_states(args: argparse.Namespace, kb: KnowledgeBase, world: World, t
     return [world.atoms]
 
 
-def verify_lines(report, how: str, before: int, after: int, states_option: str) -> list[str]:
+def verify_lines(report, how: str, before: int, after: int, states_option: str,
+                 vacuity: Vacuity | None = None) -> list[str]:
     """The report as a person reads it: each property, and a counterexample where one fails."""
     from ..run.verify import state_text
 
@@ -193,9 +295,14 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
         if verdict.counterexample is not None:
             lines.extend(counterexample_lines(verdict.counterexample))
         lines.append("")
+    said = vacuity_lines(vacuity)
+    if said:
+        lines.extend([*said, ""])
     if report.violated:
         verdict = "the compressed tree is " + ("not sound" if report.properties["soundness"].holds is False
                                                else "not complete") + " (exit 1)"
+    elif vacuity is not None and vacuity.vacuous:
+        verdict = "vacuous: the task itself cannot complete, so nothing is proved about it (exit 1)"
     elif report.exhaustive:
         verdict = "the compressed tree is sound and complete (exit 0)"
     elif report.limit and not report.sampled:
@@ -229,7 +336,7 @@ def counterexample_lines(ce) -> list[str]:
     return lines
 
 
-def verify_json(report, how: str, before: int, after: int) -> dict:
+def verify_json(report, how: str, before: int, after: int, vacuity: Vacuity | None = None) -> dict:
     """The report as data (docs/formats.md)."""
     def ce_json(ce):
         if ce is None:
@@ -256,4 +363,14 @@ def verify_json(report, how: str, before: int, after: int) -> dict:
                                   or report.properties["completion"].counterexample),
         "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),
                               **v.details} for name, v in report.properties.items()},
+        **({} if vacuity is None else vacuity_json(vacuity)),
     }
+
+
+def vacuity_json(vacuity: Vacuity) -> dict:
+    """completing_states, not_completing_states, undecided_states, vacuous, and the lint cause."""
+    def listed(flag):
+        return [sorted(term_to_text(a) for a in s) for s, c in zip(vacuity.states, vacuity.completes) if c is flag]
+    return {"completing_states": listed(True), "not_completing_states": listed(False),
+            "undecided_states": listed(None), "vacuous": vacuity.vacuous,
+            "vacuous_because": None if vacuity.cause is None else vacuity.cause.as_json()}

@@ -1,0 +1,63 @@
+"""`schemalog lint FILE...`: diagnostics for task knowledge that loads but cannot work."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from .options import Parents
+
+
+def register(sub, parents: Parents) -> None:
+    """Add `schemalog lint` and its arguments to the command line."""
+    p = sub.add_parser("lint", parents=[parents.limits, parents.resources],
+                       help="find knowledge that loads but cannot work (file:line:col, what to do)")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--task", help="lint this task (default: every task/1)")
+    p.add_argument("--strict", action="store_true", help="fail (exit 1) on warnings too")
+    p.add_argument("--json", action="store_true", help="print the findings as JSON (docs/formats.md)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Load the files, instantiate their tasks, print every finding; 1 with errors (--strict: any)."""
+    from ..errors import SchemalogError, UsageError
+    from ..logic.kb import KnowledgeBase
+    from ..logic.terms import term_to_text
+    from ..run.lint import ERROR, error_finding, lint_kb, task_declarations
+    from .common import load_files, task_term
+
+    tasks = None if args.task is None else [(task_term(args.task), None)]
+    try:
+        kb, _ = load_files(args)
+    except UsageError:
+        raise
+    except SchemalogError as err:        # what the loader refuses is the first finding, and the last
+        kb, findings, loaded = KnowledgeBase(), (error_finding(err),), False
+    else:
+        loaded = True
+        tasks = task_declarations(kb) if tasks is None else tasks
+        findings = lint_kb(kb, args.max_depth, args.max_nodes, tasks)
+    names = [term_to_text(t) for t, _ in tasks or []]
+    errors = sum(1 for f in findings if f.severity == ERROR)
+    warnings = len(findings) - errors
+    if args.json:
+        print(json.dumps({"files": list(args.files), "tasks": names, "errors": errors, "warnings": warnings,
+                          "findings": [f.as_json() for f in findings]}, indent=2))
+    else:
+        for f in findings:
+            print(f.text())
+        files = ", ".join(args.files)
+        if findings:
+            print(f"lint: {files}: {_count(errors, 'error')}, {_count(warnings, 'warning')}", file=sys.stderr)
+        else:
+            print(f"lint: {files}: clean", file=sys.stderr)
+        if loaded and not names:
+            print("note: no task/1 declared: the clauses were linted, no task tree (name one with --task)",
+                  file=sys.stderr)
+    return 1 if errors or (args.strict and warnings) else 0
+
+
+def _count(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
