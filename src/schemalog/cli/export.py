@@ -92,7 +92,13 @@ def convert_xml(args: argparse.Namespace) -> int:
         text = data.decode("utf-8")
     except UnicodeDecodeError as err:
         raise SchemalogError(f"{args.input}: not UTF-8 text (byte {err.start})") from None
-    imported = import_btcpp(text, args.input)
+    def read(path: str) -> str:
+        try:
+            return read_limited(path, args.max_bytes).decode("utf-8")
+        except UnicodeDecodeError as err:
+            raise SchemalogError(f"{path}: not UTF-8 text (byte {err.start})") from None
+
+    imported = import_btcpp(text, args.input, read)
     if args.task and task_term(args.task) != imported.tree.label:
         raise SchemalogError(f"--task {args.task}: the task of {args.input} is {term_to_text(imported.tree.label)}")
     initial = [Clause(Struct("initial", (atom,)), TRUE, None) for atom in imported.initial]

@@ -413,6 +413,7 @@ class XNode:
     line: int
     column: int
     children: list["XNode"] = field(default_factory=list)
+    file: str = ""
 
 
 class _Target:
@@ -424,7 +425,7 @@ class _Target:
 
     def start(self, tag, attrs):
         p = self.ref[0].parser
-        node = XNode(tag, dict(attrs), p.CurrentLineNumber, p.CurrentColumnNumber + 1)
+        node = XNode(tag, dict(attrs), p.CurrentLineNumber, p.CurrentColumnNumber + 1, file=self.file)
         self.count += 1
         where = SourcePos(self.file, node.line, node.column)
         if self.count > MAX_XML_ELEMENTS:
@@ -466,8 +467,9 @@ def parse_xml(text: str, file: str) -> XNode:
         raise SchemalogError(f"malformed XML: {_expat_reason(str(err))}", SourcePos(file, line, column + 1)) from None
     except DefusedXmlException as err:
         p = parser.parser
-        raise SchemalogError(f"the XML declares an entity ({err}): entities are refused (they can expand "
-                             f"without bound or read other files)",
+        what = f"the entity {getattr(err, 'name', '')}" if getattr(err, "name", None) else "a DTD"
+        raise SchemalogError(f"the XML declares {what}: entities are refused (they can expand without "
+                             f"bound or read other files)",
                              SourcePos(file, p.CurrentLineNumber, p.CurrentColumnNumber + 1)) from None
     if root is None:
         raise SchemalogError("the XML has no element", SourcePos(file, 1, 1))
@@ -490,9 +492,10 @@ class Imported:
     notes: tuple[str, ...] = ()
 
 
-def import_btcpp(text: str, file: str = "<xml>") -> Imported:
-    """Read a BT.CPP v4 document into a task tree (see the module docstring for what has a meaning)."""
-    return _Importer(parse_xml(text, file), file).run()
+def import_btcpp(text: str, file: str = "<xml>", read=None) -> Imported:
+    """Read a BT.CPP v4 document into a task tree (see the module docstring for what has a meaning);
+    `read(path) -> str` reads the files it includes (<include path="...">), relative to `file`."""
+    return _Importer(parse_xml(text, file), file, read).run()
 
 
 def _snake(name: str) -> str:
@@ -514,47 +517,24 @@ def _value_term(value: str) -> Term:
 
 
 class _Importer:
-    def __init__(self, root: XNode, file: str) -> None:
-        self.root, self.file = root, file
+    def __init__(self, root: XNode, file: str, read=None) -> None:
+        self.root, self.file, self.read = root, file, read
         self.trees: dict[str, XNode] = {}
+        self.where: dict[str, SourcePos] = {}
         self.conditions: set[str] = set()
         self.on_path: list[str] = []
         self.used_posts: dict[Term, int] = {}
         self.count = 0
 
     def pos(self, node: XNode) -> SourcePos:
-        return SourcePos(self.file, node.line, node.column)
+        return SourcePos(node.file or self.file, node.line, node.column)
 
     def fail(self, node: XNode, message: str):
         raise SchemalogError(message, self.pos(node))
 
     def run(self) -> Imported:
         root = self.root
-        if root.tag != "root":
-            self.fail(root, f"a BT.CPP document starts with <root BTCPP_format=\"4\">, not <{root.tag}>")
-        version = root.attrs.get("BTCPP_format")
-        if version not in (None, "4"):
-            self.fail(root, f"BTCPP_format=\"{version}\": schemalog reads version 4")
-        for child in root.children:
-            if child.tag == "BehaviorTree":
-                tree_id = child.attrs.get("ID")
-                if not tree_id:
-                    self.fail(child, "a <BehaviorTree> needs an ID")
-                if tree_id in self.trees:
-                    self.fail(child, f"BehaviorTree {tree_id} is defined twice (first at line "
-                                     f"{self.trees[tree_id].line})")
-                if len(child.children) != 1:
-                    self.fail(child, f"BehaviorTree {tree_id} must hold exactly one node, not {len(child.children)}")
-                self.trees[tree_id] = child
-            elif child.tag == "TreeNodesModel":
-                for model in child.children:
-                    if model.tag == "Condition" and model.attrs.get("ID"):
-                        self.conditions.add(model.attrs["ID"])
-            elif child.tag == "include":
-                self.fail(child, f"<include path={child.attrs.get('path', '')!r}>: put the included trees in "
-                                 f"this file (schemalog reads one file and follows no path in it)")
-            else:
-                self.fail(child, f"unknown element <{child.tag}> under <root>")
+        self._collect(root, self.file, [self.file])
         if not self.trees:
             self.fail(root, "the document defines no <BehaviorTree>")
         main = root.attrs.get("main_tree_to_execute") or next(iter(self.trees))
@@ -571,6 +551,49 @@ class _Importer:
         self.on_path.append(main)
         tree = self.plain(body, cond.TRUE, None)
         return Imported(tree, ())
+
+    def _collect(self, root: XNode, file: str, chain: list[str]) -> None:
+        """Register the BehaviorTrees of `root` (a document read from `file`) and of its includes."""
+        fail = self.fail
+        if root.tag != "root":
+            fail(root, f"a BT.CPP document starts with <root BTCPP_format=\"4\">, not <{root.tag}>")
+        version = root.attrs.get("BTCPP_format")
+        if version not in (None, "4"):
+            fail(root, f"BTCPP_format=\"{version}\": schemalog reads version 4")
+        for child in root.children:
+            if child.tag == "BehaviorTree":
+                tree_id = child.attrs.get("ID")
+                if not tree_id:
+                    fail(child, "a <BehaviorTree> needs an ID")
+                if tree_id in self.trees:
+                    fail(child, f"BehaviorTree {tree_id} is defined twice (first at {self.where[tree_id]})")
+                if len(child.children) != 1:
+                    fail(child, f"BehaviorTree {tree_id} must hold exactly one node, not {len(child.children)}")
+                self.trees[tree_id] = child
+                self.where[tree_id] = self.pos(child)
+            elif child.tag == "TreeNodesModel":
+                for model in child.children:
+                    if model.tag == "Condition" and model.attrs.get("ID"):
+                        self.conditions.add(model.attrs["ID"])
+            elif child.tag == "include":
+                path = child.attrs.get("path")
+                if not path:
+                    fail(child, "an <include> needs path=\"...\"")
+                if "ros_pkg" in child.attrs:
+                    fail(child, "<include ros_pkg=...>: schemalog finds no ROS packages; give a path")
+                if self.read is None:
+                    fail(child, f"<include path={path!r}>: includes are read only from files")
+                import os
+                target = os.path.normpath(os.path.join(os.path.dirname(file), path))
+                if target in chain:
+                    fail(child, f"recursive include: {' -> '.join([*chain, target])}")
+                try:
+                    text = self.read(target)
+                except SchemalogError as err:
+                    fail(child, f"<include path={path!r}>: {err.message}")
+                self._collect(parse_xml(text, target), target, [*chain, target])
+            else:
+                fail(child, f"unknown element <{child.tag}> under <root>")
 
     # -- schemalog's own form -----------------------------------------------------
     def _scaffold(self, body: XNode):
@@ -761,10 +784,15 @@ class _Importer:
         if tag == "SubTree":
             tree_id = node.attrs.get("ID", "")
             body = self._subtree_body(node, tree_id)
-            label = self._plain_label(node, tree_id, {"_autoremap"})
+            named = "name" in node.attrs or self._ports(node, {"_autoremap", "importance", "agent"})
             inner = self.plain(body, cond.TRUE, None)
             self.on_path.pop()
-            return self._with(inner, label, releaser, node)
+            if named or "name" not in body.attrs:
+                # The SubTree names the behaviour (its name, or its ID and literal ports).
+                return self._with(inner, self._plain_label(node, tree_id, {"_autoremap"}), releaser, node)
+            from dataclasses import replace
+            return replace(inner, releaser=releaser, importance=self._weight(node),
+                           agent=node.attrs.get("agent", inner.agent), source=self.pos(node))
         if tag in ("Sequence", "SequenceWithMemory", "ReactiveSequence", "Parallel", "ParallelAll"):
             if not node.children:
                 self.fail(node, f"<{tag}> needs at least one child")
@@ -835,8 +863,8 @@ class _Importer:
 
 
 def _objects(label: Term) -> tuple[Term, ...]:
-    """What an imported behaviour acts on: its atomic arguments (the rule without object/1)."""
-    return tuple(a for a in (label.args if isinstance(label, Struct) else ()) if isinstance(a, (Atom, Int, Float, Str)))
+    """What an imported behaviour acts on: its atom arguments (a port `angle="60"` is no object)."""
+    return tuple(a for a in (label.args if isinstance(label, Struct) else ()) if isinstance(a, Atom))
 
 
 def _origin(t: Term) -> Origin:
