@@ -879,6 +879,25 @@ def _origin(t: Term) -> Origin:
 # ---------------------------------------------------------------------------
 # Running in BehaviorTree.CPP
 
+def action_posts(original: Behaviour) -> dict[str, tuple[Term, list[Condition]]]:
+    """Each action's text -> its label and the posts of its occurrences in `original`, in order."""
+    out: dict[str, tuple[Term, list[Condition]]] = {}
+    for node in walk(original):
+        if not node.children:
+            entry = out.setdefault(node.name, (node.label, []))
+            if node.post not in entry[1]:
+                entry[1].append(node.post)
+    return out
+
+
+def performed(by_name, text: str, world) -> tuple[Term, Condition]:
+    """The label and post-condition of the action a runtime performs by name. An action used with
+    several post-conditions (an imported `OpenGripper` done four times) performs its first
+    occurrence not yet accomplished: a runtime's callback knows the name, the world knows the rest."""
+    label, posts = by_name[text]
+    return label, next((p for p in posts if not world.holds(p)), posts[0])
+
+
 @dataclass
 class BtRun:
     """A run of an exported tree in BT.CPP: how it ended, the actions, the ticks."""
@@ -898,17 +917,13 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
     from ..run.world import World
 
     world = World(original, initial)
-    posts = {}
-    for node in walk(original):
-        if not node.children:
-            posts.setdefault(node.label, node.post)
-    by_name = {term_to_text(k): (k, v) for k, v in posts.items()}
+    by_name = action_posts(original)
     trace: list[Term] = []
     factory = bt.BehaviorTreeFactory()
     board: list = []
 
     def perform(node) -> object:
-        label, post = by_name[node.name()]
+        label, post = performed(by_name, node.name(), world)
         change = world.perform(post)
         trace.append(label)
         bb = board[0]

@@ -157,18 +157,15 @@ def load_module(source: str, name: str = "schemalog_pytrees_tree") -> types.Modu
 
 def world_adapters(original: Behaviour, world, trace: list[Term]):
     """holds(text) and perform(text) over the World of `original`, recording the trace."""
-    from .btcpp import atoms_of
+    from .btcpp import action_posts, atoms_of, performed
 
     atoms = {term_to_text(a): a for a in atoms_of(original)}
-    posts: dict[str, tuple[Term, Condition]] = {}
-    for node in walk(original):
-        if not node.children:
-            posts.setdefault(node.name, (node.label, node.post))
+    posts = action_posts(original)
     def holds(text: str) -> bool:
         return atoms[text] in world
 
     def perform(text: str) -> None:
-        label, post = posts[text]
+        label, post = performed(posts, text, world)
         world.perform(post)
         trace.append(label)
 
