@@ -905,7 +905,14 @@ class BtRun:
     status: str             # "completed", "stuck" or "tick limit"
     trace: list[Term]
     ticks: int
-    seconds: float = 0.0
+    seconds: float = 0.0            # ticking, the actions' callbacks included
+    action_seconds: float = 0.0     # of which in the callbacks (the emulated robot and world)
+    tick_seconds: tuple[float, ...] = ()   # each tick's own work, its callbacks left out
+
+    @property
+    def control_seconds(self) -> float:
+        """The runtime's own work: ticking the tree, its guards and scripts."""
+        return self.seconds - self.action_seconds
 
 
 def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None = None) -> BtRun:
@@ -922,7 +929,10 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
     factory = bt.BehaviorTreeFactory()
     board: list = []
 
+    spent = [0.0]
+
     def perform(node) -> object:
+        began = time.perf_counter()
         label, post = performed(by_name, node.name(), world)
         change = world.perform(post)
         trace.append(label)
@@ -931,6 +941,7 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
             bb.set_bool(literal_key(atom), True)
         for atom in change.removed:
             bb.set_bool(literal_key(atom), False)
+        spent[0] += time.perf_counter() - began
         return bt.NodeStatus.SUCCESS
 
     for ident in action_ids(xml):
@@ -941,13 +952,16 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
     started = time.perf_counter()
     status = bt.NodeStatus.RUNNING
     ticks = 0
+    each = []
     while status == bt.NodeStatus.RUNNING and ticks < limit:
+        before, began = spent[0], time.perf_counter()
         status = tree.tick_once()
+        each.append(time.perf_counter() - began - (spent[0] - before))
         ticks += 1
     seconds = time.perf_counter() - started
     outcome = ("completed" if status == bt.NodeStatus.SUCCESS else
                "stuck" if status == bt.NodeStatus.FAILURE else "tick limit")
-    return BtRun(outcome, trace, ticks, seconds)
+    return BtRun(outcome, trace, ticks, seconds, spent[0], tuple(each))
 
 
 __all__ = ["export_btcpp", "import_btcpp", "run_btcpp", "Imported", "BtRun", "literal_key", "key_atom",

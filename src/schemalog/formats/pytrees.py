@@ -155,8 +155,11 @@ def load_module(source: str, name: str = "schemalog_pytrees_tree") -> types.Modu
     return module
 
 
-def world_adapters(original: Behaviour, world, trace: list[Term]):
-    """holds(text) and perform(text) over the World of `original`, recording the trace."""
+def world_adapters(original: Behaviour, world, trace: list[Term], spent: list[float] | None = None):
+    """holds(text) and perform(text) over the World of `original`, recording the trace (and, in
+    `spent[0]`, the seconds spent performing)."""
+    import time
+
     from .btcpp import action_posts, atoms_of, performed
 
     atoms = {term_to_text(a): a for a in atoms_of(original)}
@@ -165,9 +168,12 @@ def world_adapters(original: Behaviour, world, trace: list[Term]):
         return atoms[text] in world
 
     def perform(text: str) -> None:
+        began = time.perf_counter()
         label, post = performed(posts, text, world)
         world.perform(post)
         trace.append(label)
+        if spent is not None:
+            spent[0] += time.perf_counter() - began
 
     return holds, perform
 
@@ -181,17 +187,21 @@ def run_pytrees(source: str, original: Behaviour, initial=(), max_ticks: int | N
     module = load_module(source)
     world = World(original, initial)
     trace: list[Term] = []
-    holds, perform = world_adapters(original, world, trace)
+    spent = [0.0]
+    holds, perform = world_adapters(original, world, trace, spent)
     tree = module.create_tree(holds, perform)
     done = module.compile_condition(module.TREE[2], holds)
     limit = max_ticks if max_ticks is not None else 4 * module.LEAVES + 8
     ticks, status = 0, "tick limit"
+    each = []
     started = time.perf_counter()
     while ticks < limit:
         if done():
             status = "completed"
             break
+        before, began = spent[0], time.perf_counter()
         tree.tick()
+        each.append(time.perf_counter() - began - (spent[0] - before))
         ticks += 1
         if tree.root.status != module.Status.SUCCESS:
             status = "completed" if done() else "stuck"
@@ -199,7 +209,7 @@ def run_pytrees(source: str, original: Behaviour, initial=(), max_ticks: int | N
     else:
         if done():
             status = "completed"
-    return BtRun(status, trace, ticks, time.perf_counter() - started)
+    return BtRun(status, trace, ticks, time.perf_counter() - started, spent[0], tuple(each))
 
 
 __all__ = ["export_pytrees", "load_module", "run_pytrees", "tree_data", "condition_data", "world_adapters"]
