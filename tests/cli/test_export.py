@@ -73,3 +73,12 @@ def test_includes_are_followed_from_the_file(tmp_path):
     r = run("convert", FIXTURES / "subtrees_main.xml", "-o", out)
     assert r.returncode == 0, r.stderr
     assert "approach_object(kettle)" in out.read_text()
+
+
+def test_a_hundred_thousand_node_file_is_refused_and_nothing_written(tmp_path):
+    big, out = tmp_path / "big.xml", tmp_path / "big.pl"
+    big.write_text('<root BTCPP_format="4">\n<BehaviorTree ID="M">\n<Sequence>\n' + "<Wave/>\n" * 100_000 +
+                   "</Sequence>\n</BehaviorTree>\n</root>\n")
+    r = run("convert", big, "-o", out)
+    assert r.returncode == 1 and not out.exists() and "Traceback" not in r.stderr
+    assert f"{big}:50001:1: error: the XML has more than 50,000 elements" in r.stderr

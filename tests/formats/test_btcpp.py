@@ -8,6 +8,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from conftest import COFFEE, MIX
+from strategies import task_trees
 from schemalog.errors import SchemalogError
 from schemalog.evaluate.generate import generate
 from schemalog.formats.btcpp import (export_btcpp, import_btcpp, key_atom, literal_key, parse_script_condition,
@@ -96,6 +97,23 @@ def test_round_trip_of_generated_tasks(depth, children, rd, seed, compressed):
     if compressed:
         tree = compress(tree).tree
     assert import_btcpp(export_btcpp(tree, [parse_term("b1.done")]), "t.xml").tree == tree
+
+
+@settings(max_examples=30, deadline=None)
+@given(task_trees(max_children=4, levels=3), st.booleans())
+def test_round_trip_of_trees_with_agents_branches_and_cycles(tree, compressed):
+    if compressed:
+        tree = compress(tree).tree
+    assert import_btcpp(export_btcpp(tree, []), "t.xml").tree == tree
+
+
+@settings(max_examples=30, deadline=None)
+@given(task_trees(max_children=4, levels=3))
+def test_every_action_bt_cpp_takes_is_an_enabled_leaf_of_the_original(tree):
+    run = run_btcpp(export_btcpp(tree, []), tree, [])
+    assert replay(tree, [], run.trace).valid
+    if Executive(tree, World(tree, ())).run().completed:
+        assert run.status == "completed"
 
 
 ATOMS = st.sampled_from(["hand.free", "spoon.taken", "a1.done", "on(a, b)", "acted", "x__y", "q__1"]).map(parse_term)
@@ -190,6 +208,14 @@ def test_a_hundred_thousand_nodes_are_refused_before_they_are_built():
     with pytest.raises(SchemalogError) as err:
         import_btcpp(text, "big.xml")
     assert "more than 50,000 elements" in err.value.message and err.value.pos.line == 49_999
+
+
+def test_subtrees_nested_past_the_limit_are_refused():
+    trees = "".join(f'<BehaviorTree ID="T{i}"><SubTree ID="T{i + 1}"/></BehaviorTree>' for i in range(400))
+    text = f'<root BTCPP_format="4" main_tree_to_execute="T0">{trees}<BehaviorTree ID="T400"><Wave/></BehaviorTree></root>'
+    with pytest.raises(SchemalogError) as err:
+        import_btcpp(text, "deep.xml")
+    assert "SubTrees nest deeper than 256 levels" in err.value.message and err.value.pos.line == 1
 
 
 def test_recursive_includes_are_refused(tmp_path):

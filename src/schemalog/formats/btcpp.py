@@ -699,6 +699,8 @@ class _Importer:
     def _subtree_body(self, node: XNode, tree_id: str) -> XNode:
         if tree_id not in self.trees:
             self.fail(node, f"SubTree {tree_id!r} is never defined (no <BehaviorTree ID=\"{tree_id}\">)")
+        if len(self.on_path) > MAX_XML_NESTING:
+            self.fail(node, f"SubTrees nest deeper than {MAX_XML_NESTING} levels")
         if tree_id in self.on_path:
             cycle = " -> ".join([*self.on_path[self.on_path.index(tree_id):], tree_id])
             self.fail(node, f"recursive SubTree: {cycle}")
