@@ -116,7 +116,7 @@ def test_every_action_bt_cpp_takes_is_an_enabled_leaf_of_the_original(tree):
         assert run.status == "completed"
 
 
-ATOMS = st.sampled_from(["hand.free", "spoon.taken", "a1.done", "on(a, b)", "acted", "x__y", "q__1"]).map(parse_term)
+ATOMS = st.sampled_from(["hand.free", "spoon.taken", "a1.done", "on(a, b)", "acted", "x__y", "q__1", "(table).free", "'Hand'.free", "a.b.c", "(a.b).c"]).map(parse_term)
 LITS = st.builds(cond.Lit, ATOMS, st.booleans())
 CONDITIONS = st.recursive(
     st.one_of(LITS, st.sampled_from([cond.TRUE, cond.FALSE])),
@@ -225,3 +225,32 @@ def test_recursive_includes_are_refused(tmp_path):
     with pytest.raises(SchemalogError) as err:
         import_btcpp((tmp_path / "a.xml").read_text(), str(tmp_path / "a.xml"), read)
     assert "recursive include" in err.value.message and err.value.pos.file.endswith("b.xml")
+
+
+def test_parallel_children_are_released_together_and_condition_nodes_are_literals():
+    text = '''<root BTCPP_format="4" main_tree_to_execute="Set">
+      <BehaviorTree ID="Set">
+        <Sequence name="set_table">
+          <Condition ID="IsTableFree"/>
+          <Parallel name="lay" success_count="-1" failure_count="1">
+            <PlaceObject object="fork"/>
+            <PlaceObject object="knife"/>
+          </Parallel>
+          <Script name="table_set" code="table__set := true; table__free := false"/>
+        </Sequence>
+      </BehaviorTree>
+    </root>'''
+    tree = import_btcpp(text, "set.xml").tree
+    lay, script = tree.children
+    assert lay.releaser == cond.Lit(parse_term("is_table_free"))
+    assert [c.releaser for c in lay.children] == [cond.TRUE, cond.TRUE]
+    assert script.post == cond.And((cond.Lit(parse_term("(table).set")), cond.Lit(parse_term("(table).free"), False)))
+    assert script.releaser == cond.And((cond.Lit(parse_term("is_table_free")), cond.Lit(parse_term("lay.done"))))
+
+
+def test_a_parallel_that_succeeds_on_one_child_is_refused():
+    text = ('<root BTCPP_format="4"><BehaviorTree ID="M">\n  <Parallel success_count="1">'
+            '<A/><B/></Parallel></BehaviorTree></root>')
+    with pytest.raises(SchemalogError) as err:
+        import_btcpp(text, "p.xml")
+    assert (err.value.pos.line, err.value.pos.column) == (2, 3) and "success_count" in err.value.message

@@ -95,19 +95,37 @@ _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _RESERVED_KEYS = {ACTED, "true", "false"}
 
 
+def _pieces(atom: Term) -> list[str] | None:
+    """`hand.free` -> [hand, free]: the names of a right-nested `.` of plain atoms, else None."""
+    out = []
+    while isinstance(atom, Struct) and atom.name == "." and len(atom.args) == 2 and isinstance(atom.args[0], Atom):
+        out.append(atom.args[0].name)
+        atom = atom.args[1]
+    if not isinstance(atom, Atom):
+        return None
+    out.append(atom.name)
+    return out if all(_PIECE.fullmatch(p) for p in out) else None
+
+
+def _dotted(pieces: list[str]) -> Term:
+    term: Term = Atom(pieces[-1])
+    for name in reversed(pieces[:-1]):
+        term = Struct(".", (Atom(name), term))
+    return term
+
+
 def literal_key(atom: Term) -> str:
     """The blackboard entry of an atom: `hand.free` -> hand__free; others q__ + hex of the text."""
-    text = term_to_text(atom)
-    pieces = text.split(".")
-    if (isinstance(atom, (Atom, Struct)) and all(_PIECE.fullmatch(p) for p in pieces)
-            and text not in _RESERVED_KEYS and not text.startswith("q__")):
+    pieces = _pieces(atom)
+    if pieces is not None:
         key = "__".join(pieces)
-        if _atom_of_key(key) == atom:
+        if key not in _RESERVED_KEYS and not key.startswith("q__"):
             return key
-    return "q__" + text.encode().hex()
+    return "q__" + term_to_text(atom).encode().hex()
 
 
-def _atom_of_key(key: str) -> Term:
+def key_atom(key: str) -> Term:
+    """The atom a blackboard entry stands for (the inverse of literal_key; `door_open` -> door_open)."""
     from ..logic.parse import parse_term
 
     if key.startswith("q__"):
@@ -115,16 +133,8 @@ def _atom_of_key(key: str) -> Term:
             return parse_term(bytes.fromhex(key[3:]).decode(), "<key>")
         except (ValueError, SchemalogError):
             pass
-    text = ".".join(key.split("__"))
-    try:
-        return parse_term(text, "<key>")
-    except SchemalogError:
-        return Atom(key)
-
-
-def key_atom(key: str) -> Term:
-    """The atom a blackboard entry stands for (the inverse of literal_key)."""
-    return _atom_of_key(key)
+    pieces = key.split("__")
+    return _dotted(pieces) if all(_PIECE.fullmatch(p) for p in pieces) else Atom(key)
 
 
 def to_script(c: Condition) -> str:
