@@ -82,3 +82,20 @@ def test_a_hundred_thousand_node_file_is_refused_and_nothing_written(tmp_path):
     r = run("convert", big, "-o", out)
     assert r.returncode == 1 and not out.exists() and "Traceback" not in r.stderr
     assert f"{big}:50001:1: error: the XML has more than 50,000 elements" in r.stderr
+
+
+def test_the_written_xml_runs_in_bt_cpp(tmp_path):
+    from schemalog.formats.btcpp import run_btcpp
+    from schemalog.formats.documents import read_document
+    from schemalog.run.execute import replay
+    from schemalog.run.world import World, initial_state
+    from schemalog.task.tree import instantiate
+    from schemalog.logic.parse import parse_term
+
+    xml = tmp_path / "tree.xml"
+    assert run("export", MIX, "--compressed", "--to", "btcpp", "-o", xml).returncode == 0
+    kb = read_document(MIX).to_kb()
+    original = instantiate(kb, parse_term("use(spoon)"))
+    initial = World(original, initial_state(kb)).atoms
+    outcome = run_btcpp(xml.read_text(), original, initial)
+    assert outcome.status == "completed" and replay(original, initial, outcome.trace).valid
