@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
 
 def convert_xml(args: argparse.Namespace) -> int:
     """`convert tree.xml`: a BT.CPP v4 document as schema knowledge (or YAML)."""
-    from ..errors import SchemalogError
+    from ..errors import SchemalogError, SourcePos
     from ..formats.btcpp import import_btcpp
     from ..formats.documents import YAML_SUFFIXES, to_pl, to_yaml
     from ..formats.render import tree_document
@@ -87,18 +87,17 @@ def convert_xml(args: argparse.Namespace) -> int:
     if getattr(args, "to", None) not in (None, "pl", "yaml"):
         from ..errors import UsageError
         raise UsageError(f"--to {args.to}: a BT.CPP document converts to pl or yaml")
-    data = read_limited(args.input, args.max_bytes)
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as err:
-        raise SchemalogError(f"{args.input}: not UTF-8 text (byte {err.start})") from None
-    def read(path: str) -> str:
+    def decoded(path: str) -> str:
+        data = read_limited(path, args.max_bytes)
         try:
-            return read_limited(path, args.max_bytes).decode("utf-8")
+            return data.decode("utf-8-sig")
         except UnicodeDecodeError as err:
-            raise SchemalogError(f"{path}: not UTF-8 text (byte {err.start})") from None
+            line = data[:err.start].count(b"\n") + 1
+            column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+            raise SchemalogError("not UTF-8 text", SourcePos(path, line, column)) from None
 
-    imported = import_btcpp(text, args.input, read)
+    text = decoded(args.input)
+    imported = import_btcpp(text, args.input, decoded)
     if args.task and task_term(args.task) != imported.tree.label:
         raise SchemalogError(f"--task {args.task}: the task of {args.input} is {term_to_text(imported.tree.label)}")
     initial = [Clause(Struct("initial", (atom,)), TRUE, None) for atom in imported.initial]
