@@ -6,7 +6,10 @@ import sys
 
 import pytest
 
+from hypothesis import given, settings
+
 from conftest import COFFEE, MIX
+from strategies import task_trees
 from schemalog.evaluate.generate import generate
 from schemalog.formats.documents import read_document
 from schemalog.formats.pytrees import export_pytrees, load_module, run_pytrees
@@ -59,3 +62,12 @@ def test_module_runs_standalone_and_prints_its_tree(tmp_path):
     path.write_text(export_pytrees(original, initial))
     r = subprocess.run([sys.executable, str(path)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0 and "a3(cup)" in r.stdout and "first that acts" in r.stdout
+
+
+@settings(max_examples=30, deadline=None)
+@given(task_trees(max_children=4, levels=3))
+def test_every_action_py_trees_takes_is_an_enabled_leaf_of_the_original(tree):
+    run = run_pytrees(export_pytrees(tree, []), tree, [])
+    assert replay(tree, [], run.trace).valid
+    if Executive(tree, World(tree, ())).run().completed:
+        assert run.status == "completed"

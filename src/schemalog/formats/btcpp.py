@@ -38,7 +38,7 @@ from xml.sax.saxutils import quoteattr
 
 from .. import defaults
 from ..errors import SchemalogError, SourcePos
-from ..logic.terms import Atom, Float, Int, Str, Struct, Term, list_items, make_list, term_to_text
+from ..logic.terms import Atom, Float, Int, Str, Struct, Term, is_ground, list_items, make_list, term_to_text
 from ..task import conditions as cond
 from ..task.conditions import Condition
 from ..task.schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE
@@ -748,7 +748,7 @@ class _Importer:
             from ..logic.parse import parse_term
             try:
                 t = parse_term(name, "<name>")
-                if not args and isinstance(t, (Atom, Struct)):
+                if not args and isinstance(t, (Atom, Struct)) and is_ground(t):
                     return t
             except SchemalogError:
                 pass
