@@ -105,7 +105,7 @@ def test_bad_time_limits_are_usage_errors(value):
 
 def test_every_command_but_repl_takes_the_resource_options():
     for command in ("check", "show", "compress", "decompress", "run", "verify", "generate", "bench",
-                    "learn", "simulate-demo", "query", "convert"):
+                    "learn", "simulate-demo", "query", "convert", "export"):
         out = run(command, "--help").stdout
         assert "--timeout SECONDS" in out and "--max-memory SIZE" in out, command
 

@@ -22,6 +22,9 @@ def register(sub, parents: Parents) -> None:
                             "the coffee-and-tea task, and sizes up to 111,111 behaviours (several minutes)")
     which.add_argument("--quick", action="store_true",
                        help="the same grid with 2 runs per tree and sizes to 5,461, in about a minute")
+    which.add_argument("--runtimes", action="store_true",
+                       help="the grid's trees exported and run in BehaviorTree.CPP and py_trees, original "
+                            "against compressed (per tick, per run; runtimes.csv and runtimes.md)")
     p.add_argument("--out", default="bench-results", metavar="DIR",
                    help="where to write results.csv, results.md and the figures (default bench-results)")
     p.add_argument("--runs", type=positive, metavar="N", help="runs per tree (default 10, --quick 2)")
@@ -40,21 +43,13 @@ def run(args: argparse.Namespace) -> int:
 
     from ..evaluate.bench import PAPER_PLAN, QUICK_PLAN, headlines, run_bench, steps, write_results
 
+    if args.runtimes:
+        return _runtimes(args)
     plan = QUICK_PLAN if args.quick else PAPER_PLAN
     changes = {k: v for k, v in (("runs", args.runs), ("seed", args.seed), ("max_states", args.max_states))
                if v is not None}
     plan = dataclasses.replace(plan, **changes)
-    if not args.out.strip():             # Path('') is '.': the results would land among the user's files
-        raise UsageError("--out needs a directory name (it is empty)")
-    out = Path(args.out)
-    try:                                 # make sure the results can be written before measuring
-        out.mkdir(parents=True, exist_ok=True)
-    except FileExistsError:
-        raise UsageError(f"--out {args.out} is a file, not a directory") from None
-    except OSError as err:
-        raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
-    if not os.access(out, os.W_OK):
-        raise UsageError(f"--out {args.out}: the directory is not writable")
+    out = _out_dir(args)
     console = Console(stderr=True)
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as progress:
@@ -80,3 +75,48 @@ def run(args: argparse.Namespace) -> int:
         print(f"- {line}")
     print("wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+def _runtimes(args: argparse.Namespace) -> int:
+    """`bench --runtimes`: the paper's grid in BT.CPP and py_trees (evaluate/runtimes.py)."""
+    import time
+
+    from ..evaluate.runtimes import PAPER_REDUCTIONS, PAPER_SHAPES, measure_runtimes, runtimes_csv, runtimes_markdown
+    from ..formats.documents import write_atomically
+
+    out = _out_dir(args)
+    started = time.perf_counter()
+    total = len(PAPER_SHAPES) * len(PAPER_REDUCTIONS)
+    done = [0]
+
+    def step(description: str) -> None:
+        done[0] += 1
+        print(f"[{done[0]}/{total}] {description}", file=sys.stderr)
+
+    rows = measure_runtimes(seed=args.seed if args.seed is not None else 1, progress=step)
+    table = runtimes_markdown(rows, "schemalog bench --runtimes")
+    try:
+        write_atomically(out / "runtimes.csv", runtimes_csv(rows))
+        write_atomically(out / "runtimes.md", table)
+    except OSError as err:
+        raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
+    print(table)
+    print(f"bench --runtimes: {len(rows)} trees, {time.perf_counter() - started:,.0f} s; wrote "
+          f"{out / 'runtimes.csv'}, {out / 'runtimes.md'}")
+    return 0
+
+
+def _out_dir(args: argparse.Namespace) -> Path:
+    """--out, made and checked writable before anything is measured."""
+    if not args.out.strip():             # Path('') is '.': the results would land among the user's files
+        raise UsageError("--out needs a directory name (it is empty)")
+    out = Path(args.out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise UsageError(f"--out {args.out} is a file, not a directory") from None
+    except OSError as err:
+        raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
+    if not os.access(out, os.W_OK):
+        raise UsageError(f"--out {args.out}: the directory is not writable")
+    return out

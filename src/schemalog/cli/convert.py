@@ -33,6 +33,9 @@ def run(args: argparse.Namespace) -> int:
     from .common import check_output, defines, emit, inputs_of, instantiate_task, root_candidates, task_term
 
     check_output(args.output, inputs_of(args))
+    if args.input.lower().endswith(".xml"):          # BehaviorTree.CPP v4 (formats/btcpp.py)
+        from .export import convert_xml
+        return convert_xml(args)
     doc = read_document(args.input, args.max_bytes)
     for note in doc.notes:
         print(note, file=sys.stderr)

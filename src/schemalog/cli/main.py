@@ -25,7 +25,7 @@ from .options import shared_parents
 
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
 COMMANDS = ("check", "lint", "show", "compress", "decompress", "run", "verify", "generate", "bench", "learn",
-            "simulate_demo", "query", "repl", "convert")
+            "simulate_demo", "query", "repl", "convert", "export")
 
 
 class Terminated(BaseException):

@@ -1,0 +1,981 @@
+"""Task trees in and out of BehaviorTree.CPP v4 XML, and runs in its real runtime.
+
+    export_btcpp(tree, initial) -> str            a <root BTCPP_format="4"> document
+    import_btcpp(text, file)    -> Imported       (tree, initial state) from such a document
+    run_btcpp(xml, original, initial) -> BtRun    ticked in BT.CPP (behaviortreepy) against the World
+
+The exported document (docs/formats.md, BehaviorTree.CPP):
+
+    schemalog_run            the main tree: the initial state as a Script of boolean assignments,
+                             then KeepRunningUntilFailure over one *decision* per tick, then a
+                             ScriptCondition on the task's post-condition (SUCCESS: completed)
+    a composite behaviour    <SubTree ID=.. name="label" _while="PRE" _skipIf="acted || (POST)"
+                             importance=".." agent=".."/> over a BehaviorTree holding a Sequence
+                             of its children (identical sub-tasks share one BehaviorTree)
+    a leaf                   <functor name="label" _while="PRE" _skipIf="acted || (POST)"
+                             _onSuccess="acted := true"/>, an action the runtime registers
+    a merged leaf            <Sequence name="label" ... _onSuccess="acted := true"> of its
+                             constituents, each an original action <a name=".." _skipIf="POST"/>
+    a literal obj.prop       the boolean blackboard entry obj__prop (others: q__ + hex of the text)
+
+`acted` is set by the leaf that acts and reset before each decision, so every tick takes
+exactly one decision: the first enabled leaf in tree order (docs/formats.md says why that
+order is sound). Metadata BT.CPP has no use for is kept in `_`-attributes it ignores:
+`_importance`, `_agent`, `_objects`, `_origins` (provenance, origin/6 terms), `_releaser` and
+`_context` (when a propagated context makes the pre-condition more than the releaser).
+
+Import reads that form back exactly, and besides it the part of BT.CPP with a schema meaning
+(Sequence, SequenceWithMemory, ReactiveSequence, Parallel, conditions, Precondition, `_while`,
+SubTree with literal ports, Script boolean assignments); everything else is refused with the
+element's line and column. XML is parsed with defusedxml (no entities, no external references).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from xml.sax.saxutils import quoteattr
+
+from .. import defaults
+from ..errors import SchemalogError, SourcePos
+from ..logic.terms import Atom, Float, Int, Str, Struct, Term, is_ground, list_items, make_list, term_to_text
+from ..task import conditions as cond
+from ..task.conditions import Condition
+from ..task.schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE
+from ..task.tree import Behaviour, Origin, walk
+
+MAIN_TREE = "schemalog_run"
+ACTED = "acted"
+MAX_XML_ELEMENTS = 50_000      # Nav2's largest trees have about a hundred; beyond this is not a tree file
+MAX_XML_NESTING = defaults.MAX_DEPTH
+
+# Node types of BT.CPP an action must not be named after.
+BUILTIN_NODES = frozenset({
+    "Sequence", "SequenceWithMemory", "ReactiveSequence", "Parallel", "ParallelAll", "Fallback",
+    "ReactiveFallback", "Recovery", "RecoveryNode", "PipelineSequence", "RoundRobin", "Retry",
+    "RetryUntilSuccessful", "Repeat", "Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure",
+    "RunOnce", "Timeout", "Delay", "Precondition", "Script", "ScriptCondition", "SetBlackboard", "SubTree",
+    "Sleep", "AlwaysSuccess", "AlwaysFailure", "Switch2", "Switch3", "Switch4", "Switch5", "Switch6",
+    "IfThenElse", "WhileDoElse", "Action", "Condition", "Control", "Decorator", "BehaviorTree",
+    "UnsetBlackboard", "AsyncSequence", "LoopInt", "LoopDouble", "LoopString", "LoopBool", "TryCatch",
+    "ManualSelector", "SkipUnlessUpdated", "WaitValueUpdate", "WasEntryUpdated", "EntryUpdated",
+    "ParallelFirst", "ReactiveParallel", "LatchedSequence", "LatchedFallback", "Finally", "root",
+    "TreeNodesModel", "include"})
+REFUSED = {
+    "Fallback": "a Fallback tries alternatives after a failure; schemas have no failure to recover from",
+    "ReactiveFallback": "a Fallback tries alternatives after a failure; schemas have no failure to recover from",
+    "Recovery": "a recovery node reacts to failure, which schemas do not model",
+    "RecoveryNode": "a recovery node reacts to failure, which schemas do not model",
+    "PipelineSequence": "a PipelineSequence re-ticks finished children, which schemas do not model",
+    "RoundRobin": "a RoundRobin rotates between alternatives, which schemas do not model",
+    "Retry": "retrying after a failure is the executive's job (run --fail), not the task's",
+    "RetryUntilSuccessful": "retrying after a failure is the executive's job (run --fail), not the task's",
+    "Repeat": "a schema behaviour is accomplished once; repetition has no schema meaning",
+    "KeepRunningUntilFailure": "repetition has no schema meaning (outside schemalog's own run tree)",
+    "Inverter": "inverting a status has no schema meaning",
+    "ForceSuccess": "forcing a status has no schema meaning (outside schemalog's own run tree)",
+    "ForceFailure": "forcing a status has no schema meaning",
+    "Timeout": "time limits have no schema meaning", "Delay": "delays have no schema meaning",
+    "RunOnce": "running once has no schema meaning (a behaviour already runs until accomplished)",
+    "IfThenElse": "an else-branch is an alternative, which schemas do not model",
+    "WhileDoElse": "an else-branch is an alternative, which schemas do not model",
+    "Switch2": "a Switch chooses among alternatives, which schemas do not model",
+    "Switch3": "a Switch chooses among alternatives, which schemas do not model",
+    "Switch4": "a Switch chooses among alternatives, which schemas do not model",
+    "SetBlackboard": "SetBlackboard copies values; only Script assignments of booleans have a schema meaning",
+    "AsyncSequence": "use Sequence", "TryCatch": "failures have no schema meaning",
+}
+
+
+# ---------------------------------------------------------------------------
+# Literals as blackboard keys, conditions as BT.CPP scripts
+
+_PIECE = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")
+_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_RESERVED_KEYS = {ACTED, "true", "false"}
+
+
+def _pieces(atom: Term) -> list[str] | None:
+    """`hand.free` -> [hand, free]: the names of a right-nested `.` of plain atoms, else None."""
+    out = []
+    while isinstance(atom, Struct) and atom.name == "." and len(atom.args) == 2 and isinstance(atom.args[0], Atom):
+        out.append(atom.args[0].name)
+        atom = atom.args[1]
+    if not isinstance(atom, Atom):
+        return None
+    out.append(atom.name)
+    return out if all(_PIECE.fullmatch(p) for p in out) else None
+
+
+def _dotted(pieces: list[str]) -> Term:
+    term: Term = Atom(pieces[-1])
+    for name in reversed(pieces[:-1]):
+        term = Struct(".", (Atom(name), term))
+    return term
+
+
+def literal_key(atom: Term) -> str:
+    """The blackboard entry of an atom: `hand.free` -> hand__free; others q__ + hex of the text."""
+    pieces = _pieces(atom)
+    if pieces is not None:
+        key = "__".join(pieces)
+        if key not in _RESERVED_KEYS and not key.startswith("q__"):
+            return key
+    return "q__" + term_to_text(atom).encode().hex()
+
+
+def key_atom(key: str) -> Term:
+    """The atom a blackboard entry stands for (the inverse of literal_key; `door_open` -> door_open)."""
+    from ..logic.parse import parse_term
+
+    if key.startswith("q__"):
+        try:
+            return parse_term(bytes.fromhex(key[3:]).decode(), "<key>")
+        except (ValueError, SchemalogError):
+            pass
+    pieces = key.split("__")
+    return _dotted(pieces) if all(_PIECE.fullmatch(p) for p in pieces) else Atom(key)
+
+
+def to_script(c: Condition) -> str:
+    """A condition in BT.CPP's scripting language, every compound operand parenthesised."""
+    if isinstance(c, cond.Const):
+        return "true" if c.value else "false"
+    if isinstance(c, cond.Lit):
+        return literal_key(c.atom) if c.positive else "!" + literal_key(c.atom)
+    if isinstance(c, cond.Not):
+        return "!(" + to_script(c.item) + ")"
+    joiner = " && " if isinstance(c, cond.And) else " || "
+    return joiner.join(_operand(i) for i in c.items)
+
+
+def _operand(c: Condition) -> str:
+    text = to_script(c)
+    return f"({text})" if isinstance(c, (cond.And, cond.Or, cond.Not)) else text
+
+
+_TOKEN = re.compile(r"\s*(?:(&&|\|\||!=|!|\(|\)|:=|==|=|;)|([A-Za-z_@][A-Za-z0-9_]*)|(\S))")
+_ARITHMETIC = "it compares or computes values; only boolean entries joined by &&, || and ! have a schema meaning"
+
+
+class ScriptError(ValueError):
+    """A script outside the boolean subset; the message says why."""
+
+
+def _tokens(text: str) -> list[str]:
+    out = []
+    for m in _TOKEN.finditer(text):
+        op, name, other = m.groups()
+        if other is not None:
+            raise ScriptError(f"{other!r} in {text!r}: {_ARITHMETIC}")
+        out.append(op or name)
+    return out
+
+
+def parse_script_condition(text: str, acted: bool = False) -> Condition:
+    """Read a boolean script (`a__b && !(c || d)`) back into a condition, structure intact.
+
+    With `acted`, the entry `acted` reads as the literal ACTED_LIT (schemalog's decision flag)."""
+    tokens = _tokens(text)
+    if not tokens:
+        raise ScriptError("an empty script has no condition")
+    pos = [0]
+
+    def peek():
+        return tokens[pos[0]] if pos[0] < len(tokens) else None
+
+    def take():
+        pos[0] += 1
+        return tokens[pos[0] - 1]
+
+    def chain(op: str, sub, kind):
+        items = [sub()]
+        while peek() == op:
+            take()
+            items.append(sub())
+        return items[0] if len(items) == 1 else kind(tuple(items))
+
+    def disjunction():
+        return chain("||", conjunction, cond.Or)
+
+    def conjunction():
+        return chain("&&", unary, cond.And)
+
+    def unary():
+        t = peek()
+        if t == "!":
+            take()
+            inner = unary()
+            if isinstance(inner, cond.Lit):
+                return inner.negate()
+            if isinstance(inner, cond.Const):
+                raise ScriptError(f"!{to_script(inner)} in {text!r}: write the constant itself")
+            return cond.Not(inner)
+        if t == "(":
+            take()
+            inner = disjunction()
+            if take() != ")" if peek() is not None else True:
+                raise ScriptError(f"unbalanced parentheses in {text!r}")
+            return inner
+        if t is None:
+            raise ScriptError(f"{text!r} ends where a condition should follow")
+        if t in ("==", "!=", "=", ":=", ";", ")", "&&", "||"):
+            raise ScriptError(f"{t!r} in {text!r}: {_ARITHMETIC}" if t in ("==", "!=", "=", ":=")
+                              else f"unexpected {t!r} in {text!r}")
+        take()
+        if t == "true":
+            return cond.TRUE
+        if t == "false":
+            return cond.FALSE
+        if t.startswith("@"):
+            t = t[1:]
+        if acted and t == ACTED:
+            return ACTED_LIT
+        return cond.Lit(key_atom(t))
+
+    result = disjunction()
+    if peek() is not None:
+        t = peek()
+        raise ScriptError(f"{t!r} in {text!r}: {_ARITHMETIC}" if t in ("==", "!=", "=", ":=")
+                          else f"unexpected {t!r} in {text!r}")
+    return result
+
+
+ACTED_LIT = cond.Lit(Atom("$acted"))
+
+
+def parse_assignments(text: str) -> list[tuple[Term, bool]]:
+    """Read `a := true; b := false` into (atom, value) pairs; anything else is a ScriptError."""
+    out = []
+    for statement in [s.strip() for s in text.split(";")]:
+        if not statement:
+            continue
+        m = re.fullmatch(r"@?([A-Za-z_][A-Za-z0-9_]*)\s*(:=|=)\s*(true|false)", statement)
+        if not m:
+            raise ScriptError(f"{statement!r}: only assignments of true or false have a schema meaning "
+                              f"(the post-condition of a Script, or the initial state)")
+        out.append((m.group(1), m.group(3) == "true"))
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Export
+
+def action_id(label: Term) -> str:
+    """The node type of an action: its functor when that is a BT.CPP name, else `Action`."""
+    name = label.name if isinstance(label, (Atom, Struct)) else ""
+    return name if _KEY.fullmatch(name or "") and name not in BUILTIN_NODES and name != ACTED else "Action"
+
+
+def steps_of(leaf: Behaviour) -> tuple[tuple[Term, Condition], ...]:
+    """The original actions a leaf performs, in order (the executive's rule)."""
+    if len(leaf.origins) > 1:
+        return tuple((o.label, o.post) for o in leaf.origins)
+    return ((leaf.origins[0].label if leaf.origins else leaf.label, leaf.post),)
+
+
+def atoms_of(tree: Behaviour) -> list[Term]:
+    """Every atom a condition of the tree reads or writes, in order of appearance."""
+    seen: dict[Term, None] = {}
+    for node in walk(tree):
+        parts = [node.context, node.releaser, node.post]
+        for o in node.origins:
+            parts += [o.releaser, o.post]
+        for part in parts:
+            for lit in cond.literals(part):
+                seen.setdefault(lit.atom, None)
+    return list(seen)
+
+
+def _number(value) -> str:
+    return term_to_text(Int(value) if isinstance(value, int) else Float(value))
+
+
+def _meta(node: Behaviour, port_style: bool) -> list[tuple[str, str]]:
+    """Importance and agent (SubTree literal ports, else `_`-attributes), objects, provenance."""
+    out = []
+    prefix = "" if port_style else "_"
+    if node.importance != DEFAULT_IMPORTANCE:
+        out.append((prefix + "importance", _number(node.importance)))
+    if node.agent != DEFAULT_AGENT:
+        out.append((prefix + "agent", node.agent))
+    out.append(("_objects", term_to_text(make_list(node.objects))))
+    if node.context != cond.TRUE:
+        out.append(("_context", to_script(node.context)))
+        out.append(("_releaser", to_script(node.releaser)))
+    if node.origins:
+        from .render import origin_term
+        out.append(("_origins", term_to_text(make_list([origin_term(o) for o in node.origins]))))
+    return out
+
+
+def _attrs(pairs: list[tuple[str, str]]) -> str:
+    return "".join(f" {k}={quoteattr(v)}" for k, v in pairs)
+
+
+class _Exporter:
+    def __init__(self) -> None:
+        self.trees: dict[str, str] = {}        # body -> BehaviorTree ID
+        self.bodies: list[tuple[str, str]] = []
+        self.actions: dict[str, None] = {}
+        self.used_ids: set[str] = {MAIN_TREE}
+
+    def _tree_id(self, label: Term) -> str:
+        base = re.sub(r"_+", "_", re.sub(r"[^A-Za-z0-9_]", "_", term_to_text(label))).strip("_") or "task"
+        if not re.match(r"[A-Za-z_]", base):
+            base = "t_" + base
+        name, n = base, 1
+        while name in self.used_ids:
+            n += 1
+            name = f"{base}_{n}"
+        self.used_ids.add(name)
+        return name
+
+    def guards(self, node: Behaviour) -> list[tuple[str, str]]:
+        return [("_while", to_script(node.pre)), ("_skipIf", f"{ACTED} || {_operand(node.post)}")]
+
+    def element(self, node: Behaviour, indent: str) -> list[str]:
+        """The lines of the element that stands for `node` where its parent lists it."""
+        label = term_to_text(node.label)
+        if node.children:
+            tree_id = self.subtree(node)
+            pairs = [("ID", tree_id), ("name", label), ("_autoremap", "true"), *self.guards(node),
+                     *_meta(node, port_style=True)]
+            return [f"{indent}<SubTree{_attrs(pairs)}/>"]
+        steps = steps_of(node)
+        decided = ("_onSuccess", f"{ACTED} := true")
+        if steps == ((node.label, node.post),):
+            ident = action_id(node.label)
+            self.actions[ident] = None
+            pairs = [("name", label), *self.guards(node), decided, *_meta(node, port_style=False)]
+            return [f"{indent}<{ident}{_attrs(pairs)}/>"]
+        lines = [f"{indent}<Sequence{_attrs([('name', label), *self.guards(node), decided, *_meta(node, False)])}>"]
+        for action, post in steps:
+            ident = action_id(action)
+            self.actions[ident] = None
+            lines.append(f"{indent}  <{ident}{_attrs([('name', term_to_text(action)), ('_skipIf', to_script(post))])}/>")
+        lines.append(f"{indent}</Sequence>")
+        return lines
+
+    def subtree(self, node: Behaviour) -> str:
+        """The ID of the BehaviorTree holding `node`'s children (shared by identical ones)."""
+        body = ["    <Sequence>"]
+        for child in node.children:
+            body += self.element(child, "      ")
+        body.append("    </Sequence>")
+        text = "\n".join(body)
+        found = self.trees.get(text)
+        if found is None:
+            found = self.trees[text] = self._tree_id(node.label)
+            self.bodies.append((found, text))
+        return found
+
+
+def export_btcpp(tree: Behaviour, initial=(), title: str = "") -> str:
+    """A BT.CPP v4 document that runs `tree` (original or compressed) from state `initial`."""
+    exporter = _Exporter()
+    task = exporter.element(tree, "          ")
+    true_atoms = set(initial)
+    atoms = list(dict.fromkeys([*atoms_of(tree), *initial]))
+    state = "; ".join([f"{ACTED} := false"] + [f"{literal_key(a)} := {'true' if a in true_atoms else 'false'}"
+                                               for a in atoms])
+    lines = ['<?xml version="1.0" encoding="UTF-8"?>']
+    if title:
+        lines.append(f"<!-- {title.replace('--', '- -')} -->")
+    lines += [f'<root BTCPP_format="4" main_tree_to_execute="{MAIN_TREE}">',
+              f'  <BehaviorTree ID="{MAIN_TREE}">',
+              '    <Sequence name="run">',
+              f'      <Script name="initial state" code={quoteattr(state)}/>',
+              '      <ForceSuccess name="until no decision is taken">',
+              '        <KeepRunningUntilFailure name="one decision per tick">',
+              '          <Sequence name="decision">',
+              f'            <Script name="decide" code="{ACTED} := false"/>',
+              *["  " + t for t in task],
+              f'            <ScriptCondition name="decided" code="{ACTED}"/>',
+              '          </Sequence>',
+              '        </KeepRunningUntilFailure>',
+              '      </ForceSuccess>',
+              f'      <ScriptCondition name="accomplished" code={quoteattr(to_script(tree.post))}/>',
+              '    </Sequence>',
+              '  </BehaviorTree>']
+    for tree_id, body in exporter.bodies:
+        lines += [f'  <BehaviorTree ID="{tree_id}">', body, '  </BehaviorTree>']
+    lines.append('  <TreeNodesModel>')
+    lines += [f'    <Action ID="{a}"/>' for a in exporter.actions]
+    lines += ['  </TreeNodesModel>', '</root>', '']
+    return "\n".join(lines)
+
+
+def action_ids(xml: str) -> list[str]:
+    """The action node types an exported document declares (what a runtime must register)."""
+    return re.findall(r'<Action ID="([^"]+)"/>', xml.split("<TreeNodesModel>", 1)[-1])
+
+
+# ---------------------------------------------------------------------------
+# Parsing XML safely, with positions
+
+@dataclass
+class XNode:
+    """One XML element: tag, attributes, children, where it starts."""
+
+    tag: str
+    attrs: dict[str, str]
+    line: int
+    column: int
+    children: list["XNode"] = field(default_factory=list)
+    file: str = ""
+
+
+class _Target:
+    def __init__(self, parser_ref: list, file: str) -> None:
+        self.ref, self.file = parser_ref, file
+        self.stack: list[XNode] = []
+        self.root: XNode | None = None
+        self.count = 0
+
+    def start(self, tag, attrs):
+        p = self.ref[0].parser
+        node = XNode(tag, dict(attrs), p.CurrentLineNumber, p.CurrentColumnNumber + 1, file=self.file)
+        self.count += 1
+        where = SourcePos(self.file, node.line, node.column)
+        if self.count > MAX_XML_ELEMENTS:
+            raise SchemalogError(f"the XML has more than {MAX_XML_ELEMENTS:,} elements: not a behaviour "
+                                 f"tree schemalog imports (Nav2's largest trees have about a hundred)", where)
+        if len(self.stack) >= MAX_XML_NESTING:
+            raise SchemalogError(f"the XML nests deeper than {MAX_XML_NESTING} elements", where)
+        if self.stack:
+            self.stack[-1].children.append(node)
+        else:
+            self.root = node
+        self.stack.append(node)
+
+    def end(self, tag):
+        self.stack.pop()
+
+    def data(self, data):
+        pass
+
+    def close(self):
+        return self.root
+
+
+def parse_xml(text: str, file: str) -> XNode:
+    """Parse XML with defusedxml: entities and external references refused, positions kept."""
+    from defusedxml import DefusedXmlException
+    from defusedxml.ElementTree import DefusedXMLParser
+    from xml.etree.ElementTree import ParseError
+
+    ref: list = []
+    target = _Target(ref, file)
+    parser = DefusedXMLParser(target=target, forbid_dtd=False, forbid_entities=True, forbid_external=True)
+    ref.append(parser)
+    try:
+        parser.feed(text)
+        root = parser.close()
+    except ParseError as err:
+        line, column = err.position
+        raise SchemalogError(f"malformed XML: {_expat_reason(str(err))}", SourcePos(file, line, column + 1)) from None
+    except DefusedXmlException as err:
+        p = parser.parser
+        what = f"the entity {getattr(err, 'name', '')}" if getattr(err, "name", None) else "a DTD"
+        raise SchemalogError(f"the XML declares {what}: entities are refused (they can expand without "
+                             f"bound or read other files)",
+                             SourcePos(file, p.CurrentLineNumber, p.CurrentColumnNumber + 1)) from None
+    if root is None:
+        raise SchemalogError("the XML has no element", SourcePos(file, 1, 1))
+    return root
+
+
+def _expat_reason(text: str) -> str:
+    return re.sub(r": line \d+, column \d+$", "", text)
+
+
+# ---------------------------------------------------------------------------
+# Import
+
+@dataclass(frozen=True)
+class Imported:
+    """A task tree read from BT.CPP XML, with the initial state its Script sets."""
+
+    tree: Behaviour
+    initial: tuple[Term, ...] = ()
+    notes: tuple[str, ...] = ()
+
+
+def import_btcpp(text: str, file: str = "<xml>", read=None) -> Imported:
+    """Read a BT.CPP v4 document into a task tree (see the module docstring for what has a meaning);
+    `read(path) -> str` reads the files it includes (<include path="...">), relative to `file`."""
+    return _Importer(parse_xml(text, file), file, read).run()
+
+
+def _snake(name: str) -> str:
+    s = re.sub(r"(?<=[a-z0-9])([A-Z])", r"_\1", name)
+    s = re.sub(r"(?<=[A-Z])([A-Z][a-z])", r"_\1", s)
+    return re.sub(r"[^a-z0-9_]", "_", s.lower()).strip("_") or "node"
+
+
+def _value_term(value: str) -> Term:
+    from ..logic.parse import parse_term
+
+    try:
+        t = parse_term(value, "<port>")
+        if isinstance(t, (Atom, Int, Float)):
+            return t
+    except SchemalogError:
+        pass
+    return Str(value) if not re.fullmatch(r"[a-z][A-Za-z0-9_]*", value) else Atom(value)
+
+
+class _Importer:
+    def __init__(self, root: XNode, file: str, read=None) -> None:
+        self.root, self.file, self.read = root, file, read
+        self.trees: dict[str, XNode] = {}
+        self.where: dict[str, SourcePos] = {}
+        self.conditions: set[str] = set()
+        self.on_path: list[str] = []
+        self.used_posts: dict[Term, int] = {}
+        self.count = 0
+
+    def pos(self, node: XNode) -> SourcePos:
+        return SourcePos(node.file or self.file, node.line, node.column)
+
+    def fail(self, node: XNode, message: str):
+        raise SchemalogError(message, self.pos(node))
+
+    def run(self) -> Imported:
+        root = self.root
+        self._collect(root, self.file, [self.file])
+        if not self.trees:
+            self.fail(root, "the document defines no <BehaviorTree>")
+        main = root.attrs.get("main_tree_to_execute") or next(iter(self.trees))
+        if main not in self.trees:
+            self.fail(root, f"main_tree_to_execute=\"{main}\" names no BehaviorTree of the file")
+        body = self.trees[main].children[0]
+        scaffold = self._scaffold(body) if main == MAIN_TREE else None
+        if scaffold is not None:
+            state_script, task_node = scaffold
+            initial = tuple(self._assignments(state_script, want_initial=True))
+            self.on_path.append(main)
+            tree = self.exported(task_node)
+            return Imported(tree, initial)
+        self.on_path.append(main)
+        tree = self.plain(body, cond.TRUE, None)
+        return Imported(tree, ())
+
+    def _collect(self, root: XNode, file: str, chain: list[str]) -> None:
+        """Register the BehaviorTrees of `root` (a document read from `file`) and of its includes."""
+        fail = self.fail
+        if root.tag != "root":
+            fail(root, f"a BT.CPP document starts with <root BTCPP_format=\"4\">, not <{root.tag}>")
+        version = root.attrs.get("BTCPP_format")
+        if version not in (None, "4"):
+            fail(root, f"BTCPP_format=\"{version}\": schemalog reads version 4")
+        for child in root.children:
+            if child.tag == "BehaviorTree":
+                tree_id = child.attrs.get("ID")
+                if not tree_id:
+                    fail(child, "a <BehaviorTree> needs an ID")
+                if tree_id in self.trees:
+                    fail(child, f"BehaviorTree {tree_id} is defined twice (first at {self.where[tree_id]})")
+                if len(child.children) != 1:
+                    fail(child, f"BehaviorTree {tree_id} must hold exactly one node, not {len(child.children)}")
+                self.trees[tree_id] = child
+                self.where[tree_id] = self.pos(child)
+            elif child.tag == "TreeNodesModel":
+                for model in child.children:
+                    if model.tag == "Condition" and model.attrs.get("ID"):
+                        self.conditions.add(model.attrs["ID"])
+            elif child.tag == "include":
+                path = child.attrs.get("path")
+                if not path:
+                    fail(child, "an <include> needs path=\"...\"")
+                if "ros_pkg" in child.attrs:
+                    fail(child, "<include ros_pkg=...>: schemalog finds no ROS packages; give a path")
+                if self.read is None:
+                    fail(child, f"<include path={path!r}>: includes are read only from files")
+                import os
+                target = os.path.normpath(os.path.join(os.path.dirname(file), path))
+                if target in chain:
+                    fail(child, f"recursive include: {' -> '.join([*chain, target])}")
+                try:
+                    text = self.read(target)
+                except SchemalogError as err:
+                    fail(child, f"<include path={path!r}>: {err.message}")
+                self._collect(parse_xml(text, target), target, [*chain, target])
+            else:
+                fail(child, f"unknown element <{child.tag}> under <root>")
+
+    # -- schemalog's own form -----------------------------------------------------
+    def _scaffold(self, body: XNode):
+        """(initial-state Script, task element) of an exported run tree, else None."""
+        try:
+            script, forced, accomplished = body.children
+            (loop,) = forced.children
+            (decision,) = loop.children
+            reset, task, decided = decision.children
+        except ValueError:
+            return None
+        shape = [(body, "Sequence"), (script, "Script"), (forced, "ForceSuccess"),
+                 (loop, "KeepRunningUntilFailure"), (decision, "Sequence"), (reset, "Script"),
+                 (decided, "ScriptCondition"), (accomplished, "ScriptCondition")]
+        if any(n.tag != tag for n, tag in shape):
+            return None
+        return script, task
+
+    def _assignments(self, script: XNode, want_initial: bool) -> list[Term]:
+        try:
+            pairs = parse_assignments(script.attrs.get("code", ""))
+        except ScriptError as err:
+            self.fail(script, f"Script: {err}")
+        return [key_atom(k) for k, v in pairs if v and k != ACTED] if want_initial else pairs
+
+    def _cond(self, node: XNode, attr: str, acted: bool = False) -> Condition:
+        try:
+            return parse_script_condition(node.attrs[attr], acted)
+        except ScriptError as err:
+            self.fail(node, f"{attr}: {err}")
+
+    def _label(self, node: XNode, text: str) -> Term:
+        from ..logic.parse import parse_term
+
+        try:
+            return parse_term(text, "<name>")
+        except SchemalogError as err:
+            self.fail(node, f"name={text!r} is not a term: {err.message}")
+
+    def _origins(self, node: XNode) -> tuple[Origin, ...]:
+        from ..logic.parse import parse_term
+
+        text = node.attrs.get("_origins")
+        if text is None:
+            return ()
+        try:
+            items, _ = list_items(parse_term(text, "<origins>"))
+            return tuple(_origin(t) for t in items)
+        except (SchemalogError, ValueError, cond.NotACondition) as err:
+            self.fail(node, f"_origins: {getattr(err, 'message', err)}")
+
+    def _common(self, node: XNode, port_style: bool) -> dict:
+        from ..logic.parse import parse_term
+
+        a = node.attrs
+        if "name" not in a or "_while" not in a or "_skipIf" not in a:
+            self.fail(node, f"<{node.tag}> in a schemalog run tree needs name, _while and _skipIf")
+        skip = self._cond(node, "_skipIf", acted=True)
+        if not (isinstance(skip, cond.Or) and len(skip.items) == 2 and skip.items[0] == ACTED_LIT):
+            self.fail(node, f"_skipIf must read \"{ACTED} || POST\", not {a['_skipIf']!r}")
+        pre = self._cond(node, "_while")
+        releaser, context = pre, cond.TRUE
+        if "_context" in a:
+            context, releaser = self._cond(node, "_context"), self._cond(node, "_releaser")
+        prefix = "" if port_style else "_"
+        weight = a.get(prefix + "importance")
+        importance = DEFAULT_IMPORTANCE
+        if weight is not None:
+            t = _value_term(weight)
+            if not isinstance(t, (Int, Float)):
+                self.fail(node, f"importance={weight!r} is not a number")
+            importance = t.value
+        try:
+            objects = tuple(list_items(parse_term(a.get("_objects", "[]"), "<objects>"))[0])
+        except SchemalogError as err:
+            self.fail(node, f"_objects: {err.message}")
+        return dict(label=self._label(node, a["name"]), agent=a.get(prefix + "agent", DEFAULT_AGENT),
+                    objects=objects, releaser=releaser, post=skip.items[1], context=context,
+                    importance=importance, origins=self._origins(node), source=self.pos(node))
+
+    def exported(self, node: XNode) -> Behaviour:
+        self._count(node)
+        if node.tag == "SubTree":
+            tree_id = node.attrs.get("ID", "")
+            body = self._subtree_body(node, tree_id)
+            if body.tag != "Sequence":
+                self.fail(body, f"BehaviorTree {tree_id} of a schemalog run tree holds a Sequence")
+            children = tuple(self.exported(c) for c in body.children)
+            self.on_path.pop()
+            return Behaviour(children=children, **self._common(node, port_style=True))
+        if node.tag == "Sequence":
+            fields = self._common(node, port_style=False)
+            for step in node.children:
+                self._count(step)
+            labels = [self._label(s, s.attrs.get("name", "")) for s in node.children]
+            if labels != [o.label for o in fields["origins"]]:
+                self.fail(node, "a merged behaviour's actions must be its provenance (_origins), in order")
+            return Behaviour(**fields)
+        if node.tag in BUILTIN_NODES:
+            self.fail(node, f"<{node.tag}> is not part of a schemalog run tree")
+        return Behaviour(**self._common(node, port_style=False))
+
+    def _subtree_body(self, node: XNode, tree_id: str) -> XNode:
+        if tree_id not in self.trees:
+            self.fail(node, f"SubTree {tree_id!r} is never defined (no <BehaviorTree ID=\"{tree_id}\">)")
+        if len(self.on_path) > MAX_XML_NESTING:
+            self.fail(node, f"SubTrees nest deeper than {MAX_XML_NESTING} levels")
+        if tree_id in self.on_path:
+            cycle = " -> ".join([*self.on_path[self.on_path.index(tree_id):], tree_id])
+            self.fail(node, f"recursive SubTree: {cycle}")
+        self.on_path.append(tree_id)
+        return self.trees[tree_id].children[0]
+
+    def _count(self, node: XNode) -> None:
+        self.count += 1
+        if self.count > MAX_XML_ELEMENTS:
+            self.fail(node, f"the tree has more than {MAX_XML_ELEMENTS:,} nodes once its SubTrees are expanded")
+
+    # -- anyone's BT.CPP ----------------------------------------------------------
+    def _post_of(self, label: Term) -> Condition:
+        """`label.done`; a label used again gets done2, done3 ... so each occurrence is its own."""
+        n = self.used_posts.get(label, 0) + 1
+        self.used_posts[label] = n
+        prop = Atom("done" if n == 1 else f"done{n}")
+        return cond.Lit(Struct(".", (label, prop)))
+
+    def _ports(self, node: XNode, skip: set[str]) -> list[Term]:
+        args = []
+        for k, v in node.attrs.items():
+            if k in skip or k.startswith("_") or k == "name" or k == "ID":
+                continue
+            if "{" in v:
+                self.fail(node, f"port {k}=\"{v}\" is remapped to a blackboard entry: only literal ports have "
+                                f"a schema meaning (a sub-task's arguments)")
+            args.append(_value_term(v))
+        return args
+
+    def _plain_label(self, node: XNode, ident: str, skip: set[str] = frozenset()) -> Term:
+        args = self._ports(node, skip | {"importance", "agent"})
+        name = node.attrs.get("name")
+        if name:
+            from ..logic.parse import parse_term
+            try:
+                t = parse_term(name, "<name>")
+                if not args and isinstance(t, (Atom, Struct)) and is_ground(t):
+                    return t
+            except SchemalogError:
+                pass
+        functor = _snake(ident)
+        return Struct(functor, tuple(args)) if args else Atom(functor)
+
+    def _guard(self, node: XNode) -> Condition:
+        """What `_while` and `_skipIf` add to a node's releaser."""
+        parts = []
+        if "_while" in node.attrs:
+            parts.append(self._cond(node, "_while"))
+        if "_skipIf" in node.attrs:
+            parts.append(cond.negate(self._cond(node, "_skipIf")))
+        for attr in ("_successIf", "_failureIf", "_onSuccess", "_onFailure", "_onHalted", "_post"):
+            if attr in node.attrs:
+                self.fail(node, f"{attr} on an imported node: only _while and _skipIf (releasers) have a "
+                                f"schema meaning outside schemalog's own run tree")
+        return cond.conjoin(parts) if parts else cond.TRUE
+
+    def _condition_of(self, node: XNode) -> Condition | None:
+        """The condition a condition node checks, or None when `node` is not one."""
+        if node.tag == "ScriptCondition":
+            return self._cond(node, "code")
+        ident = node.attrs.get("ID") if node.tag == "Condition" else node.tag
+        if node.tag == "Condition" or ident in self.conditions:
+            if node.children:
+                self.fail(node, f"condition {ident} has children")
+            return cond.Lit(self._plain_label(node, ident or "condition"))
+        return None
+
+    def plain(self, node: XNode, releaser: Condition, weight_node: XNode | None) -> Behaviour:
+        """A node of anyone's tree as a behaviour released by `releaser` (and its own guards)."""
+        self._count(node)
+        tag = node.tag
+        releaser = cond.conjoin([releaser, self._guard(node)])
+        if tag in REFUSED:
+            self.fail(node, f"<{tag}> has no schema meaning: {REFUSED[tag]}")
+        if tag == "Precondition":
+            if "else" in node.attrs and node.attrs["else"] not in ("SKIPPED", "FAILURE"):
+                self.fail(node, f"Precondition else=\"{node.attrs['else']}\": only SKIPPED or FAILURE (not released) "
+                                f"have a schema meaning")
+            if "if" not in node.attrs or len(node.children) != 1:
+                self.fail(node, "a Precondition needs if=\"...\" and exactly one child")
+            return self.plain(node.children[0], cond.conjoin([releaser, self._cond(node, "if")]), None)
+        if tag == "SubTree":
+            tree_id = node.attrs.get("ID", "")
+            body = self._subtree_body(node, tree_id)
+            named = "name" in node.attrs or self._ports(node, {"_autoremap", "importance", "agent"})
+            inner = self.plain(body, cond.TRUE, None)
+            self.on_path.pop()
+            if named or "name" not in body.attrs:
+                # The SubTree names the behaviour (its name, or its ID and literal ports).
+                return self._with(inner, self._plain_label(node, tree_id, {"_autoremap"}), releaser, node)
+            from dataclasses import replace
+            return replace(inner, releaser=releaser, importance=self._weight(node),
+                           agent=node.attrs.get("agent", inner.agent), source=self.pos(node))
+        if tag in ("Sequence", "SequenceWithMemory", "ReactiveSequence", "Parallel", "ParallelAll"):
+            if not node.children:
+                self.fail(node, f"<{tag}> needs at least one child")
+            for k, v in node.attrs.items():
+                if not k.startswith("_") and k != "name" and tag.startswith("Parallel") and \
+                        k in ("success_count", "failure_count", "max_failures"):
+                    if k == "success_count" and v not in ("-1", str(len(node.children))):
+                        self.fail(node, f"Parallel {k}=\"{v}\": a schema behaviour is accomplished when all its "
+                                        f"sub-behaviours are (success_count=-1)")
+            label = self._plain_label(node, tag.lower() if "name" not in node.attrs else node.attrs["name"],
+                                      {"success_count", "failure_count", "max_failures"})
+            children: list[Behaviour] = []
+            guard = cond.TRUE      # conditions met so far (a ReactiveSequence re-checks them)
+            previous = cond.TRUE   # the previous sibling's post (Sequence order)
+            for child in node.children:
+                c = self._condition_of(child)
+                if c is not None:
+                    guard = cond.conjoin([guard, c, self._guard(child)])
+                    continue
+                own = cond.conjoin([guard, previous]) if not tag.startswith("Parallel") else guard
+                built = self.plain(child, own, None)
+                children.append(built)
+                if not tag.startswith("Parallel"):
+                    previous = built.post
+            if not children:
+                self.fail(node, f"<{tag}> holds only conditions: nothing for them to release")
+            return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=self._post_of(label),
+                             children=tuple(children), importance=self._weight(node), agent=node.attrs.get("agent", DEFAULT_AGENT),
+                             source=self.pos(node))
+        if tag == "Script":
+            try:
+                pairs = parse_assignments(node.attrs.get("code", ""))
+            except ScriptError as err:
+                self.fail(node, f"Script: {err}")
+            lits = [cond.Lit(key_atom(k), v) for k, v in pairs]
+            label = self._label(node, node.attrs["name"]) if "name" in node.attrs else \
+                Struct("script", (Int(node.line),))
+            return Behaviour(label=label, objects=(), releaser=releaser,
+                             post=cond.conjoin(lits) if lits else cond.TRUE, source=self.pos(node))
+        c = self._condition_of(node)
+        if c is not None:
+            self.fail(node, "a condition must come before the behaviours it releases in a Sequence")
+        if tag in BUILTIN_NODES:
+            self.fail(node, f"<{tag}> has no schema meaning here")
+        if node.children:
+            self.fail(node, f"unknown node type <{tag}> with children: schemalog reads Sequence, "
+                            f"SequenceWithMemory, ReactiveSequence, Parallel, Precondition and SubTree")
+        ident = node.attrs.get("ID", tag) if tag == "Action" else tag
+        label = self._plain_label(node, ident)
+        return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=self._post_of(label),
+                         importance=self._weight(node), agent=node.attrs.get("agent", DEFAULT_AGENT),
+                         source=self.pos(node))
+
+    def _weight(self, node: XNode):
+        v = node.attrs.get("importance")
+        if v is None:
+            return DEFAULT_IMPORTANCE
+        t = _value_term(v)
+        if not isinstance(t, (Int, Float)):
+            self.fail(node, f"importance={v!r} is not a number")
+        return t.value
+
+    def _with(self, inner: Behaviour, label: Term, releaser: Condition, node: XNode) -> Behaviour:
+        from dataclasses import replace
+        post = self._post_of(label)
+        return replace(inner, label=label, objects=_objects(label), releaser=releaser, post=post,
+                       importance=self._weight(node), agent=node.attrs.get("agent", inner.agent), source=self.pos(node))
+
+
+def _objects(label: Term) -> tuple[Term, ...]:
+    """What an imported behaviour acts on: its atom arguments (a port `angle="60"` is no object)."""
+    return tuple(a for a in (label.args if isinstance(label, Struct) else ()) if isinstance(a, Atom))
+
+
+def _origin(t: Term) -> Origin:
+    if not (isinstance(t, Struct) and t.name == "origin" and len(t.args) == 6):
+        raise ValueError(f"expected origin(Label, Releaser, Post, Importance, Position, Slot), not {term_to_text(t)}")
+    label, releaser, post, weight, position, slot = t.args
+    if not (isinstance(weight, (Int, Float)) and isinstance(position, Int) and isinstance(slot, Int)):
+        raise ValueError(f"importance, position and slot must be numbers in {term_to_text(t)}")
+    return Origin(label, cond.from_term(releaser), cond.from_term(post), weight.value, position.value, slot.value)
+
+
+# ---------------------------------------------------------------------------
+# Running in BehaviorTree.CPP
+
+def action_posts(original: Behaviour) -> dict[str, tuple[Term, list[Condition]]]:
+    """Each action's text -> its label and the posts of its occurrences in `original`, in order."""
+    out: dict[str, tuple[Term, list[Condition]]] = {}
+    for node in walk(original):
+        if not node.children:
+            entry = out.setdefault(node.name, (node.label, []))
+            if node.post not in entry[1]:
+                entry[1].append(node.post)
+    return out
+
+
+def performed(by_name, text: str, world) -> tuple[Term, Condition]:
+    """The label and post-condition of the action a runtime performs by name. An action used with
+    several post-conditions (an imported `OpenGripper` done four times) performs its first
+    occurrence not yet accomplished: a runtime's callback knows the name, the world knows the rest."""
+    label, posts = by_name[text]
+    return label, next((p for p in posts if not world.holds(p)), posts[0])
+
+
+@dataclass
+class BtRun:
+    """A run of an exported tree in BT.CPP: how it ended, the actions, the ticks."""
+
+    status: str             # "completed", "stuck" or "tick limit"
+    trace: list[Term]
+    ticks: int
+    seconds: float = 0.0            # ticking, the actions' callbacks included
+    action_seconds: float = 0.0     # of which in the callbacks (the emulated robot and world)
+    tick_seconds: tuple[float, ...] = ()   # each tick's own work, its callbacks left out
+
+    @property
+    def control_seconds(self) -> float:
+        """The runtime's own work: ticking the tree, its guards and scripts."""
+        return self.seconds - self.action_seconds
+
+
+def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None = None) -> BtRun:
+    """Tick `xml` in BT.CPP to the end; each action performs in the World of `original`."""
+    import time
+
+    import behaviortreepy as bt
+
+    from ..run.world import World
+
+    world = World(original, initial)
+    by_name = action_posts(original)
+    trace: list[Term] = []
+    factory = bt.BehaviorTreeFactory()
+    board: list = []
+
+    spent = [0.0]
+
+    def perform(node) -> object:
+        began = time.perf_counter()
+        label, post = performed(by_name, node.name(), world)
+        change = world.perform(post)
+        trace.append(label)
+        bb = board[0]
+        for atom in change.added:
+            bb.set_bool(literal_key(atom), True)
+        for atom in change.removed:
+            bb.set_bool(literal_key(atom), False)
+        spent[0] += time.perf_counter() - began
+        return bt.NodeStatus.SUCCESS
+
+    for ident in action_ids(xml):
+        factory.register_simple_action(ident, perform)
+    tree = factory.create_tree_from_text(xml)
+    board.append(tree.root_blackboard())
+    limit = max_ticks if max_ticks is not None else 4 * sum(1 for n in walk(original) if not n.children) + 8
+    started = time.perf_counter()
+    status = bt.NodeStatus.RUNNING
+    ticks = 0
+    each = []
+    while status == bt.NodeStatus.RUNNING and ticks < limit:
+        before, began = spent[0], time.perf_counter()
+        status = tree.tick_once()
+        each.append(time.perf_counter() - began - (spent[0] - before))
+        ticks += 1
+    seconds = time.perf_counter() - started
+    outcome = ("completed" if status == bt.NodeStatus.SUCCESS else
+               "stuck" if status == bt.NodeStatus.FAILURE else "tick limit")
+    return BtRun(outcome, trace, ticks, seconds, spent[0], tuple(each))
+
+
+__all__ = ["export_btcpp", "import_btcpp", "run_btcpp", "Imported", "BtRun", "literal_key", "key_atom",
+           "to_script", "parse_script_condition", "parse_assignments", "ScriptError", "parse_xml",
+           "action_id", "action_ids", "steps_of", "atoms_of", "MAIN_TREE"]

@@ -1,0 +1,101 @@
+"""End to end: `schemalog export` and `schemalog convert tree.xml` as a user runs them."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import COFFEE, MIX, ROOT
+
+FIXTURES = Path(__file__).parents[1] / "formats" / "btcpp"
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], capture_output=True,
+                          text=True, cwd=ROOT, timeout=120)
+
+
+@pytest.mark.parametrize("compressed", [False, True])
+def test_export_then_convert_back_gives_the_same_tree(tmp_path, compressed):
+    xml, back, reference = tmp_path / "tree.xml", tmp_path / "back.pl", tmp_path / "reference.pl"
+    flag = ["--compressed"] if compressed else []
+    r = run("export", COFFEE, "--task", "prepareboth", *flag, "-o", xml)
+    assert r.returncode == 0, r.stderr
+    assert xml.read_text().count('<root BTCPP_format="4"') == 1
+    assert run("convert", xml, "-o", back).returncode == 0
+    if compressed:
+        assert run("compress", COFFEE, "--task", "prepareboth", "-o", reference).returncode == 0
+    else:
+        assert run("show", COFFEE, "--task", "prepareboth", "--format", "pl", "-o", reference).returncode == 0
+    shown = [json.loads(run("show", f, "--json").stdout) for f in (back, reference)]
+    assert shown[0] == shown[1]
+    assert shown[0]["nodes"] == (33 if compressed else 63)
+    assert "initial(kukahand.free)." in back.read_text()
+
+
+def test_export_to_py_trees_writes_a_module_that_runs(tmp_path):
+    out = tmp_path / "tree.py"
+    r = run("export", MIX, "--compressed", "-o", out)          # the suffix picks py_trees
+    assert r.returncode == 0, r.stderr
+    shown = subprocess.run([sys.executable, str(out)], capture_output=True, text=True, timeout=60)
+    assert shown.returncode == 0 and "a1_a2(spoon)" in shown.stdout
+    assert "import py_trees" in run("export", MIX, "--to", "py_trees").stdout
+
+
+def test_export_needs_a_runtime():
+    r = run("export", MIX)
+    assert r.returncode == 2 and "--to btcpp or --to py_trees" in r.stderr
+
+
+def test_imported_user_tree_compresses():
+    converted = run("convert", FIXTURES / "long_sequence.xml")
+    assert converted.returncode == 0, converted.stderr
+    r = subprocess.run([sys.executable, "-m", "schemalog", "compress", "/dev/stdin", "--json"],
+                       input=converted.stdout, capture_output=True, text=True, cwd=ROOT, timeout=120)
+    data = json.loads(r.stdout)
+    assert (data["nodes_before"], data["nodes_after"]) == (17, 9)
+
+
+@pytest.mark.parametrize("name, where", [("refused_fallback.xml", ":5:7: error: <Fallback>"),
+                                         ("refused_billion_laughs.xml", ":3:16: error: the XML declares the entity lol"),
+                                         ("refused_malformed.xml", ":6:7: error: malformed XML")])
+def test_bad_xml_is_one_message_exit_1_and_nothing_written(tmp_path, name, where):
+    out = tmp_path / "task.pl"
+    r = run("convert", FIXTURES / name, "-o", out)
+    assert r.returncode == 1 and not out.exists()
+    assert where in r.stderr and "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_includes_are_followed_from_the_file(tmp_path):
+    out = tmp_path / "tea.pl"
+    r = run("convert", FIXTURES / "subtrees_main.xml", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "approach_object(kettle)" in out.read_text()
+
+
+def test_a_hundred_thousand_node_file_is_refused_and_nothing_written(tmp_path):
+    big, out = tmp_path / "big.xml", tmp_path / "big.pl"
+    big.write_text('<root BTCPP_format="4">\n<BehaviorTree ID="M">\n<Sequence>\n' + "<Wave/>\n" * 100_000 +
+                   "</Sequence>\n</BehaviorTree>\n</root>\n")
+    r = run("convert", big, "-o", out)
+    assert r.returncode == 1 and not out.exists() and "Traceback" not in r.stderr
+    assert f"{big}:50001:1: error: the XML has more than 50,000 elements" in r.stderr
+
+
+def test_the_written_xml_runs_in_bt_cpp(tmp_path):
+    from schemalog.formats.btcpp import run_btcpp
+    from schemalog.formats.documents import read_document
+    from schemalog.run.execute import replay
+    from schemalog.run.world import World, initial_state
+    from schemalog.task.tree import instantiate
+    from schemalog.logic.parse import parse_term
+
+    xml = tmp_path / "tree.xml"
+    assert run("export", MIX, "--compressed", "--to", "btcpp", "-o", xml).returncode == 0
+    kb = read_document(MIX).to_kb()
+    original = instantiate(kb, parse_term("use(spoon)"))
+    initial = World(original, initial_state(kb)).atoms
+    outcome = run_btcpp(xml.read_text(), original, initial)
+    assert outcome.status == "completed" and replay(original, initial, outcome.trace).valid
