@@ -72,6 +72,7 @@ class BenchPlan:
     runs: int = 10
     sizes: tuple[Shape, ...] = ()          # scaling of the selectors beyond the grid
     ticks: int = 5                         # py_trees ticks timed per run (spread over the run)
+    min_seconds: float = 0.0               # a cell's runs go round again until measured this long
     max_states: int = 20_000               # verification: beyond this a cell is "limit"
     verify_seconds: float | None = None    # verification: past this much CPU time a cell is "limit"
     seed: int = 1
@@ -84,7 +85,7 @@ PAPER_PLAN = BenchPlan(shapes=tuple((d, b) for d in (4, 5, 6) for b in (2, 3, 4)
 # (a scan run of 1,365 behaviours takes 0.7-1.8 s here); one CPU second of verification per
 # cell keeps the proofs of the small cells and stops the large ones (up to 52 s each at
 # 5,000 states per independent part) from taking most of the run.
-QUICK_PLAN = BenchPlan(shapes=PAPER_PLAN.shapes, runs=3, sizes=((4, 4), (6, 4), (7, 4)), ticks=2,
+QUICK_PLAN = BenchPlan(shapes=PAPER_PLAN.shapes, runs=3, min_seconds=0.1, sizes=((4, 4), (6, 4), (7, 4)), ticks=2,
                        max_states=5_000, verify_seconds=1.0, name="quick")
 
 
@@ -223,15 +224,19 @@ class Results:
 # Timing one tree
 
 def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Scene], cell: Cell,
-              initial: frozenset = frozenset(), ticks: int = 0, say=None) -> None:
+              initial: frozenset = frozenset(), ticks: int = 0, say=None, min_seconds: float = 0.0) -> None:
     """Run each tree (original, compressed) once per scene with each selector; record the
     timings in `cell`. The trees take turns, first one then the other leading, so that a
     change in the machine's load falls on both alike; `say(text)` hears of each run."""
     tickers = {which: py_trees_ticker(tree) for which, tree in trees.items()} if ticks else {}
     order = list(trees)
-    for run, scene in enumerate(scenes):
+    started = time.perf_counter()
+    # A tree whose runs take microseconds goes round its configurations again, until it has
+    # been measured for `min_seconds` (at most `MAX_ROUNDS` times): its median then rests on
+    # enough runs that one preempted run cannot move it.
+    for run, scene in enumerate(_rounds(scenes, started, min_seconds)):
         if say is not None:
-            say(f"run {run + 1} of {len(scenes)}")
+            say(f"run {run + 1}" + (f" of {len(scenes)}" if run < len(scenes) else " (repeating a fast tree)"))
         for which in (order if run % 2 == 0 else order[::-1]):
             tree = trees[which]
             for selector in ("scan", "incremental"):
@@ -253,6 +258,17 @@ def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Sce
                 peer.per_decision.extend(spent)
                 peer.decisions.append(len(seconds))
                 peer.per_run.append(statistics.fmean(spent) * len(seconds))
+
+
+MAX_ROUNDS = 10
+
+
+def _rounds(scenes: list[Scene], started: float, min_seconds: float):
+    """The scenes once, then again while less than `min_seconds` have passed (MAX_ROUNDS at most)."""
+    for round_ in range(MAX_ROUNDS):
+        if round_ and time.perf_counter() - started >= min_seconds:
+            return
+        yield from scenes
 
 
 @contextmanager
@@ -431,11 +447,12 @@ def measure_cell(depth: int, children: int, rd: float, plan: BenchPlan, say=None
     if result.nodes_after == result.nodes_before:
         # Nothing merged (RD 0): the compressed tree is the original, so it is timed once and
         # its rows repeat the original's; timing it twice measured only the machine's noise.
-        time_runs({"original": tree}, tree, scenes, cell, ticks=plan.ticks, say=say)
+        time_runs({"original": tree}, tree, scenes, cell, ticks=plan.ticks, say=say, min_seconds=plan.min_seconds)
         for selector in SELECTORS:
             cell.timings[("compressed", selector)] = cell.timing("original", selector)
     else:
-        time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, ticks=plan.ticks, say=say)
+        time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, ticks=plan.ticks, say=say,
+                  min_seconds=plan.min_seconds)
     if say is not None:
         say("verifying")
     verify_cell(tree, result.tree, frozenset(), plan.max_states, cell, plan.verify_seconds)
@@ -456,7 +473,8 @@ def measure_coffee(plan: BenchPlan, say=None) -> Cell:
                 result.nodes_after, seconds)
     kitchen = scene_from_yaml(shipped_text(KITCHEN_FILE), KITCHEN_FILE)
     scenes = [kitchen.jittered(run, 0.05) for run in range(plan.runs)]
-    time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, initial, plan.ticks, say)
+    time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, initial, plan.ticks, say,
+              plan.min_seconds)
     verify_cell(tree, result.tree, initial, plan.max_states, cell, plan.verify_seconds)
     return cell
 
