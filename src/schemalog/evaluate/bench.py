@@ -665,7 +665,7 @@ def headlines(results: Results) -> list[str]:
              if any(_noisy(c.timing(t, "scan").run_ms) for t in TREES)]
     if noisy:
         lines.append(f"noise: {len(noisy)} of {len(_all_cells(results))} trees' scan runs spread more than "
-                     f"{NOISY_IQR:.0%} of their median over {runs} runs (see the IQR columns): "
+                     f"{NOISY_IQR:.0%} of their median over {runs} or more runs (see the IQR columns): "
                      f"compare those rows with care")
     if not results.py_trees:
         lines.append("py_trees is not installed: the peer columns are empty (pip install py_trees)")
@@ -691,7 +691,8 @@ def to_markdown(results: Results, command: str) -> str:
             "## The grid (Sec. IV-B, Fig. 4)", "",
             "Per run: selection time summed over a run to completion (the paper's execution time). "
             "Per decision: one winner-take-all decision (py_trees: one tick). Every time is the median of "
-            f"the {plan.runs} runs; the IQR column gives the scan's interquartile range per run, and the "
+            f"a tree's runs ({plan.runs} configurations, gone round again for fast trees up to "
+            f"{plan.min_seconds:g} s); the IQR column gives the scan's interquartile range per run, and the "
             "change its range from the quartiles.", "",
             "| D | b | Bi | RD asked | RD got | Bm | decisions o -> c | scan ms/run o -> c | scan IQR o; c | change | "
             "scan us/dec o -> c | incremental us/dec o -> c | py_trees us/tick o -> c | compress ms | verify |",
