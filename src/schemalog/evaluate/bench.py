@@ -234,30 +234,29 @@ def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Sce
     # A tree whose runs take microseconds goes round its configurations again, until it has
     # been measured for `min_seconds` (at most `MAX_ROUNDS` times): its median then rests on
     # enough runs that one preempted run cannot move it.
-    for run, scene in enumerate(_rounds(scenes, started, min_seconds)):
-        if say is not None:
-            say(f"run {run + 1}" + (f" of {len(scenes)}" if run < len(scenes) else " (repeating a fast tree)"))
-        for which in (order if run % 2 == 0 else order[::-1]):
-            tree = trees[which]
-            for selector in ("scan", "incremental"):
-                ex = Executive(tree, World(original, initial), scene, selector=selector, detect_loops=False)
-                with _no_collection():
+    with _no_collection():
+        for run, scene in enumerate(_rounds(scenes, started, min_seconds)):
+            if say is not None:
+                say(f"run {run + 1}" + (f" of {len(scenes)}" if run < len(scenes) else " (repeating a fast tree)"))
+            for which in (order if run % 2 == 0 else order[::-1]):
+                tree = trees[which]
+                for selector in ("scan", "incremental"):
+                    ex = Executive(tree, World(original, initial), scene, selector=selector, detect_loops=False)
                     seconds = [decision.seconds for decision in ex]
-                if not ex.outcome.completed:
-                    raise SchemalogError(f"bench: the {which} tree of {cell.name} did not complete with the "
-                                         f"{selector} selector: {ex.outcome.reason}")
-                timing = cell.timing(which, selector)
-                timing.decisions.append(len(seconds))
-                timing.per_run.append(sum(seconds))
-                timing.per_decision.extend(seconds)
-            ticker = tickers.get(which)
-            if ticker is not None:
-                with _no_collection():
+                    if not ex.outcome.completed:
+                        raise SchemalogError(f"bench: the {which} tree of {cell.name} did not complete with the "
+                                             f"{selector} selector: {ex.outcome.reason}")
+                    timing = cell.timing(which, selector)
+                    timing.decisions.append(len(seconds))
+                    timing.per_run.append(sum(seconds))
+                    timing.per_decision.extend(seconds)
+                ticker = tickers.get(which)
+                if ticker is not None:
                     spent = tick_times(ticker, _replay_states(original, initial, ex.trace, ticks))
-                peer = cell.timing(which, "py_trees")
-                peer.per_decision.extend(spent)
-                peer.decisions.append(len(seconds))
-                peer.per_run.append(statistics.fmean(spent) * len(seconds))
+                    peer = cell.timing(which, "py_trees")
+                    peer.per_decision.extend(spent)
+                    peer.decisions.append(len(seconds))
+                    peer.per_run.append(statistics.fmean(spent) * len(seconds))
 
 
 MAX_ROUNDS = 10
@@ -273,7 +272,8 @@ def _rounds(scenes: list[Scene], started: float, min_seconds: float):
 
 @contextmanager
 def _no_collection():
-    """No cyclic garbage collection inside a timed run: a collection pause, which lands on
+    """No cyclic garbage collection during a cell's timed runs (collected once before them: a
+    collection costs tens of milliseconds with this heap): a collection pause, which lands on
     whichever run happens to cross the threshold, made two identical trees differ 3.5x."""
     was_enabled = gc.isenabled()
     gc.collect()
