@@ -22,11 +22,11 @@ def register(sub, parents: Parents) -> None:
                        help="the whole grid: depth 4-6 x 2-4 children x RD 0, 0.3, 0.5, 0.7, 10 runs each, "
                             "the coffee-and-tea task, and sizes up to 111,111 behaviours (several minutes)")
     which.add_argument("--quick", action="store_true",
-                       help="the same grid with 5 runs per tree, verification bounded, and sizes to 5,461, "
-                            "in under a minute")
+                       help="the same grid with 3 runs per tree, verification bounded, and sizes to 5,461: "
+                            "about 35 s of CPU time, a minute or two of wall-clock time on a busy machine")
     p.add_argument("--out", default="bench-results", metavar="DIR",
                    help="where to write results.csv, results.md and the figures (default bench-results)")
-    p.add_argument("--runs", type=positive, metavar="N", help="runs per tree (default 10, --quick 5); "
+    p.add_argument("--runs", type=positive, metavar="N", help="runs per tree (default 10, --quick 3); "
                    "figures are medians with their interquartile range")
     p.add_argument("--seed", type=int, help="seed of the generated tasks (default 1)")
     p.add_argument("--max-states", type=positive, metavar="N",

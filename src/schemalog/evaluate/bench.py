@@ -582,8 +582,12 @@ def _f(value: float, digits: int = 1) -> str:
 
 
 def _pct(value: float) -> str:
-    return "n/a" if math.isnan(value) else f"{value * 100:+.0f}%".replace("+", "-", 1) if value > 0 \
-        else f"+{-value * 100:.0f}%"
+    """A reduction as a change: 0.27 -> -27%, -0.1 -> +10%, and 0% (not +-0%) in between."""
+    if math.isnan(value):
+        return "n/a"
+    if round(value * 100) == 0:
+        return "0%"
+    return f"-{value * 100:.0f}%" if value > 0 else f"+{-value * 100:.0f}%"
 
 
 def _range_pct(spread: Spread) -> str:
