@@ -95,7 +95,7 @@ def test_without_dot_a_picture_is_refused_naming_the_program(tmp_path):
 def test_a_picture_suffix_that_cannot_be_made_is_refused_and_other_suffixes_get_text(tmp_path):
     jpg = tmp_path / "fig.jpg"
     done = run("show", MIX, "-o", jpg)
-    assert done.returncode == 1 and ".png, .svg or .pdf" in done.stderr and not jpg.exists()
+    assert done.returncode == 2 and ".png, .svg or .pdf" in done.stderr and not jpg.exists()
     txt = tmp_path / "tree.txt"
     assert run("show", MIX, "-o", txt).returncode == 0
     assert "use(spoon): 12 behaviours, depth 3" in txt.read_text()

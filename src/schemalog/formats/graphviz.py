@@ -16,7 +16,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from ..errors import SchemalogError
+from ..errors import SchemalogError, UsageError
 from .documents import write_atomically
 
 IMAGE_SUFFIXES = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
@@ -34,9 +34,10 @@ def image_format(path: str | None) -> str | None:
 
 
 def refuse_unknown_picture(path: str | None) -> None:
-    """Refuse a picture suffix that cannot be made (.jpg, .gif, ...) before any work is done."""
+    """Refuse a picture suffix that cannot be made (.jpg, .gif, ...) before any work is done:
+    a wrong command line (exit 2), as `learn --plot` refuses one."""
     if path and path != "-" and Path(path).suffix.lower() in REFUSED_SUFFIXES:
-        raise SchemalogError(f"{path}: cannot make a {Path(path).suffix.lower()[1:].upper()} picture; "
+        raise UsageError(f"{path}: cannot make a {Path(path).suffix.lower()[1:].upper()} picture; "
                              f"name the file .png, .svg or .pdf (rendered by Graphviz) or .dot")
 
 
