@@ -50,6 +50,12 @@ def test_bench_quick_writes_the_tables_and_the_figures(quick):
     markdown = (out / "results.md").read_text()
     assert "## Headlines" in markdown and "| D | b | Bi |" in markdown and "0.23 -> 0.03 s" in markdown
     assert "- reduction degree: every cell within" in done.stdout
+    # Progress on stderr, which is not a terminal here: one line per step, not a redrawn bar.
+    steps = [line for line in done.stderr.splitlines() if line.startswith("bench --quick [")]
+    assert steps[0].startswith("bench --quick [1/40, ") and steps[-1].startswith("bench --quick [40/40, ")
+    assert len(steps) == 40 and "\r" not in done.stderr
+    verdict = next(line for line in done.stdout.splitlines() if line.startswith("- scan, 1,365 behaviours"))
+    assert "range" in verdict and any(v in verdict for v in (": met)", ": MISSED)", ": too noisy to judge)"))
 
 
 def test_bench_quick_every_generated_task_has_its_rd_and_is_proved(quick):
