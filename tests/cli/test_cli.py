@@ -180,9 +180,11 @@ def test_compress_to_file_then_check_show_decompress(tmp_path):
 
 def test_compress_dot_draws_figure_2_before_and_after():
     dot = run("compress", MIX, "--format", "dot").stdout
-    assert "cluster_original" in dot and "cluster_merged" in dot
-    assert dot.count("[label=<") == 12 + 6
-    assert "a3_a4_a5_a6_a7(cup)" in dot
+    assert "cluster_original" in dot and "cluster_aliased" in dot and "cluster_merged" in dot
+    assert dot.count("[label=<") == 12 + 6 + 6      # learned, merged with aliasing, merged with propagation
+    assert dot.count("a3_a4_a5_a6_a7(cup)") == 2 and dot.count("aliased</b>") == 1
+    none = run("compress", MIX, "--format", "dot", "--propagate", "none").stdout
+    assert "cluster_aliased" not in none and none.count("[label=<") == 12 + 6
 
 
 def test_decompress_of_an_original_says_there_is_nothing_to_undo():

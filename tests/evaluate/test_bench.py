@@ -15,7 +15,8 @@ import py_trees
 import pytest
 
 from schemalog.task import conditions as cond
-from schemalog.evaluate.bench import BenchPlan, headlines, py_trees_tree, run_bench, to_csv, to_markdown
+from schemalog.evaluate.bench import (BenchPlan, Cell, Results, Spread, headlines, judge, py_trees_tree, run_bench,
+                                      to_csv, to_markdown)
 from schemalog.task.compress import compress
 from schemalog.evaluate.generate import TOLERANCE, generate
 from schemalog.task.tree import count_nodes, walk
@@ -49,6 +50,12 @@ def test_bench_quick_writes_the_tables_and_the_figures(quick):
     markdown = (out / "results.md").read_text()
     assert "## Headlines" in markdown and "| D | b | Bi |" in markdown and "0.23 -> 0.03 s" in markdown
     assert "- reduction degree: every cell within" in done.stdout
+    # Progress on stderr, which is not a terminal here: one line per step, not a redrawn bar.
+    steps = [line for line in done.stderr.splitlines() if line.startswith("bench --quick [")]
+    assert steps[0].startswith("bench --quick [1/40, ") and steps[-1].startswith("bench --quick [40/40, ")
+    assert len(steps) == 40 and "\r" not in done.stderr
+    verdict = next(line for line in done.stdout.splitlines() if line.startswith("- scan, 1,365 behaviours"))
+    assert "range" in verdict and any(v in verdict for v in (": met)", ": MISSED)", ": too noisy to judge)"))
 
 
 def test_bench_quick_every_generated_task_has_its_rd_and_is_proved(quick):
@@ -134,3 +141,37 @@ def test_bench_refuses_an_empty_out_before_measuring(tmp_path):
     refused = run("bench", "--quick", "--out", "", cwd=tmp_path)
     assert refused.returncode == 2 and "--out needs a directory name" in refused.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_spread_is_the_median_and_quartiles_of_the_runs():
+    assert Spread.of([5.0, 1.0, 3.0, 2.0, 4.0]) == Spread(3.0, 2.0, 4.0)
+    assert Spread.of([0.002], 1e3) == Spread(2.0, 2.0, 2.0)
+    one_slow = Spread.of([1.0, 1.0, 1.1, 1.0, 9.0])        # a preempted run does not move the median
+    assert one_slow.median == 1.0 and one_slow.q3 == 1.1
+    assert Spread.of([]).text() == "n/a" and Spread(3.0, 2.0, 4.0).text(1) == "3.0 (IQR 2.0-4.0)"
+
+
+def test_a_target_is_met_missed_or_too_noisy_to_judge_from_the_range():
+    assert judge(0.88, 0.92, 0.87) == "met"
+    assert judge(0.80, 0.86, 0.87) == "MISSED"
+    assert judge(0.85, 0.90, 0.87) == "too noisy to judge"       # the spread straddles the target
+    assert judge(float("nan"), 0.9, 0.87) == "not measured"
+
+
+def test_the_headline_says_too_noisy_rather_than_missed_when_runs_disagree():
+    def cell(original, compressed):
+        c = Cell("depth 6, 4 children, RD 0.7", 6, 4, 1365, 0.7, 0.7, 100, 0.0)
+        for tree, times in (("original", original), ("compressed", compressed)):
+            t = c.timing(tree, "scan")
+            t.per_run, t.decisions = list(times), [100] * len(times)
+        return c
+
+    plan = BenchPlan(shapes=((6, 4),), reductions=(0.7,), runs=5)
+    steady = cell([1.0, 1.0, 1.0, 1.0, 1.0], [0.10, 0.10, 0.10, 0.10, 0.10])
+    noisy = cell([0.7, 0.8, 1.0, 1.2, 1.3], [0.09, 0.10, 0.10, 0.12, 0.13])
+    slow = cell([1.0, 1.0, 1.0, 1.0, 1.0], [0.20, 0.20, 0.20, 0.20, 0.20])
+    said = {name: next(line for line in headlines(Results(plan, [c])) if line.startswith("scan, 1,365"))
+            for name, c in (("steady", steady), ("noisy", noisy), ("slow", slow))}
+    assert "-90%" in said["steady"] and "target at least 87%: met" in said["steady"]
+    assert "-90%" in said["noisy"] and "target at least 87%: too noisy to judge" in said["noisy"]
+    assert "target at least 87%: MISSED" in said["slow"]

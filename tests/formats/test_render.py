@@ -38,7 +38,7 @@ def test_dot_has_every_behaviour_and_edge_with_coloured_conditions():
     assert dot.startswith('digraph "use(spoon)"')
     assert dot.count("[label=<") == 12 and dot.count(" -> ") == 11
     assert '<font color="darkgreen">hand.free</font>' in dot
-    assert '<font color="blue">not hand.free</font>' in dot
+    assert '<font color="blue" point-size="9">not hand.free</font>' in dot
 
 
 def test_terminal_tree_shows_conditions():

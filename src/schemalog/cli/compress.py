@@ -35,14 +35,15 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Merge sequential behaviours (Algorithm 1) and report the paper's figures."""
-    from ..formats.render import carried_clauses, compare_dot, rich_tree, tree_document, tree_json
+    from ..formats.render import carried_clauses, rich_tree, tree_document, tree_json
     from ..task.compress import compress, protected_labels
     from ..task.conditions import Simplifier
     from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
     from ..run.world import World
-    from .output import output_format, print_rich, written
+    from .output import PICTURES, emit_picture, output_format, print_rich, written
     from .verify import exit_status, vacuity_of, verify_json, verify_lines
 
+    fmt = output_format(args)          # a picture asked for without Graphviz: say so before any work
     kb, _ = load_files(args)
     inputs = inputs_of(args, kb.files)
     tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
@@ -53,7 +54,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"note: {note}", file=sys.stderr)
     figures = (f"Bi = {result.nodes_before}, Bm = {result.nodes_after}, D = {result.depth_before}, "
                f"RD = (Bi - Bm) / (Bi - D) = {result.reduction_degree:.2f}")
-    fmt = output_format(args)
     report = _verify_compression(kb, result, args) if args.verify else None
     vacuity = None if report is None else vacuity_of(result.original, World(result.original),
                                                      report.initial_states, defaults.MAX_STATES)
@@ -71,9 +71,12 @@ def run(args: argparse.Namespace) -> int:
             data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after, vacuity)
         emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
         return code
-    elif fmt == "dot":
-        emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
-              args.output, inputs)
+    elif fmt == "dot" or fmt in PICTURES:    # the paper's Figure 2; the picture and its DOT text alike
+        dot = _figure2(kb, result, args)
+        if fmt == "dot":
+            emit(dot, args.output, inputs)
+        else:
+            emit_picture(dot, fmt, args.output, inputs)
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
@@ -102,6 +105,28 @@ def run(args: argparse.Namespace) -> int:
         print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default",
                                                 vacuity)))
     return code
+
+
+def _figure2(kb: KnowledgeBase, result, args: argparse.Namespace) -> str:
+    """The paper's Figure 2 as DOT: the learned tree, the merge with perceptual aliasing
+    (--propagate none, its aliased behaviours marked), and the merge with --propagate,
+    coloured in the initial state."""
+    from ..formats.render import aliased_behaviours, compare_dot
+    from ..task.compress import compress, protected_labels
+    from ..task.conditions import Simplifier
+    from .output import initial_atoms
+
+    initial = initial_atoms(kb, result.original)
+    task = term_to_text(result.original.label)
+    merged, complete = aliased_behaviours(result.original, result.tree, initial)
+    searched = "" if complete else "in the first 2,000 reachable states"
+    if result.propagate == "none":
+        return compare_dot(result.original, result.tree, task, result.propagate, initial,
+                           merged_aliased=merged, searched=searched)
+    aliasing = compress(result.original, "none", protected_labels(kb, result.original),
+                        Simplifier(sympy_budget=args.sympy_budget)).tree
+    return compare_dot(result.original, result.tree, task, result.propagate, initial, aliasing,
+                       aliased_behaviours(result.original, aliasing, initial)[0], merged, searched)
 
 
 def _verify_compression(kb: KnowledgeBase, result, args: argparse.Namespace):

@@ -1,5 +1,9 @@
-"""How a command prints a tree: the format asked for (--json, --format, -o's suffix), and
-rich text for the terminal or for a file."""
+"""How a command prints a tree: the format asked for (--json, --format, -o's suffix), rich
+text for the terminal or for a file, and pictures (-o fig.png, .svg, .pdf) through Graphviz.
+
+-o's suffix picks the format when neither --json nor --format does: .png, .svg and .pdf
+render a picture with Graphviz's `dot` (refused, naming the program, when it is missing);
+other picture suffixes (.jpg, .gif, ...) are refused; any other suffix gets text."""
 
 from __future__ import annotations
 
@@ -8,7 +12,7 @@ import io
 import json
 from pathlib import Path
 
-from ..formats.documents import to_pl, to_yaml
+from ..formats.documents import to_pl, to_yaml, write_atomically
 from ..formats.render import carried_clauses, rich_tree, show_json, to_dot, tree_document
 from ..logic.kb import KnowledgeBase
 from ..logic.terms import Term, term_to_text
@@ -21,12 +25,20 @@ SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".y
 
 
 def output_format(args: argparse.Namespace) -> str:
-    """--json, else --format, else the output file's suffix, else text."""
+    """--json, else --format, else the output file's suffix (png, svg, pdf: a picture, `dot`
+    checked for now, before any work), else text."""
+    from ..formats.graphviz import dot_program, image_format, refuse_unknown_picture
+
     if args.json:
         return "json"
     if args.format:
         return args.format
     if args.output and args.output != "-":
+        picture = image_format(args.output)
+        if picture is not None:
+            dot_program()
+            return picture
+        refuse_unknown_picture(args.output)
         return SUFFIX_FORMATS.get(Path(args.output).suffix.lower(), "text")
     return "text"
 
@@ -37,6 +49,19 @@ def written(doc, fmt: str, header: str) -> str:
         from ..formats.seed import seed_text
         return seed_text(list(doc.items), header=header)
     return to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc)
+
+
+PICTURES = ("png", "svg", "pdf")
+
+
+def emit_picture(dot: str, fmt: str, output: str, inputs: list[str]) -> None:
+    """Render `dot` as a picture and write it to `output` atomically (never over an input)."""
+    from ..formats.graphviz import render
+    from .common import check_output
+
+    check_output(output, inputs)
+    data = render(dot, fmt)
+    write_atomically(output, data)
 
 
 def rendered(renderable, width: int = 120) -> str:
@@ -63,11 +88,22 @@ def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: s
     inputs = inputs_of(args, kb.files if kb is not None else ())
     if fmt == "json":
         emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs)
-    elif fmt == "dot":
-        emit(to_dot(tree, term_to_text(task)), args.output, inputs)
+    elif fmt in PICTURES or fmt == "dot":      # the picture and its DOT text are one drawing
+        dot = to_dot(tree, term_to_text(task), initial_atoms(kb, tree))
+        if fmt == "dot":
+            emit(dot, args.output, inputs)
+        else:
+            emit_picture(dot, fmt, args.output, inputs)
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
         emit(written(doc, fmt, header), args.output, inputs)
     else:
         title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
         print_rich(rich_tree(tree, title), args.output, inputs)
+
+
+def initial_atoms(kb: KnowledgeBase | None, tree: Behaviour) -> frozenset:
+    """The settled initial state of the files' initial/1 (the state a picture is coloured in)."""
+    from ..run.world import World, initial_state
+
+    return World(tree, initial_state(kb) if kb is not None else ()).atoms

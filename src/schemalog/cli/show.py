@@ -20,8 +20,9 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Instantiate a task and print its tree."""
     from .common import choose_tasks, instantiate_task, load_files
-    from .output import output_tree
+    from .output import output_format, output_tree
 
+    output_format(args)                # a picture asked for without Graphviz: say so before any work
     kb, _ = load_files(args)
     tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
     task = tree.label  # as instantiated: --task 'add(X)' shows the schema it found

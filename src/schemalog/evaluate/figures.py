@@ -214,14 +214,22 @@ def demonstration_figure(lesson, path: Path) -> Path:
     fig, axes = plt.subplots(1, panels, figsize=(6.2 * panels, 5.6), layout="constrained")
     top, height = axes[0], axes[1]
     p = demo.positions
+    stacked: dict[tuple[int, int], int] = {}       # labels already at an end point (2 cm cells)
     for k, seg in enumerate(motions):
         colour = colours(k % 20)
         part = p[seg.start:seg.end + 1]
         name = labelled.get(id(seg), term_to_text(seg.label))
         top.plot(part[:, 0], part[:, 1], color=colour, linewidth=1.4)
-        top.annotate(name, part[-1, :2], fontsize=6, color=colour, xytext=(2, 2), textcoords="offset points")
+        # Motions ending at one place (five pours at the cup) get their labels one under
+        # another, not printed over each other.
+        cell = (round(part[-1, 0] / 0.02), round(part[-1, 1] / 0.02))
+        row = stacked.get(cell, 0)
+        stacked[cell] = row + 1
+        top.annotate(name, part[-1, :2], fontsize=7, color=colour, xytext=(4, 4 - 9 * row),
+                     textcoords="offset points", va="bottom",
+                     bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75))
         height.axvspan(demo.times[seg.start], demo.times[seg.end], color=colour, alpha=0.18, linewidth=0)
-        height.text((demo.times[seg.start] + demo.times[seg.end]) / 2, 1.0, name, rotation=90, fontsize=6,
+        height.text((demo.times[seg.start] + demo.times[seg.end]) / 2, 1.0, name, rotation=90, fontsize=7,
                     ha="center", va="top", transform=height.get_xaxis_transform())
     height.plot(demo.times, p[:, 2], color="black", linewidth=0.9)
     for seg in lesson.segments:
@@ -250,7 +258,7 @@ def demonstration_figure(lesson, path: Path) -> Path:
             ax.plot(out[:, 0], out[:, 1], color=colour, linewidth=1.2, linestyle="--",
                     label=f"{term_to_text(m.label)}: RMS {m.error.rms * 1000:.1f} mm")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.legend(fontsize=6, loc="best")
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
         ax.set(xlabel="x (m)", ylabel="y (m)", title="merged primitives (dashed) over the demonstration (grey)")
     try:
         return _write(fig, Path(path))

@@ -346,20 +346,24 @@ def _write_text(handle, text: str) -> None:
     handle.write(text)
 
 
-def write_atomically(path: str | Path, text: str) -> None:
-    """Write `text` to `path` through a temporary file and a rename: never a partial file.
-    A special file (FIFO, device) is written into instead (output_target)."""
+def write_atomically(path: str | Path, text: str | bytes) -> None:
+    """Write `text` (or bytes: a picture) to `path` through a temporary file and a rename:
+    never a partial file. A special file (FIFO, device) is written into instead (output_target)."""
     target = output_target(path)
     if target.in_place:
-        write_in_place(target.path, text.encode("utf-8"))
+        write_in_place(target.path, text if isinstance(text, bytes) else text.encode("utf-8"))
         return
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
     except OSError as err:
         raise CannotWrite(path, err.strerror or str(err)) from None
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            _write_text(handle, text)
+        if isinstance(text, bytes):
+            with os.fdopen(fd, "wb") as handle:
+                handle.write(text)
+        else:
+            with os.fdopen(fd, "w", encoding="utf-8") as handle:
+                _write_text(handle, text)
         os.chmod(tmp, file_mode(target.path))
         os.replace(tmp, target.path)
     except BaseException as err:

@@ -18,7 +18,7 @@ from ..task import conditions as cond
 from .documents import Document
 from ..errors import SchemalogError
 from ..logic.parse import Clause
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from ..task.schema import DEFAULT_AGENT, Entry, SchemaDef, schema_term
 from ..logic.terms import TRUE, Atom, Float, Int, Struct, Term, is_ground, make_list, term_to_text
@@ -102,50 +102,227 @@ def _dot_escape(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
-def to_dot(root: Behaviour, name: str = "task") -> str:
-    """Graphviz DOT: behaviours as ellipses, pre-conditions green, post-conditions blue."""
-    lines = [f'digraph "{_dot_escape(name)}" {{',
-             '  graph [rankdir=TB, fontname="Helvetica"];',
-             '  node [shape=ellipse, fontname="Helvetica", fontsize=11];',
-             '  edge [arrowhead=none];']
-    lines.extend(dot_body(root, "n"))
+# The paper's Figure 2: green (brown) text is a true (false) pre-condition, a green (brown)
+# ellipse an active (inactive) behaviour, in the initial state; post-conditions blue.
+ACTIVE = "#2e7d32"
+INACTIVE = "#8d6e63"
+POST_COLOUR = "#1f4fbf"
+ALIASED = "#d32f2f"
+MERGED_FILL = "#fff3c4"
+COMPOSITE_FILL = "#eef5ff"
+LEFT_TO_RIGHT_LEAVES = 16      # a tree with more leaves than this is drawn left to right
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One tree of a picture: its cluster's name, its title, and the pre-order indices of the
+    behaviours to mark as perceptually aliased."""
+
+    key: str
+    title: str
+    tree: Behaviour
+    aliased: frozenset[int] = frozenset()
+
+
+def _leaves(root: Behaviour) -> int:
+    return sum(1 for n in walk(root) if not n.children)
+
+
+def _graph_header(name: str, rankdir: str) -> list[str]:
+    return [f'digraph "{_dot_escape(name)}" {{',
+            f'  graph [rankdir={rankdir}, fontname="Helvetica", newrank=true, nodesep=0.25, ranksep=0.4, ordering=out];',
+            '  node [shape=ellipse, fontname="Helvetica", fontsize=11];',
+            '  edge [arrowhead=none, color="#777777"];']
+
+
+def to_dot(root: Behaviour, name: str = "task", initial: frozenset | None = None) -> str:
+    """Graphviz DOT: behaviours as ellipses, pre-conditions green, post-conditions blue; given
+    the `initial` state, coloured as the paper's Figure 2 (active or not, pre true or not),
+    with a legend. A tree of many leaves is drawn left to right, a cluster per sub-task."""
+    rankdir = "LR" if _leaves(root) > LEFT_TO_RIGHT_LEAVES else "TB"
+    lines = _graph_header(name, rankdir)
+    lines.extend(dot_body(root, "n", initial, clusters=rankdir == "LR"))
+    if initial is not None:
+        lines.extend(_legend(initial, merged=any(n.k > 1 for n in walk(root)), aliased=False))
     lines.append("}")
     return "\n".join(lines) + "\n"
 
 
-def compare_dot(original: Behaviour, compressed: Behaviour, name: str, propagate: str) -> str:
-    """Before and after side by side, like the paper's Figure 2."""
-    lines = [f'digraph "{_dot_escape(name)}" {{',
-             '  graph [rankdir=TB, fontname="Helvetica", newrank=true];',
-             '  node [shape=ellipse, fontname="Helvetica", fontsize=11];',
-             '  edge [arrowhead=none];',
-             '  subgraph cluster_original {',
-             '    label="Initial Symbolic Representation";']
-    lines.extend("  " + line for line in dot_body(original, "o"))
-    lines.append("  }")
-    lines.append("  subgraph cluster_merged {")
-    lines.append(f'    label="Merged Symbolic Representation (propagate {_dot_escape(propagate)})";')
-    lines.extend("  " + line for line in dot_body(compressed, "m"))
-    lines.append("  }")
+def compare_dot(original: Behaviour, compressed: Behaviour, name: str, propagate: str,
+                initial: frozenset | None = None, aliasing: Behaviour | None = None,
+                aliased: frozenset[int] = frozenset(), merged_aliased: frozenset[int] = frozenset(),
+                searched: str = "") -> str:
+    """The paper's Figure 2: the learned tree, the merge with perceptual aliasing (`aliasing`,
+    compressed with --propagate none, its `aliased` behaviours marked) when given, and the
+    merge with `propagate` (its own `merged_aliased` marked; `searched` says how far the
+    search for aliasing went when it stopped short); coloured in the `initial` state, with a legend."""
+    panels = [Panel("original", f"(a) Learned symbolic representation: {count_nodes(original)} behaviours",
+                    original)]
+    if aliasing is not None:
+        panels.append(Panel("aliased", f"(b) Merged with perceptual aliasing (propagate none): "
+                                       f"{count_nodes(aliasing)} behaviours, {len(aliased)} aliased",
+                            aliasing, aliased))
+    shown = (f", {len(merged_aliased)} aliased" if merged_aliased or propagate == "none"
+             else f", no perceptual aliasing {searched}" if searched
+             else ", no perceptual aliasing" if initial is not None else "")
+    panels.append(Panel("merged", f"({chr(ord('a') + len(panels))}) Merged Symbolic Representation "
+                                  f"(propagate {propagate}): {count_nodes(compressed)} behaviours{shown}",
+                        compressed, merged_aliased))
+    return panels_dot(name, panels, initial)
+
+
+def panels_dot(name: str, panels: list[Panel], initial: frozenset | None = None) -> str:
+    """Trees side by side (top to bottom when large), each in its own cluster, and a legend."""
+    large = any(_leaves(p.tree) > LEFT_TO_RIGHT_LEAVES for p in panels)
+    lines = _graph_header(name, "LR" if large else "TB")
+    for i, panel in reversed(list(enumerate(panels))) if large else enumerate(panels):   # (a) on top
+        lines += [f"  subgraph cluster_{panel.key} {{",
+                  f'    label="{_dot_escape(panel.title)}"; labeljust=l; fontsize=14; color="#bbbbbb";']
+        lines.extend("  " + line for line in dot_body(panel.tree, f"p{i}_", initial, panel.aliased, clusters=large))
+        lines.append("  }")
+    if initial is not None or any(p.aliased for p in panels):
+        lines.extend(_legend(initial, merged=any(n.k > 1 for p in panels for n in walk(p.tree)),
+                             aliased=any(p.aliased for p in panels)))
     lines.append("}")
     return "\n".join(lines) + "\n"
 
 
-def dot_body(root: Behaviour, prefix: str) -> list[str]:
-    """The node and edge statements of a tree, ids starting with `prefix`."""
-    lines: list[str] = []
-    ids: dict[int, str] = {}
-    for i, node in enumerate(walk(root)):
-        ids[id(node)] = f"{prefix}{i}"
-        label = (f"<<b>{_dot_escape(term_to_text(node.label))}</b>"
-                 f"<br/><font color=\"darkgreen\">{_dot_escape(cond.to_text(node.pre))}</font>"
-                 f"<br/><font color=\"blue\">{_dot_escape(cond.to_text(node.post))}</font>>")
-        style = ', style=filled, fillcolor="#eef5ff"' if node.children else ""
-        lines.append(f"  {prefix}{i} [label={label}{style}];")
-    for node in walk(root):
-        for child in node.children:
+def _legend(initial: frozenset | None, merged: bool, aliased: bool) -> list[str]:
+    """A legend node: what each colour and mark means."""
+    state = ", ".join(sorted(term_to_text(a) for a in initial)) if initial else "nothing true"
+    rows = [f'<tr><td colspan="2"><b>Legend</b> (colours in the initial state: {_dot_escape(state)})</td></tr>']
+    if initial is not None:
+        rows += [f'<tr><td border="2" color="{ACTIVE}">  </td><td align="left">active behaviour: its '
+                 f'pre-condition holds and its post-condition does not</td></tr>',
+                 f'<tr><td border="2" color="{INACTIVE}">  </td><td align="left">inactive behaviour</td></tr>',
+                 f'<tr><td><font color="{ACTIVE}">pre</font></td><td align="left">pre-condition, true</td></tr>',
+                 f'<tr><td><font color="{INACTIVE}">pre</font></td><td align="left">pre-condition, false</td></tr>']
+    rows.append(f'<tr><td><font color="{POST_COLOUR}">post</font></td><td align="left">post-condition</td></tr>')
+    if merged:
+        rows.append(f'<tr><td bgcolor="{MERGED_FILL}">k=N</td><td align="left">merged behaviour standing '
+                    f'for N original ones (double outline)</td></tr>')
+    if aliased:
+        rows.append(f'<tr><td border="3" color="{ALIASED}"><font color="{ALIASED}">aliased</font></td>'
+                    f'<td align="left">perceptual aliasing: enabled in a state where the original task '
+                    f'enables none of its actions</td></tr>')
+    table = "".join(rows)
+    # The graph's own label, so it sits below every panel instead of widening a rank.
+    return [f'  label=<<table border="1" cellborder="0" cellspacing="4" color="#bbbbbb">{table}</table>>;',
+            '  labelloc=b; labeljust=l; fontsize=12;']
+
+
+def dot_body(root: Behaviour, prefix: str, initial: frozenset | None = None,
+             aliased: frozenset[int] = frozenset(), clusters: bool = False) -> list[str]:
+    """The node and edge statements of a tree, ids starting with `prefix`; coloured in the
+    `initial` state when given, the behaviours at the pre-order indices `aliased` marked,
+    and with `clusters`, each sub-task of the root in a cluster of its own."""
+    nodes = list(walk(root))
+    live = _live(root, initial) if initial is not None else None
+    ids = {id(node): f"{prefix}{i}" for i, node in enumerate(nodes)}
+    statements: list[str] = []
+    for i, node in enumerate(nodes):
+        pre = cond.to_text(node.pre)
+        pre_colour = "darkgreen" if initial is None else ACTIVE if cond.holds(node.pre, initial) else INACTIVE
+        name = _dot_escape(term_to_text(node.label))
+        title = f"<b>{name}</b>" if node.children else name
+        if node.k > 1:
+            title += f' <font color="#8a6d00">k={node.k}</font>'
+        if i in aliased:
+            title += f' <font color="{ALIASED}"><b>aliased</b></font>'
+        label = (f"<{title}<br/><font color=\"{pre_colour}\">{_wrapped(pre)}</font>"
+                 f"<br/><font color=\"{POST_COLOUR if initial is not None else 'blue'}\" point-size=\"9\">"
+                 f"{_wrapped(cond.to_text(node.post))}</font>>")
+        attributes = [f"label={label}"]
+        fill = MERGED_FILL if node.k > 1 else COMPOSITE_FILL if node.children else None
+        if fill:
+            attributes.append(f'style=filled, fillcolor="{fill}"')
+        if node.k > 1:
+            attributes.append("peripheries=2")
+        if i in aliased:
+            attributes.append(f'color="{ALIASED}", penwidth=3')
+        elif live is not None:
+            attributes.append(f'color="{ACTIVE if live[i] else INACTIVE}", penwidth=2')
+        statements.append(f"  {prefix}{i} [{', '.join(attributes)}];")
+    if clusters and root.children:
+        # Each sub-task of the root in its own box, so a wide task reads one part at a time.
+        member = {id(root): None}
+        for k, child in enumerate(root.children):
+            for node in walk(child):
+                member[id(node)] = k
+        lines = [statements[0]]
+        for k, child in reversed(list(enumerate(root.children))):
+            lines.append(f"  subgraph cluster_{prefix}{k} {{")
+            lines.append(f'    label="{_dot_escape(term_to_text(child.label))}"; style=dashed; color="#cccccc";')
+            lines.extend("  " + statements[i] for i, node in enumerate(nodes) if member[id(node)] == k)
+            lines.append("  }")
+    else:
+        lines = statements
+    for node in nodes:
+        # Left to right, dot stacks a node's children from the bottom up: give them in reverse
+        # so the first sub-task reads at the top, as it comes first in the task.
+        for child in (reversed(node.children) if clusters else node.children):
             lines.append(f"  {ids[id(node)]} -> {ids[id(child)]};")
     return lines
+
+
+def aliased_behaviours(original: Behaviour, compressed: Behaviour, initial: frozenset,
+                       max_states: int = 2_000) -> tuple[frozenset[int], bool]:
+    """The pre-order indices of the compressed tree's leaves that perceptual aliasing enables:
+    in some state the original task reaches from `initial` (breadth first, up to `max_states`
+    states), the leaf is enabled but the action it would run first (its first constituent
+    not yet accomplished) is not an enabled action of the original; and whether every
+    reachable state was looked at (False: the search stopped at `max_states`)."""
+    from ..run.execute import Plan, enabled_indices
+    from ..run.world import World
+
+    world = World(original, initial)
+    o_plan, c_plan = Plan.of(original), Plan.of(compressed)
+    start = world.atoms
+    seen, frontier, marked = {start}, [start], set()
+    complete = True
+    while frontier:
+        state = frontier.pop(0)
+        o_enabled = [o_plan.nodes[i] for i in enabled_indices(o_plan, state)]
+        allowed = {leaf.label for leaf in o_enabled}
+        for i in enabled_indices(c_plan, state):
+            first = next((label for label, post in c_plan.steps[i] if not cond.holds(post, state)), None)
+            if first is not None and first not in allowed:
+                marked.add(i)
+        for leaf in o_enabled:
+            after = world.successor(state, leaf.post)
+            if after not in seen:
+                if len(seen) >= max_states:
+                    complete = False
+                    continue
+                seen.add(after)
+                frontier.append(after)
+    return frozenset(marked), complete
+
+
+def _wrapped(text: str, width: int = 28) -> str:
+    """A condition escaped for an HTML label, broken into lines after `and`/`or` past `width`."""
+    words = text.split(" ")
+    lines, line = [], ""
+    for word in words:
+        if line and len(line) + 1 + len(word) > width and line.split(" ")[-1] in ("and", "or"):
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}" if line else word
+    lines.append(line)
+    return "<br/>".join(_dot_escape(part) for part in lines)
+
+
+def _live(root: Behaviour, atoms: frozenset) -> list[bool]:
+    """Each behaviour (pre-order) active in `atoms`: it and its ancestors pre true, post false."""
+    live: list[bool] = []
+    stack: list[tuple[Behaviour, bool]] = [(root, True)]
+    while stack:
+        node, up = stack.pop()
+        on = up and cond.holds(node.pre, atoms) and not cond.holds(node.post, atoms)
+        live.append(on)
+        stack.extend((c, on) for c in reversed(node.children))
+    return live
 
 
 # ---------------------------------------------------------------------------
@@ -249,5 +426,6 @@ def tree_document(root: Behaviour, file: str = "<tree>", carried: list[Clause] =
     return Document(tuple(clauses), file)
 
 
-__all__ = ["node_json", "tree_json", "show_json", "rich_tree", "to_dot", "dot_body", "compare_dot",
+__all__ = ["node_json", "tree_json", "show_json", "rich_tree", "to_dot", "dot_body", "compare_dot", "Panel",
+           "panels_dot", "aliased_behaviours",
            "tree_document", "carried_clauses", "origin_term", "STRUCTURE"]
