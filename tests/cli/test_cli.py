@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import signal
 import stat
 import subprocess
@@ -273,6 +274,19 @@ def test_run_prints_decisions_and_a_summary():
     assert "runner-up" in lines[2] and " e " in lines[2]
     assert "completed: prepareboth is accomplished (spoon.used and tea.used)" in r.stdout
     assert "16 decisions, 36 actions; time per decision (incremental): mean" in r.stdout
+
+
+def test_run_says_which_of_two_behaviours_of_one_label_won_and_which_came_second():
+    r = run("run", COFFEE, "--task", "prepareboth", "--scene", KITCHEN)
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    assert re.match(r" +1  a1\(water\) +e [0-9.]+ +runner-up a1\(water\) ", lines[2])
+    assert lines[3] == "      (winner: in preparecoffee; runner-up: in preparetea)"
+    r = run("run", COFFEE, "--task", "prepareboth", "--scene", KITCHEN, "--json")
+    first, tenth = json.loads(r.stdout)["decisions"][0:10:9]
+    assert (first["where"], first["runner_up"]["where"]) == ("in preparecoffee", "in preparetea")
+    assert first["behaviour"] == first["runner_up"]["behaviour"] == "a1(water)"
+    assert tenth["behaviour"] != tenth["runner_up"]["behaviour"] and tenth["where"] is None
 
 
 def test_run_json_for_both_selectors_and_trees():

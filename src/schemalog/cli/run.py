@@ -154,6 +154,8 @@ def decision_lines(d: Decision, width: int) -> list[str]:
     status = f"  FAILED: the robot did not complete {term_to_text(d.failed)}" if d.failed is not None else ""
     lines = [f"{d.index:4d}  {term_to_text(d.behaviour):<{width}}  e {d.emphasis:<9.4g} "
              f"runner-up {runner:<{width + 8}} {d.enabled:3d} enabled{status}"]
+    if d.apart:     # one behaviour used twice (add(water) in coffee and in tea): which is which
+        lines.append(f"{'':6}(winner: {d.apart[0]}; runner-up: {d.apart[1]})")
     steps = [*d.skipped, *d.executed, *([d.failed] if d.failed is not None else [])]
     if len(steps) > 1 or (steps and steps[0] != d.behaviour):  # a merged behaviour: its actions
         lines.extend(f"{'':6}- {term_to_text(a)} (skipped: accomplished)" for a in d.skipped)
@@ -211,7 +213,9 @@ def run_json(ex: Executive, task: Term, kind: str, initial: list[Term], args: ar
         "decisions": [{
             "index": d.index, "behaviour": term_to_text(d.behaviour), "emphasis": d.emphasis,
             "runner_up": None if d.runner_up is None else {
-                "behaviour": term_to_text(d.runner_up[0]), "emphasis": d.runner_up[1]},
+                "behaviour": term_to_text(d.runner_up[0]), "emphasis": d.runner_up[1],
+                "where": d.apart[1] if d.apart else None},
+            "where": d.apart[0] if d.apart else None,
             "enabled": d.enabled, "executed": [term_to_text(a) for a in d.executed],
             "skipped": [term_to_text(a) for a in d.skipped],
             "failed": None if d.failed is None else term_to_text(d.failed),
