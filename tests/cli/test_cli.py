@@ -289,6 +289,14 @@ def test_run_says_which_of_two_behaviours_of_one_label_won_and_which_came_second
     assert tenth["behaviour"] != tenth["runner_up"]["behaviour"] and tenth["where"] is None
 
 
+def test_run_without_a_scene_says_so_in_words():
+    r = run("run", MIX)
+    assert r.returncode == 0, r.stderr
+    header = r.stdout.splitlines()[0]
+    assert header.endswith("; no scene (neutral distances)") and "scene no scene" not in r.stdout
+    assert run("run", MIX, "--scene", FIG2_SCENE).stdout.splitlines()[0].endswith("; scene mix with spoon")
+
+
 def test_run_json_for_both_selectors_and_trees():
     traces = {}
     for selector in ("scan", "incremental"):

@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         print("note: no --scene: every behaviour gets the neutral lambda, so emphasis follows "
               "progress alone", file=sys.stderr)
     header = (f"run {term_to_text(task)}: {kind} tree of {count_nodes(tree)} behaviours; "
-              f"selector {args.selector}; scene {scene.name}")
+              f"selector {args.selector}; {_scene_words(scene)}")
     fmt = "json" if args.json else "text"
     inputs = inputs_of(args, kb.files)
     check_output(args.output, inputs)   # refuse before running, not after
@@ -129,6 +129,13 @@ def run(args: argparse.Namespace) -> int:
         else:
             emit("\n".join(lines) + "\n", args.output, inputs)
     return 0 if outcome.completed else 1
+
+
+def _scene_words(scene) -> str:
+    """The scene as the header names it; without one every lambda is neutral."""
+    from ..run.scene import NO_SCENE
+
+    return "no scene (neutral distances)" if scene is NO_SCENE else f"scene {scene.name}"
 
 
 def _failures(args: argparse.Namespace, original: Behaviour, tree: Behaviour) -> dict:
