@@ -407,6 +407,21 @@ def test_verify_proves_full_propagation_and_refutes_the_papers_rule():
     assert "add(water) is accomplished (water.used holds)" in r.stdout
 
 
+def test_a_sound_merge_reports_the_interleavings_it_removed_not_a_failure():
+    r = run("verify", COFFEE, "--task", "prepareboth")
+    assert r.returncode == 0 and "FAILS" not in r.stdout, r.stdout
+    traces = json.loads(run("verify", COFFEE, "--task", "prepareboth", "--json").stdout)["properties"]["traces"]
+    (row,) = traces["states"]
+    assert traces["holds"] is False and row["original"] > row["compressed"]      # the JSON is unchanged
+    line = next(x for x in r.stdout.splitlines() if x.startswith("trace equivalence (diagnostic): "))
+    assert line.startswith(f"trace equivalence (diagnostic): {row['original'] - row['compressed']:,} "
+                           f"interleavings removed by merging")
+    assert f"the original has {row['original']:,} complete traces, the compressed tree {row['compressed']:,}" in line
+    # an unsound tree's traces are not the original's: there it stays a difference
+    r = run("verify", COFFEE, "--propagate", "pre")
+    assert "trace equivalence (diagnostic): FAILS" in r.stdout and "interleavings removed" not in r.stdout
+
+
 def test_verify_json_and_all_states():
     data = json.loads(run("verify", MIX, "--states", "all", "--propagate", "none", "--json").stdout)
     assert data["sound"] is False and data["states"] == 4 and data["exhaustive"] is True

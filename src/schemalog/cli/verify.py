@@ -188,6 +188,12 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
               "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
               "selection": "selection under emphasis (diagnostic)"}
     for name, verdict in report.properties.items():
+        sound = report.properties["soundness"].holds is True
+        removed = _interleavings_removed(verdict) if name == "traces" and sound else None
+        if removed is not None:
+            lines.append(f"{titles[name]}: {removed}")
+            lines.append("")
+            continue
         status = {True: "holds", False: "FAILS", None: "unknown"}[verdict.holds]
         lines.append(f"{titles[name]}: {status}: {verdict.summary}")
         if verdict.counterexample is not None:
@@ -204,6 +210,28 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
         verdict = "no counterexample found, but this is not a proof (exit 3)"
     lines.append(f"result: {verdict}")
     return lines
+
+
+def _interleavings_removed(verdict) -> str | None:
+    """Fewer complete traces in a sound compressed tree (each of its runs is one of the
+    original's), as what merging does: it runs a merged sequence as one behaviour, so the orders
+    its actions could interleave in are gone by design. None when the counts are not that
+    (equal, unknown, infinite, or more traces)."""
+    rows = verdict.details.get("states") if verdict.holds is False else None
+    try:
+        original = sum(r["original"] for r in rows)
+        compressed = sum(r["compressed"] for r in rows)
+    except (TypeError, KeyError):          # not counted, or infinitely many
+        return None
+    if compressed >= original:
+        return None
+    text = (f"{original - compressed:,} interleaving{'s' if original - compressed != 1 else ''} removed "
+            f"by merging (by design: a merged behaviour runs its actions as one): the original has "
+            f"{original:,} complete trace{'s' if original != 1 else ''}, the compressed tree {compressed:,}")
+    lost = verdict.details.get("lost_example")
+    if lost:
+        text += "; e.g. this original trace is no longer produced: " + ", ".join(lost["trace"])
+    return text
 
 
 def counterexample_lines(ce) -> list[str]:
