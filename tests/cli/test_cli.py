@@ -663,3 +663,54 @@ def test_verify_says_when_selection_ran_with_no_scene_and_names_a_scene_given():
     assert "winner-take-all runs with no scene (every distance neutral)" in plain.stdout, plain.stdout
     placed = run("verify", MIX, "--scene", ROOT / "kb" / "scenes" / "mix_with_spoon.yaml")
     assert "winner-take-all runs in scene mix with spoon" in placed.stdout, placed.stdout
+
+
+# -- --help: what a person reads before anything else -----------------------------------
+
+def test_every_positional_argument_of_every_command_is_described():
+    from schemalog.cli.main import COMMANDS, build_parser
+
+    for name in COMMANDS:
+        command = name.replace("_", "-")
+        r = run(command, "--help")
+        assert r.returncode == 0, r.stderr
+        parser = build_parser(command)._subparsers._group_actions[0].choices[command]
+        positionals = [a for a in parser._actions if not a.option_strings]
+        for action in positionals:
+            assert action.help and len(action.help) > 10, (command, action.metavar)
+            shown = " ".join(r.stdout.split("positional arguments:")[1].split("options:")[0].split())
+            assert " ".join(action.help.split()[:4]) in shown, (command, action.metavar)   # --help shows it
+
+
+def test_the_two_jitter_defaults_are_stated_with_the_reason_for_two():
+    from schemalog import defaults
+
+    ran = " ".join(run("run", "--help").stdout.split())
+    simulated = " ".join(run("simulate-demo", "--help").stdout.split())
+    assert f"(default {defaults.JITTER}:" in ran and "simulate-demo's default is 0" in ran
+    assert "default 0, at most" in simulated and f"run's default is {defaults.JITTER}" in simulated
+    assert "also seeds the noise" in simulated
+
+
+def test_a_wrong_option_prints_the_commands_usage_not_the_top_levels():
+    for args in (("run", MIX, "--bogus"), ("query", MIX, "X = 1", "--bogus"), ("compress", MIX, "--nope", "1")):
+        r = run(*args)
+        assert r.returncode == 2
+        assert r.stderr.startswith(f"usage: schemalog {args[0]} ["), r.stderr
+        assert f"schemalog {args[0]}: error: unrecognized arguments: " in r.stderr
+
+
+def test_the_top_level_help_states_each_exit_status_the_commands_return(tmp_path):
+    text = run("--help").stdout
+    stated = {int(line.split()[0]) for line in text.split("exit status:")[1].splitlines()
+              if line[:6].strip().isdigit()}
+    seen = {
+        run("verify", MIX).returncode,                                   # proved
+        run("verify", COFFEE, "--propagate", "pre").returncode,          # a counterexample
+        run("run", MIX, "--bogus").returncode,                           # a wrong command line
+        run("verify", COFFEE, "--max-states", "10").returncode,          # no proof
+        run("query", MIX, "repeat, fail", "--timeout", "1").returncode,  # out of time
+    }
+    assert seen == {0, 1, 2, 3, 124} and seen <= stated
+    assert stated >= {70, 130}
+    assert "128+N for signal N" in text

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from .. import defaults
 from ..logic.terms import term_to_text
-from .options import Parents, budget
+from .options import TOGETHER, Parents, budget
 
 if TYPE_CHECKING:  # for annotations only: these load when the command runs
     from ..logic.kb import KnowledgeBase
@@ -19,7 +19,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog compress` and its arguments to the command line."""
     p = sub.add_parser("compress", parents=[parents.limits, parents.resources, parents.output],
                        help="merge sequential behaviours (Definition 1, Algorithm 1)")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to compress, {TOGETHER}")
     p.add_argument("--task", help="the task to compress (default: the first task/1)")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
                    help="what the children of a merged behaviour inherit: its pre AND not post "

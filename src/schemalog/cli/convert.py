@@ -13,7 +13,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog convert` and its arguments to the command line."""
     p = sub.add_parser("convert", parents=[parents.limits, parents.resources],
                        help="convert knowledge: SEED or schema text or YAML -> schema text or YAML")
-    p.add_argument("input", metavar="FILE")
+    p.add_argument("input", metavar="FILE", help="the knowledge to convert: the authors' SEED format, schema text (.pl) or YAML (.yaml)")
     p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml) picks the format")
     p.add_argument("--to", choices=["pl", "yaml"], help="output format (default: from -o, else pl)")
     p.add_argument("--task", help="declare this task (task/1) in the output")

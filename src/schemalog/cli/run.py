@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from .. import defaults
 from ..logic.terms import term_to_text
-from .options import Parents, budget, count, distance, positive
+from .options import TOGETHER, Parents, budget, count, distance, positive
 
 if TYPE_CHECKING:  # for annotations only: these load when the command runs
     from ..logic.terms import Term
@@ -21,7 +21,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog run` and its arguments to the command line."""
     p = sub.add_parser("run", parents=[parents.limits, parents.resources],
                        help="execute a task with the attentional executive against an emulated robot")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to run, {TOGETHER}")
     p.add_argument("--task", help="the task to run (default: the first task/1)")
     p.add_argument("--scene", metavar="FILE", help="object positions (YAML, docs/semantics.md); "
                                                    "without it every lambda is neutral")
@@ -34,7 +34,9 @@ def register(sub, parents: Parents) -> None:
                                                     "(default: the file's initial/1 facts)")
     p.add_argument("--seed", type=int, help="move the scene's objects randomly with this seed")
     p.add_argument("--jitter", type=distance, metavar="M",
-                   help=f"how far (metres, per coordinate) --seed moves objects (default {defaults.JITTER})")
+                   help=f"how far (metres, per coordinate) --seed moves objects (default {defaults.JITTER}: "
+                        f"here --seed only moves objects, so it moves them unless told 0; simulate-demo's "
+                        f"default is 0, its --seed also seeding the noise)")
     p.add_argument("--selector", choices=list(defaults.SELECTORS), default="incremental",
                    help="incremental (default): re-evaluate what an action touched; "
                         "scan: visit every behaviour at every decision, the paper's cost model")
