@@ -714,3 +714,29 @@ def test_the_top_level_help_states_each_exit_status_the_commands_return(tmp_path
     assert seen == {0, 1, 2, 3, 124} and seen <= stated
     assert stated >= {70, 130}
     assert "128+N for signal N" in text
+
+
+@pytest.mark.parametrize("args, said", [
+    (("compress", COFFEE, "-o", "{out}/out.pl"),
+     "wrote {out}/out.pl: prepareboth compressed (propagate full): 33 behaviours from 63, RD 0.52 (schema text)"),
+    (("compress", MIX, "--propagate", "none", "-o", "{out}/c.json"),
+     "wrote {out}/c.json: use(spoon) compressed (propagate none): "),
+    (("show", MIX, "-o", "{out}/t.yaml"), "wrote {out}/t.yaml: use(spoon): 12 behaviours, depth 3 (YAML)"),
+    (("convert", SEED_COFFEE, "--task", "prepareboth", "-o", "{out}/task.pl"),
+     "wrote {out}/task.pl: 56 clauses as schema text; tasks: prepareboth"),
+    (("run", MIX, "--scene", FIG2_SCENE, "-o", "{out}/run.txt"),
+     "wrote {out}/run.txt: the run of use(spoon), 9 decisions, completed (text)"),
+    (("verify", MIX, "-o", "{out}/v.txt"), "wrote {out}/v.txt: the verification of use(spoon): sound and complete (text)"),
+    (("generate", "--depth", "3", "--children", "2", "--seed", "1", "-o", "{out}/g.pl", "--scene", "{out}/g.yaml"),
+     "wrote {out}/g.yaml: the scene of b1: 2 objects"),
+])
+def test_a_command_writing_a_file_says_on_stderr_what_it_wrote(tmp_path, args, said):
+    r = run(*(str(a).format(out=tmp_path) for a in args))
+    assert r.returncode == 0, r.stderr
+    line = said.format(out=tmp_path)
+    assert any(x.startswith(line) for x in r.stderr.splitlines()), r.stderr
+    written = line.split()[1].rstrip(":")
+    assert os.path.getsize(written) > 0 and written not in r.stdout
+    # to standard output, the data alone: nothing is said
+    r = run(*(a for a in args if "{out}" not in str(a) and a not in ("-o", "--scene")))
+    assert "wrote" not in r.stderr

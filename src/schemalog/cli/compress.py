@@ -40,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     from ..task.compress import compress, protected_labels
     from ..task.conditions import Simplifier
     from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
-    from .output import output_format, print_rich
+    from .output import FORMAT_WORDS, output_format, print_rich
     from .verify import INCONCLUSIVE, verify_json, verify_lines
 
     kb, _ = load_files(args)
@@ -58,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
     code = 0 if report is None else 1 if report.violated else (
         0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE)
     how = f"propagate {result.propagate}"
+    what = (f"{term_to_text(task)} compressed ({how}): {result.nodes_after} behaviours from "
+            f"{result.nodes_before}, RD {result.reduction_degree:.2f} ({FORMAT_WORDS.get(fmt, fmt)})")
     if fmt == "json":
         data = {"task": term_to_text(task), "propagate": result.propagate,
                 "nodes_before": result.nodes_before, "nodes_after": result.nodes_after,
@@ -68,17 +70,17 @@ def run(args: argparse.Namespace) -> int:
                 "notes": result.notes, "tree": tree_json(result.tree)}
         if report is not None:
             data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after)
-        emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
+        emit(json.dumps(data, indent=2) + "\n", args.output, inputs, what)
         return code
     elif fmt == "dot":
         emit(compare_dot(result.original, result.tree, term_to_text(task), result.propagate),
-              args.output, inputs)
+             args.output, inputs, what)
     elif fmt in ("pl", "yaml"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
                   f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
-        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs)
+        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs, what)
     else:
         from rich.console import Console, Group
         from rich.table import Table
@@ -95,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
             view = Group(table, "", figures)
         else:
             view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
-        print_rich(view, args.output, inputs)
+        print_rich(view, args.output, inputs, what)
     if report is not None:
         # After the compressed task (or alone, when that went to a file): what verify would print.
         print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default")))

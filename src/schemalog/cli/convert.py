@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..logic.terms import Struct, TRUE
+from ..logic.terms import Struct, TRUE, term_to_text
 from .options import Parents
 
 
@@ -25,6 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from ..formats.documents import Document, YAML_SUFFIXES, read_document, to_pl, to_yaml
     from ..logic.parse import Clause
     from ..task.schema import check_schemas
+    from ..task.tree import declared_tasks
     from .common import check_output, emit, inputs_of, task_term
 
     check_output(args.output, inputs_of(args))
@@ -43,5 +44,9 @@ def run(args: argparse.Namespace) -> int:
         origin = "the SEED long-term memory" if doc.seed else ""
         header = f"Converted by schemalog from {origin + ' ' if origin else ''}{doc.file}."
         text = to_pl(doc, header=header)
-    emit(text, args.output, inputs_of(args, loaded.files))
+    tasks = ", ".join(term_to_text(t) for t in declared_tasks(loaded)) or "none declared"
+    clauses = len(doc.items)
+    emit(text, args.output, inputs_of(args, loaded.files),
+         f"{clauses} clause{'s' if clauses != 1 else ''} as {'YAML' if target == 'yaml' else 'schema text'}; "
+         f"tasks: {tasks}")
     return 0

@@ -19,6 +19,10 @@ from .common import emit, inputs_of
 SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml"}
 
 
+# What `wrote FILE: ...` calls each format.
+FORMAT_WORDS = {"json": "JSON", "dot": "Graphviz dot", "pl": "schema text", "yaml": "YAML", "text": "text"}
+
+
 def output_format(args: argparse.Namespace) -> str:
     """--json, else --format, else the output file's suffix, else text."""
     if args.json:
@@ -38,9 +42,9 @@ def rendered(renderable, width: int = 120) -> str:
     return buffer.getvalue()
 
 
-def print_rich(renderable, output: str | None, inputs: list[str]) -> None:
+def print_rich(renderable, output: str | None, inputs: list[str], what: str = "") -> None:
     if output and output != "-":
-        emit(rendered(renderable), output, inputs)
+        emit(rendered(renderable), output, inputs, what)
     else:
         from rich.console import Console
 
@@ -52,13 +56,14 @@ def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: s
     """Print or write one tree in the requested format (show, decompress)."""
     fmt = output_format(args)
     inputs = inputs_of(args, kb.files if kb is not None else ())
+    title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
+    what = f"{title} ({FORMAT_WORDS[fmt]})"
     if fmt == "json":
-        emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs)
+        emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs, what)
     elif fmt == "dot":
-        emit(to_dot(tree, term_to_text(task)), args.output, inputs)
+        emit(to_dot(tree, term_to_text(task)), args.output, inputs, what)
     elif fmt in ("pl", "yaml"):
         doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
-        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs)
+        emit(to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc), args.output, inputs, what)
     else:
-        title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
-        print_rich(rich_tree(tree, title), args.output, inputs)
+        print_rich(rich_tree(tree, title), args.output, inputs, what)

@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
     if fmt == "json":
         outcome = executive.run()
         data = run_json(executive, task, kind, initial, args)
-        emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
+        emit(json.dumps(data, indent=2) + "\n", args.output, inputs, _run_words(executive, "JSON"))
     else:
         lines = [header, f"initial state: {', '.join(term_to_text(a) for a in initial) or '(nothing true)'}"]
         out = sys.stdout if not args.output or args.output == "-" else None
@@ -129,8 +129,14 @@ def run(args: argparse.Namespace) -> int:
         if out:
             print("\n".join(lines))
         else:
-            emit("\n".join(lines) + "\n", args.output, inputs)
+            emit("\n".join(lines) + "\n", args.output, inputs, _run_words(executive, "text"))
     return 0 if outcome.completed else 1
+
+
+def _run_words(ex: Executive, fmt: str) -> str:
+    """What a run written to a file holds, for `wrote FILE: ...`."""
+    return (f"the run of {term_to_text(ex.given_tree.label)}, {len(ex.decisions)} decisions, "
+            f"{ex.outcome.status.value} ({fmt})")
 
 
 def _scene_words(scene) -> str:

@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
                f"{commands} gripper commands")
     if args.output and args.output != "-":
-        emit(text, args.output, inputs)
+        emit(text, args.output, inputs, None)
         print(f"{summary}; wrote {args.output}")
     else:
         sys.stdout.write(text)

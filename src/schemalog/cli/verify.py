@@ -92,10 +92,10 @@ def run(args: argparse.Namespace) -> int:
         report = verifier.verify(initial, scene, task)
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
-              args.output, inputs_of(args, inputs))
+             args.output, inputs_of(args, inputs), _verdict_words(report, "JSON"))
     else:
         lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states)
-        emit("\n".join(lines) + "\n", args.output, inputs_of(args, inputs))
+        emit("\n".join(lines) + "\n", args.output, inputs_of(args, inputs), _verdict_words(report, "text"))
     if report.violated:
         return 1
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
@@ -210,6 +210,14 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
         verdict = "no counterexample found, but this is not a proof (exit 3)"
     lines.append(f"result: {verdict}")
     return lines
+
+
+def _verdict_words(report, fmt: str) -> str:
+    """What a verification written to a file says, for `wrote FILE: ...`."""
+    verdict = ("not sound" if report.properties["soundness"].holds is False else "not complete") \
+        if report.violated else "sound and complete" if report.exhaustive and report.sound and report.complete \
+        else "no proof"
+    return f"the verification of {term_to_text(report.task)}: {verdict} ({fmt})"
 
 
 def _interleavings_removed(verdict) -> str | None:
