@@ -525,7 +525,9 @@ def test_run_decompresses_a_merged_behaviour_that_fails_part_way():
     assert r.returncode == 0, r.stderr
     lines = r.stdout.splitlines()
     failed = lines.index("      - a4(cup) (failed)")
-    assert "a3_a4_a5_a6_a7(cup)" in lines[failed - 2] and "FAILED: the robot did not complete a4(cup)" in lines[failed - 2]
+    # the decision, which of the two a3_a4_a5_a6_a7(cup) won (coffee's), its first action, the failed one
+    assert "a3_a4_a5_a6_a7(cup)" in lines[failed - 3] and "FAILED: the robot did not complete a4(cup)" in lines[failed - 3]
+    assert lines[failed - 2] == "      (winner: in preparecoffee; runner-up: in preparetea)"
     assert lines[failed + 1] == ("      decompressed a3_a4_a5_a6_a7(cup) into a3(cup), a4(cup), a5(cup), a6(cup), "
                                  "a7(cup): a4(cup) is retried on its own")
     assert lines[failed + 2].startswith("   4  a4(cup) ")

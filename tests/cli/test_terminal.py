@@ -59,8 +59,14 @@ class Terminal:
                f"PYTHONPATH={os.environ.get('PYTHONPATH', '')}",
                f"SCHEMALOG_HISTORY={os.path.join(self.home, 'history')}"]
         command = [*env, sys.executable, "-m", "schemalog", "repl", *map(str, files)]
+        # the exit status goes to a file: tmux's pane_dead_status is at times never set
+        self.status = os.path.join(self.home, "status")
+        # and the terminal's mode, before and after: the REPL must leave it as it found it
+        modes = [_quoted(os.path.join(self.home, f"stty-{when}")) for when in ("before", "after")]
+        shell = (f"stty -g > {modes[0]}; {' '.join(map(_quoted, command))}; echo $? > {_quoted(self.status)}; "
+                 f"stty -g > {modes[1]}")
         self.tmux("new-session", "-d", "-s", "repl", "-x", str(WIDTH), "-y", str(HEIGHT),
-                  "-c", str(ROOT), " ".join(map(_quoted, command)))
+                  "-c", str(ROOT), shell)
 
     def type(self, text: str) -> None:
         self.tmux("send-keys", "-t", "repl", "-l", text)
@@ -92,11 +98,18 @@ class Terminal:
     def exit_status(self) -> int:
         deadline = time.monotonic() + PATIENCE
         while True:
-            dead, _, status = self.tmux("display-message", "-p", "-t", "repl",
-                                        "#{pane_dead} #{pane_dead_status}").strip().partition(" ")
-            if dead == "1":
-                return int(status)
-            assert time.monotonic() < deadline, "the REPL did not leave after :quit"
+            try:
+                with open(self.status) as f:
+                    status = f.read()
+                with open(os.path.join(self.home, "stty-after")) as f:
+                    after = f.read()
+                if status.endswith("\n") and after.endswith("\n"):
+                    with open(os.path.join(self.home, "stty-before")) as f:
+                        assert f.read() == after, "the REPL left the terminal in another mode"
+                    return int(status)
+            except FileNotFoundError:
+                pass
+            assert time.monotonic() < deadline, "the REPL did not leave; the screen:\n" + "\n".join(self.lines())
             time.sleep(0.05)
 
     def close(self) -> None:

@@ -154,6 +154,34 @@ def _key_name(key) -> str:
     return getattr(key.key, "value", key.key)
 
 
+class no_echo_between_prompts:
+    """For the whole session: the terminal echoes no key typed ahead between two prompts (an
+    Enter would open an empty line among the answers); the next prompt shows what was typed.
+    The terminal's mode is put back when the session ends."""
+
+    def __enter__(self) -> None:
+        self.saved = None
+        try:
+            import termios
+
+            fd = sys.stdin.fileno()
+            self.saved = termios.tcgetattr(fd)
+            attrs = termios.tcgetattr(fd)
+            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL)
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
+        except (ImportError, OSError, ValueError):
+            self.saved = None
+
+    def __exit__(self, *exc) -> None:
+        if self.saved is not None:
+            import termios
+
+            try:
+                termios.tcsetattr(sys.stdin.fileno(), termios.TCSANOW, self.saved)
+            except (OSError, ValueError, termios.error):
+                pass
+
+
 class signals_from_keyboard:
     """While a query or command runs, Ctrl-C must reach it as SIGINT: the terminal can still
     be in the raw mode prompt_toolkit read the input in (no ISIG), where Ctrl-C is only a byte.
@@ -178,7 +206,8 @@ class signals_from_keyboard:
             self.saved = termios.tcgetattr(fd)
             attrs = termios.tcgetattr(fd)
             attrs[3] |= termios.ISIG
-            attrs[3] &= ~termios.ECHOCTL        # "% interrupted" then starts its line, not "^C%"
+            # no echo of keys typed while it runs, "^C" included: "% interrupted" starts its line
+            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL)
             termios.tcsetattr(fd, termios.TCSANOW, attrs)
         except (ImportError, OSError, ValueError):
             self.saved = None
