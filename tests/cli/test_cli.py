@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import signal
 import stat
 import subprocess
@@ -277,6 +278,27 @@ def test_run_prints_decisions_and_a_summary():
     assert "16 decisions, 36 actions; time per decision (incremental): mean" in r.stdout
 
 
+def test_run_says_which_of_two_behaviours_of_one_label_won_and_which_came_second():
+    r = run("run", COFFEE, "--task", "prepareboth", "--scene", KITCHEN)
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    assert re.match(r" +1  a1\(water\) +e [0-9.]+ +runner-up a1\(water\) ", lines[2])
+    assert lines[3] == "      (winner: in preparecoffee; runner-up: in preparetea)"
+    r = run("run", COFFEE, "--task", "prepareboth", "--scene", KITCHEN, "--json")
+    first, tenth = json.loads(r.stdout)["decisions"][0:10:9]
+    assert (first["where"], first["runner_up"]["where"]) == ("in preparecoffee", "in preparetea")
+    assert first["behaviour"] == first["runner_up"]["behaviour"] == "a1(water)"
+    assert tenth["behaviour"] != tenth["runner_up"]["behaviour"] and tenth["where"] is None
+
+
+def test_run_without_a_scene_says_so_in_words():
+    r = run("run", MIX)
+    assert r.returncode == 0, r.stderr
+    header = r.stdout.splitlines()[0]
+    assert header.endswith("; no scene (neutral distances)") and "scene no scene" not in r.stdout
+    assert run("run", MIX, "--scene", FIG2_SCENE).stdout.splitlines()[0].endswith("; scene mix with spoon")
+
+
 def test_run_json_for_both_selectors_and_trees():
     traces = {}
     for selector in ("scan", "incremental"):
@@ -387,6 +409,21 @@ def test_verify_proves_full_propagation_and_refutes_the_papers_rule():
     assert "add(water) is accomplished (water.used holds)" in r.stdout
 
 
+def test_a_sound_merge_reports_the_interleavings_it_removed_not_a_failure():
+    r = run("verify", COFFEE, "--task", "prepareboth")
+    assert r.returncode == 0 and "FAILS" not in r.stdout, r.stdout
+    traces = json.loads(run("verify", COFFEE, "--task", "prepareboth", "--json").stdout)["properties"]["traces"]
+    (row,) = traces["states"]
+    assert traces["holds"] is False and row["original"] > row["compressed"]      # the JSON is unchanged
+    line = next(x for x in r.stdout.splitlines() if x.startswith("trace equivalence (diagnostic): "))
+    assert line.startswith(f"trace equivalence (diagnostic): {row['original'] - row['compressed']:,} "
+                           f"interleavings removed by merging")
+    assert f"the original has {row['original']:,} complete traces, the compressed tree {row['compressed']:,}" in line
+    # an unsound tree's traces are not the original's: there it stays a difference
+    r = run("verify", COFFEE, "--propagate", "pre")
+    assert "trace equivalence (diagnostic): FAILS" in r.stdout and "interleavings removed" not in r.stdout
+
+
 def test_verify_json_and_all_states():
     data = json.loads(run("verify", MIX, "--states", "all", "--propagate", "none", "--json").stdout)
     assert data["sound"] is False and data["states"] == 4 and data["exhaustive"] is True
@@ -490,7 +527,9 @@ def test_run_decompresses_a_merged_behaviour_that_fails_part_way():
     assert r.returncode == 0, r.stderr
     lines = r.stdout.splitlines()
     failed = lines.index("      - a4(cup) (failed)")
-    assert "a3_a4_a5_a6_a7(cup)" in lines[failed - 2] and "FAILED: the robot did not complete a4(cup)" in lines[failed - 2]
+    # the decision, which of the two a3_a4_a5_a6_a7(cup) won (coffee's), its first action, the failed one
+    assert "a3_a4_a5_a6_a7(cup)" in lines[failed - 3] and "FAILED: the robot did not complete a4(cup)" in lines[failed - 3]
+    assert lines[failed - 2] == "      (winner: in preparecoffee; runner-up: in preparetea)"
     assert lines[failed + 1] == ("      decompressed a3_a4_a5_a6_a7(cup) into a3(cup), a4(cup), a5(cup), a6(cup), "
                                  "a7(cup): a4(cup) is retried on its own")
     assert lines[failed + 2].startswith("   4  a4(cup) ")
@@ -716,3 +755,80 @@ def test_a_prolog_predicate_in_two_files_on_the_command_line(tmp_path):
     b.write_text(":- multifile colour/1.\nsize(big).\ncolour(blue).\n")
     r = run("query", a, b, "colour(C)")
     assert r.returncode == 0 and r.stdout.split() == ["C", "=", "red", "C", "=", "blue"], r.stdout
+
+
+# -- --help: what a person reads before anything else -----------------------------------
+
+def test_every_positional_argument_of_every_command_is_described():
+    from schemalog.cli.main import COMMANDS, build_parser
+
+    for name in COMMANDS:
+        command = name.replace("_", "-")
+        r = run(command, "--help")
+        assert r.returncode == 0, r.stderr
+        parser = build_parser(command)._subparsers._group_actions[0].choices[command]
+        positionals = [a for a in parser._actions if not a.option_strings]
+        for action in positionals:
+            assert action.help and len(action.help) > 10, (command, action.metavar)
+            shown = " ".join(r.stdout.split("positional arguments:")[1].split("options:")[0].split())
+            assert " ".join(action.help.split()[:4]) in shown, (command, action.metavar)   # --help shows it
+
+
+def test_the_two_jitter_defaults_are_stated_with_the_reason_for_two():
+    from schemalog import defaults
+
+    ran = " ".join(run("run", "--help").stdout.split())
+    simulated = " ".join(run("simulate-demo", "--help").stdout.split())
+    assert f"(default {defaults.JITTER}:" in ran and "simulate-demo's default is 0" in ran
+    assert "default 0, at most" in simulated and f"run's default is {defaults.JITTER}" in simulated
+    assert "also seeds the noise" in simulated
+
+
+def test_a_wrong_option_prints_the_commands_usage_not_the_top_levels():
+    for args in (("run", MIX, "--bogus"), ("query", MIX, "X = 1", "--bogus"), ("compress", MIX, "--nope", "1")):
+        r = run(*args)
+        assert r.returncode == 2
+        assert r.stderr.startswith(f"usage: schemalog {args[0]} ["), r.stderr
+        assert f"schemalog {args[0]}: error: unrecognized arguments: " in r.stderr
+
+
+def test_the_top_level_help_states_each_exit_status_the_commands_return(tmp_path):
+    text = run("--help").stdout
+    stated = {int(line.split()[0]) for line in text.split("exit status:")[1].splitlines()
+              if line[:6].strip().isdigit()}
+    seen = {
+        run("verify", MIX).returncode,                                   # proved
+        run("verify", COFFEE, "--propagate", "pre").returncode,          # a counterexample
+        run("run", MIX, "--bogus").returncode,                           # a wrong command line
+        run("verify", COFFEE, "--max-states", "10").returncode,          # no proof
+        run("query", MIX, "repeat, fail", "--timeout", "1").returncode,  # out of time
+    }
+    assert seen == {0, 1, 2, 3, 124} and seen <= stated
+    assert stated >= {70, 130}
+    assert "128+N for signal N" in text
+
+
+@pytest.mark.parametrize("args, said", [
+    (("compress", COFFEE, "-o", "{out}/out.pl"),
+     "wrote {out}/out.pl: prepareboth compressed (propagate full): 33 behaviours from 63, RD 0.52 (schema text)"),
+    (("compress", MIX, "--propagate", "none", "-o", "{out}/c.json"),
+     "wrote {out}/c.json: use(spoon) compressed (propagate none): "),
+    (("show", MIX, "-o", "{out}/t.yaml"), "wrote {out}/t.yaml: use(spoon): 12 behaviours, depth 3 (YAML)"),
+    (("convert", SEED_COFFEE, "--task", "prepareboth", "-o", "{out}/task.pl"),
+     "wrote {out}/task.pl: 56 clauses as schema text; tasks: prepareboth"),
+    (("run", MIX, "--scene", FIG2_SCENE, "-o", "{out}/run.txt"),
+     "wrote {out}/run.txt: the run of use(spoon), 9 decisions, completed (text)"),
+    (("verify", MIX, "-o", "{out}/v.txt"), "wrote {out}/v.txt: the verification of use(spoon): sound and complete (text)"),
+    (("generate", "--depth", "3", "--children", "2", "--seed", "1", "-o", "{out}/g.pl", "--scene", "{out}/g.yaml"),
+     "wrote {out}/g.yaml: the scene of b1: 2 objects"),
+])
+def test_a_command_writing_a_file_says_on_stderr_what_it_wrote(tmp_path, args, said):
+    r = run(*(str(a).format(out=tmp_path) for a in args))
+    assert r.returncode == 0, r.stderr
+    line = said.format(out=tmp_path)
+    assert any(x.startswith(line) for x in r.stderr.splitlines()), r.stderr
+    written = line.split()[1].rstrip(":")
+    assert os.path.getsize(written) > 0 and written not in r.stdout
+    # to standard output, the data alone: nothing is said
+    r = run(*(a for a in args if "{out}" not in str(a) and a not in ("-o", "--scene")))
+    assert "wrote" not in r.stderr

@@ -61,3 +61,40 @@ def test_the_reader_returns_a_term_or_raises_a_syntax_error(text):
             assert err.pos is not None
         else:
             assert isinstance(result, (list, Atom, Int, Str, Struct)) or result is not None
+
+
+# -- what a syntax error says was expected: words a Prolog user knows, never the grammar's names
+
+WORDS = {"a term", "an operator", "')'", "']'", "'}'", "','", "'|'", "'.' (end of clause)",
+         "the end of the input"}
+
+
+def expected_words(message: str) -> list[str]:
+    _, _, wanted = message.partition("; expected ")
+    return [w for part in wanted.split(", ") for w in part.split(" or ")] if wanted else []
+
+
+@pytest.mark.parametrize("read, text, said", [
+    (parse_term, "foo(.", "unexpected '.'; expected a term"),
+    (parse_term, "f(a,)", "unexpected ')'; expected a term"),
+    (parse_term, "foo(a b)", "unexpected 'b'; expected ')', ',' or an operator"),
+    (parse_term, "[a|b c]", "unexpected 'c'; expected ']' or an operator"),
+    (parse_term, "{a b}", "unexpected 'b'; expected ',', '}' or an operator"),
+    (parse_term, "a b", "unexpected 'b'; expected ',', '.' (end of clause), an operator or the end of the input"),
+    (parse_text, "p :- .\n", "unexpected '.'; expected a term"),
+    (parse_text, "p(a) q.\n", "unexpected 'q'; expected ',', '.' (end of clause) or an operator"),
+])
+def test_a_syntax_error_says_what_was_expected_in_prolog_words(read, text, said):
+    with pytest.raises(SchemalogError) as err:
+        read(text)
+    assert err.value.message == "syntax error: " + said
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.sampled_from(ALPHABET), min_size=1, max_size=14).map("".join))
+def test_no_syntax_error_names_a_grammar_terminal(text):
+    for read in (parse_term, parse_text):
+        try:
+            read(text)
+        except SchemalogError as err:
+            assert set(expected_words(err.message)) <= WORDS, err.message

@@ -157,6 +157,24 @@ def test_ties_go_to_the_earlier_behaviour():
     assert term_to_text(first.behaviour) == "a(spoon)" and first.emphasis == first.runner_up[1]
 
 
+def test_a_runner_up_with_the_winners_label_is_told_apart_by_where_it_is():
+    def branch(name):        # one behaviour, add(water), used in two sub-tasks
+        leaf = Behaviour(t("add(water)"), post=c(f"{name}.water"))
+        return Behaviour(t(name), post=c(f"{name}.water"), children=(leaf,))
+
+    tree = Behaviour(t("r"), post=c("coffee.water and tea.water"), children=(branch("coffee"), branch("tea")))
+    first = Executive(tree, World(tree)).step()
+    assert term_to_text(first.behaviour) == term_to_text(first.runner_up[0]) == "add(water)"
+    assert first.apart == ("in coffee", "in tea")
+    # two siblings of one label, in sub-trees of one label: their pre-order ids
+    twins = Behaviour(t("r"), post=c("a.done and b.done"), children=(
+        Behaviour(t("s"), post=c("a.done"), children=(Behaviour(t("x"), post=c("a.done")),)),
+        Behaviour(t("s"), post=c("b.done"), children=(Behaviour(t("x"), post=c("b.done")),))))
+    assert Executive(twins, World(twins)).step().apart == ("node 2", "node 4")
+    # labels that differ need no telling apart
+    assert Executive(two_leaves(), World(two_leaves())).step().apart is None
+
+
 def test_a_shared_constituent_counts_once():
     """Branching gives b_i_b_j and b_i_b_k; accomplished, they stand for 3 originals, not 4."""
     o = lambda name, pos: Origin(t(name), cond.TRUE, c(f"{name}.done"), position=pos)

@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 
 from ..logic.terms import term_to_text
-from .options import Parents
+from .options import TOGETHER, Parents
 
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog check` and its arguments to the command line."""
     p = sub.add_parser("check", parents=[parents.limits, parents.resources], help="parse and validate knowledge files")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files to check, {TOGETHER}")
     p.add_argument("--task", help="instantiate this task (default: every task/1)")
     p.set_defaults(run=run)
 

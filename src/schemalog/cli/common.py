@@ -105,13 +105,16 @@ def inputs_of(args: argparse.Namespace, *more: Iterable[str]) -> list[str]:
     return found
 
 
-def emit(text: str, output: str | None, inputs: Iterable[str]) -> None:
-    """Print, or write atomically to `output`, which must not be any file read."""
+def emit(text: str, output: str | None, inputs: Iterable[str], what: str | None = "") -> None:
+    """Print, or write atomically to `output`, which must not be any file read, and say on
+    stderr what was written there (`what`; None: the command says it itself)."""
     if output is None or output == "-":
         sys.stdout.write(text)
         return
     check_output(output, inputs)
     write_atomically(output, text)
+    if what is not None:
+        print(f"wrote {output}" + (f": {what}" if what else ""), file=sys.stderr)
 
 
 def check_output(output: str | None, inputs: Iterable[str], option: str = "-o") -> None:

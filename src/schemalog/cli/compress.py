@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from .. import defaults
 from ..logic.terms import term_to_text
-from .options import Parents, budget
+from .options import TOGETHER, Parents, budget
 
 if TYPE_CHECKING:  # for annotations only: these load when the command runs
     from ..logic.kb import KnowledgeBase
@@ -19,7 +19,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog compress` and its arguments to the command line."""
     p = sub.add_parser("compress", parents=[parents.limits, parents.resources, parents.output],
                        help="merge sequential behaviours (Definition 1, Algorithm 1)")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to compress, {TOGETHER}")
     p.add_argument("--task", help="the task to compress (default: the first task/1)")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
                    help="what the children of a merged behaviour inherit: its pre AND not post "
@@ -40,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     from ..task.conditions import Simplifier
     from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
     from ..run.world import World
-    from .output import PICTURES, emit_picture, output_format, print_rich, written
+    from .output import PICTURES, emit_picture, output_format, print_rich, written, FORMAT_WORDS
     from .verify import exit_status, vacuity_of, verify_json, verify_lines
 
     fmt = output_format(args)          # a picture asked for without Graphviz: say so before any work
@@ -59,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
                                                      report.initial_states, defaults.MAX_STATES)
     code = 0 if report is None else exit_status(report, vacuity)
     how = f"propagate {result.propagate}"
+    what = (f"{term_to_text(task)} compressed ({how}): {result.nodes_after} behaviours from "
+            f"{result.nodes_before}, RD {result.reduction_degree:.2f} ({FORMAT_WORDS.get(fmt, fmt)})")
     if fmt == "json":
         data = {"task": term_to_text(task), "propagate": result.propagate,
                 "nodes_before": result.nodes_before, "nodes_after": result.nodes_after,
@@ -69,20 +71,20 @@ def run(args: argparse.Namespace) -> int:
                 "notes": result.notes, "tree": tree_json(result.tree)}
         if report is not None:
             data["verification"] = verify_json(report, how, result.nodes_before, result.nodes_after, vacuity)
-        emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
+        emit(json.dumps(data, indent=2) + "\n", args.output, inputs, what)
         return code
     elif fmt == "dot" or fmt in PICTURES:    # the paper's Figure 2; the picture and its DOT text alike
         dot = _figure2(kb, result, args)
         if fmt == "dot":
-            emit(dot, args.output, inputs)
+            emit(dot, args.output, inputs, what)
         else:
-            emit_picture(dot, fmt, args.output, inputs)
+            emit_picture(dot, fmt, args.output, inputs, what)
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
                   f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
-        emit(written(doc, fmt, header), args.output, inputs)
+        emit(written(doc, fmt, header), args.output, inputs, what)
     else:
         from rich.console import Console, Group
         from rich.table import Table
@@ -99,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
             view = Group(table, "", figures)
         else:
             view = Group(rich_tree(result.original, before), "", rich_tree(result.tree, after), "", figures)
-        print_rich(view, args.output, inputs)
+        print_rich(view, args.output, inputs, what)
     if report is not None:
         # After the compressed task (or alone, when that went to a file): what verify would print.
         print("\n" + "\n".join(verify_lines(report, how, result.nodes_before, result.nodes_after, "default",

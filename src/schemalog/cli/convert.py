@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..logic.terms import Struct, TRUE
+from ..logic.terms import Struct, TRUE, term_to_text
 from .options import Parents
 
 
@@ -13,7 +13,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog convert` and its arguments to the command line."""
     p = sub.add_parser("convert", parents=[parents.limits, parents.resources],
                        help="convert knowledge: SEED or schema text or YAML -> schema text, YAML or SEED")
-    p.add_argument("input", metavar="FILE")
+    p.add_argument("input", metavar="FILE", help="the knowledge to convert: the authors' SEED format (.prolog), schema text (.pl), YAML (.yaml) or a BehaviorTree.CPP v4 tree (.xml)")
     p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml, .prolog) picks the format")
     p.add_argument("--to", choices=["pl", "yaml", "seed"],
                    help="output format (default: from -o, else pl); seed writes the tasks' trees as "
@@ -29,8 +29,8 @@ def run(args: argparse.Namespace) -> int:
     from ..logic.parse import Clause
     from ..task.schema import check_schemas
     from ..errors import SchemalogError
-    from ..logic.terms import term_to_text
     from .common import check_output, defines, emit, inputs_of, instantiate_task, root_candidates, task_term
+    from ..task.tree import declared_tasks
 
     check_output(args.output, inputs_of(args))
     if args.input.lower().endswith(".xml"):          # BehaviorTree.CPP v4 (formats/btcpp.py)
@@ -65,7 +65,12 @@ def run(args: argparse.Namespace) -> int:
         origin = "the SEED long-term memory" if doc.seed else ""
         header = f"Converted by schemalog from {origin + ' ' if origin else ''}{doc.file}."
         text = to_pl(doc, header=header)
-    emit(text, args.output, inputs_of(args, loaded.files))
+    tasks = ", ".join(term_to_text(t) for t in declared_tasks(loaded)) or "none declared"
+    clauses = len(doc.items)
+    emit(text, args.output, inputs_of(args, loaded.files),
+         f"{clauses} clause{'s' if clauses != 1 else ''} as "
+         f"{ {'yaml': 'YAML', 'seed': 'SEED long-term memory'}.get(target, 'schema text')}; "
+         f"tasks: {tasks}")
     return 0
 
 
@@ -76,7 +81,6 @@ def _seed(kb, doc, args: argparse.Namespace) -> str:
     """The trees of the file's tasks (or --task) as SEED long-term memory."""
     from ..formats.render import carried_clauses, tree_document
     from ..formats.seed import seed_text
-    from ..logic.terms import term_to_text
     from .common import choose_tasks, instantiate_task
 
     tasks = choose_tasks(kb, args.task, every=True) or choose_tasks(kb, None)

@@ -6,14 +6,14 @@ import argparse
 import sys
 
 from ..logic.terms import term_to_text
-from .options import Parents
+from .options import TOGETHER, Parents
 
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog decompress` and its arguments to the command line."""
     p = sub.add_parser("decompress", parents=[parents.limits, parents.resources, parents.output],
                        help="restore the original tree of a compressed task file")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"a compressed task file (compress -o: its origins/2 give the original), {TOGETHER}")
     p.add_argument("--task", help="the task (default: the first task/1)")
     p.set_defaults(run=run)
 

@@ -53,14 +53,31 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The command line: the top level and every command's arguments, or with `only` (a
     command's name, as typed) just that command's, which is all a run of it reads."""
     parser = argparse.ArgumentParser(
-        prog="schemalog",
+        prog="schemalog", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=EXIT_STATUS,
         description="Compress and check robot task structures (schema(m, l, p) knowledge).")
     parser.add_argument("--version", action="version", version=f"schemalog {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     parents = shared_parents()
     for name in COMMANDS if only is None else [only.replace("-", "_")]:
         importlib.import_module(f"{__package__}.{name}").register(sub, parents)
+    for command in sub.choices.values():      # a wrong option is told with its command's usage
+        command.set_defaults(command_parser=command)
     return parser
+
+
+# What the statuses returned below (and by the commands) mean; `schemalog --help` ends with it.
+EXIT_STATUS = f"""\
+exit status:
+  0    done: checked, compressed, proved (verify), accomplished (run), answered (query)
+  1    no: a counterexample (verify), the task not accomplished (run), no answer (query);
+       or bad input (a message with file:line:column), or out of memory
+  2    a wrong command line (the command's usage follows); query and repl: also a bad
+       query or file, or input that ends inside a query
+  3    verify, compress --verify: no counterexample, but no proof (a limit, --sample)
+  70   an internal error (please report it; SCHEMALOG_DEBUG=1 shows the traceback)
+  {TIMEOUT_EXIT:<4} --timeout ran out (as timeout(1))
+  130  interrupted (Ctrl-C); 128+N for signal N (143 SIGTERM, 129 SIGHUP)
+"""
 
 
 def _named_command(argv: list[str]) -> str | None:
@@ -80,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
         if getattr(args, "command", None) == "query" and not any(e.startswith("-") for e in extra):
             args.files, args.query = [*args.files, args.query, *extra[:-1]], extra[-1]
         else:
-            parser.error(f"unrecognized arguments: {' '.join(extra)}")
+            getattr(args, "command_parser", parser).error(f"unrecognized arguments: {' '.join(extra)}")
     if not getattr(args, "run", None):
         parser.print_help(sys.stderr)
         return 2

@@ -13,6 +13,10 @@ from .. import defaults
 from .limits import TIMEOUT_EXIT
 
 
+# How a command reads its FILE arguments (docs/formats.md): the help of each says it.
+TOGETHER = "read together as one knowledge base (schema text, YAML or the authors' SEED format)"
+
+
 def whole(minimum: int):
     """An argparse type: a whole number at least `minimum`."""
     def read(text: str) -> int:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import io
 import json
+import sys
 from pathlib import Path
 
 from ..formats.documents import to_pl, to_yaml, write_atomically
@@ -22,6 +23,11 @@ from .common import emit, inputs_of
 
 SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml",
                   ".prolog": "seed"}
+
+
+# What `wrote FILE: ...` calls each format.
+FORMAT_WORDS = {"json": "JSON", "dot": "Graphviz dot", "pl": "schema text", "yaml": "YAML", "text": "text",
+                "seed": "SEED long-term memory", "png": "PNG picture", "svg": "SVG picture", "pdf": "PDF picture"}
 
 
 def output_format(args: argparse.Namespace) -> str:
@@ -54,7 +60,7 @@ def written(doc, fmt: str, header: str) -> str:
 PICTURES = ("png", "svg", "pdf")
 
 
-def emit_picture(dot: str, fmt: str, output: str, inputs: list[str]) -> None:
+def emit_picture(dot: str, fmt: str, output: str, inputs: list[str], what: str | None = "") -> None:
     """Render `dot` as a picture and write it to `output` atomically (never over an input)."""
     from ..formats.graphviz import render
     from .common import check_output
@@ -62,6 +68,8 @@ def emit_picture(dot: str, fmt: str, output: str, inputs: list[str]) -> None:
     check_output(output, inputs)
     data = render(dot, fmt)
     write_atomically(output, data)
+    if what is not None:
+        print(f"wrote {output}" + (f": {what}" if what else ""), file=sys.stderr)
 
 
 def rendered(renderable, width: int = 120) -> str:
@@ -72,9 +80,9 @@ def rendered(renderable, width: int = 120) -> str:
     return buffer.getvalue()
 
 
-def print_rich(renderable, output: str | None, inputs: list[str]) -> None:
+def print_rich(renderable, output: str | None, inputs: list[str], what: str = "") -> None:
     if output and output != "-":
-        emit(rendered(renderable), output, inputs)
+        emit(rendered(renderable), output, inputs, what)
     else:
         from rich.console import Console
 
@@ -86,20 +94,21 @@ def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: s
     """Print or write one tree in the requested format (show, decompress)."""
     fmt = output_format(args)
     inputs = inputs_of(args, kb.files if kb is not None else ())
+    title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
+    what = f"{title} ({FORMAT_WORDS[fmt]})"
     if fmt == "json":
-        emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs)
+        emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs, what)
     elif fmt in PICTURES or fmt == "dot":      # the picture and its DOT text are one drawing
         dot = to_dot(tree, term_to_text(task), initial_atoms(kb, tree))
         if fmt == "dot":
-            emit(dot, args.output, inputs)
+            emit(dot, args.output, inputs, what)
         else:
-            emit_picture(dot, fmt, args.output, inputs)
+            emit_picture(dot, fmt, args.output, inputs, what)
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
-        emit(written(doc, fmt, header), args.output, inputs)
+        emit(written(doc, fmt, header), args.output, inputs, what)
     else:
-        title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
-        print_rich(rich_tree(tree, title), args.output, inputs)
+        print_rich(rich_tree(tree, title), args.output, inputs, what)
 
 
 def initial_atoms(kb: KnowledgeBase | None, tree: Behaviour) -> frozenset:

@@ -6,14 +6,14 @@ import argparse
 import sys
 
 from ..errors import SchemalogError
-from .options import Parents
+from .options import TOGETHER, Parents
 
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog query` and its arguments to the command line."""
     p = sub.add_parser("query", parents=[parents.limits, parents.resources, parents.ask],
                        help="answer a Prolog query over knowledge files (docs/queries.md)")
-    p.add_argument("files", nargs="*", metavar="FILE")
+    p.add_argument("files", nargs="*", metavar="FILE", help=f"knowledge files to query (none: the built-ins alone), {TOGETHER}")
     p.add_argument("query", metavar="QUERY", help="a goal, e.g. 'sequential(X, Y)' (the final '.' is optional)")
     p.add_argument("--first", action="store_true", help="stop after the first answer")
     p.add_argument("--json", action="store_true", help="print a JSON list of bindings")

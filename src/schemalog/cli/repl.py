@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .options import Parents
+from .options import TOGETHER, Parents
 
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog repl` and its arguments to the command line."""
     p = sub.add_parser("repl", parents=[parents.limits, parents.ask], help="the interactive query top level")
-    p.add_argument("files", nargs="*", metavar="FILE")
+    p.add_argument("files", nargs="*", metavar="FILE", help=f"knowledge files to start with (:load adds more), {TOGETHER}")
     p.add_argument("--plain", action="store_true",
                    help="read queries line by line without prompt_toolkit (as when piped)")
     p.set_defaults(run=run)

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from .. import defaults
 from ..logic.terms import term_to_text
-from .options import Parents, budget, count, distance, positive
+from .options import TOGETHER, Parents, budget, count, distance, positive
 
 if TYPE_CHECKING:  # for annotations only: these load when the command runs
     from ..logic.terms import Term
@@ -21,7 +21,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog run` and its arguments to the command line."""
     p = sub.add_parser("run", parents=[parents.limits, parents.resources],
                        help="execute a task with the attentional executive against an emulated robot")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to run, {TOGETHER}")
     p.add_argument("--task", help="the task to run (default: the first task/1)")
     p.add_argument("--scene", metavar="FILE", help="object positions (YAML, docs/semantics.md); "
                                                    "without it every lambda is neutral")
@@ -34,7 +34,9 @@ def register(sub, parents: Parents) -> None:
                                                     "(default: the file's initial/1 facts)")
     p.add_argument("--seed", type=int, help="move the scene's objects randomly with this seed")
     p.add_argument("--jitter", type=distance, metavar="M",
-                   help=f"how far (metres, per coordinate) --seed moves objects (default {defaults.JITTER})")
+                   help=f"how far (metres, per coordinate) --seed moves objects (default {defaults.JITTER}: "
+                        f"here --seed only moves objects, so it moves them unless told 0; simulate-demo's "
+                        f"default is 0, its --seed also seeding the noise)")
     p.add_argument("--selector", choices=list(defaults.SELECTORS), default="incremental",
                    help="incremental (default): re-evaluate what an action touched; "
                         "scan: visit every behaviour at every decision, the paper's cost model")
@@ -101,14 +103,14 @@ def run(args: argparse.Namespace) -> int:
         print("note: no --scene: every behaviour gets the neutral lambda, so emphasis follows "
               "progress alone", file=sys.stderr)
     header = (f"run {term_to_text(task)}: {kind} tree of {count_nodes(tree)} behaviours; "
-              f"selector {args.selector}; scene {scene.name}")
+              f"selector {args.selector}; {_scene_words(scene)}")
     fmt = "json" if args.json else "text"
     inputs = inputs_of(args, kb.files)
     check_output(args.output, inputs)   # refuse before running, not after
     if fmt == "json":
         outcome = executive.run()
         data = run_json(executive, task, kind, initial, args)
-        emit(json.dumps(data, indent=2) + "\n", args.output, inputs)
+        emit(json.dumps(data, indent=2) + "\n", args.output, inputs, _run_words(executive, "JSON"))
     else:
         lines = [header, f"initial state: {', '.join(term_to_text(a) for a in initial) or '(nothing true)'}"]
         out = sys.stdout if not args.output or args.output == "-" else None
@@ -127,8 +129,21 @@ def run(args: argparse.Namespace) -> int:
         if out:
             print("\n".join(lines))
         else:
-            emit("\n".join(lines) + "\n", args.output, inputs)
+            emit("\n".join(lines) + "\n", args.output, inputs, _run_words(executive, "text"))
     return 0 if outcome.completed else 1
+
+
+def _run_words(ex: Executive, fmt: str) -> str:
+    """What a run written to a file holds, for `wrote FILE: ...`."""
+    return (f"the run of {term_to_text(ex.given_tree.label)}, {len(ex.decisions)} decisions, "
+            f"{ex.outcome.status.value} ({fmt})")
+
+
+def _scene_words(scene) -> str:
+    """The scene as the header names it; without one every lambda is neutral."""
+    from ..run.scene import NO_SCENE
+
+    return "no scene (neutral distances)" if scene is NO_SCENE else f"scene {scene.name}"
 
 
 def _failures(args: argparse.Namespace, original: Behaviour, tree: Behaviour) -> dict:
@@ -154,6 +169,8 @@ def decision_lines(d: Decision, width: int) -> list[str]:
     status = f"  FAILED: the robot did not complete {term_to_text(d.failed)}" if d.failed is not None else ""
     lines = [f"{d.index:4d}  {term_to_text(d.behaviour):<{width}}  e {d.emphasis:<9.4g} "
              f"runner-up {runner:<{width + 8}} {d.enabled:3d} enabled{status}"]
+    if d.apart:     # one behaviour used twice (add(water) in coffee and in tea): which is which
+        lines.append(f"{'':6}(winner: {d.apart[0]}; runner-up: {d.apart[1]})")
     steps = [*d.skipped, *d.executed, *([d.failed] if d.failed is not None else [])]
     if len(steps) > 1 or (steps and steps[0] != d.behaviour):  # a merged behaviour: its actions
         lines.extend(f"{'':6}- {term_to_text(a)} (skipped: accomplished)" for a in d.skipped)
@@ -211,7 +228,9 @@ def run_json(ex: Executive, task: Term, kind: str, initial: list[Term], args: ar
         "decisions": [{
             "index": d.index, "behaviour": term_to_text(d.behaviour), "emphasis": d.emphasis,
             "runner_up": None if d.runner_up is None else {
-                "behaviour": term_to_text(d.runner_up[0]), "emphasis": d.runner_up[1]},
+                "behaviour": term_to_text(d.runner_up[0]), "emphasis": d.runner_up[1],
+                "where": d.apart[1] if d.apart else None},
+            "where": d.apart[0] if d.apart else None,
             "enabled": d.enabled, "executed": [term_to_text(a) for a in d.executed],
             "skipped": [term_to_text(a) for a in d.skipped],
             "failed": None if d.failed is None else term_to_text(d.failed),

@@ -23,7 +23,8 @@ from .toplevel import _Output, answer_text, answers, error_text, read_query, spl
 
 HELP = """\
 Enter a query, ending with '.'; it may span lines. After an answer, ';' asks for the
-next one and Enter stops. Ctrl-C stops a running query or command, Ctrl-D leaves.
+next one (so do n, r, space and Tab) and Enter stops (so do '.', c, a and Escape).
+Ctrl-C stops a running query or command, Ctrl-D leaves.
 
   :load FILE       add a knowledge file (the workspace is rebuilt from all files)
   :tree [T]        print the focus tree, each behaviour with its id
@@ -289,6 +290,12 @@ class Repl:
         return 0
 
     def _interactive(self) -> int:
+        from .terminal import no_echo_between_prompts
+
+        with no_echo_between_prompts():
+            return self._prompting()
+
+    def _prompting(self) -> int:
         from .terminal import prompts, signals_from_keyboard
 
         prompt, more = prompts(self.workspace)

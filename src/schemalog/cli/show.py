@@ -5,14 +5,14 @@ from __future__ import annotations
 import argparse
 
 from ..logic.terms import term_to_text
-from .options import Parents
+from .options import TOGETHER, Parents
 
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog show` and its arguments to the command line."""
     p = sub.add_parser("show", parents=[parents.limits, parents.resources, parents.output],
                       help="instantiate a task and print its tree")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task, {TOGETHER}")
     p.add_argument("--task", help="the task to instantiate (default: the first task/1)")
     p.set_defaults(run=run)
 

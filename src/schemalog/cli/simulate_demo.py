@@ -27,7 +27,8 @@ def register(sub, parents: Parents) -> None:
                         f"at most {defaults.MAX_NOISE} m)")
     p.add_argument("--jitter", type=bounded(0, defaults.MAX_JITTER, float), default=0.0, metavar="M",
                    help=f"move each object coordinate by up to M metres (with --seed; default 0, at most "
-                        f"{defaults.MAX_JITTER:g} m)")
+                        f"{defaults.MAX_JITTER:g} m: here --seed also seeds the noise, and the objects "
+                        f"stay where the scene puts them unless asked; run's default is {defaults.JITTER})")
     p.add_argument("--rate", type=bounded(1, defaults.MAX_RATE, float), default=defaults.RATE, metavar="HZ",
                    help=f"samples per second (default {defaults.RATE:g}, at most {defaults.MAX_RATE:,g})")
     p.add_argument("--speed", type=bounded(0.01, 2.0, float), default=defaults.SPEED, metavar="M/S",
@@ -77,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
                f"{commands} gripper commands")
     if args.output and args.output != "-":
-        emit(text, args.output, inputs)
+        emit(text, args.output, inputs, None)
         print(f"{summary}; wrote {args.output}")
     else:
         sys.stdout.write(text)

@@ -1,6 +1,6 @@
-"""The REPL's terminal (session.py): prompt_toolkit's two prompts, the query prompt and the
-one-key "more?" prompt after an answer, its history file, and the terminal mode a running
-query needs for Ctrl-C to be a signal.
+"""The REPL's terminal (session.py): prompt_toolkit's query prompt, the one-key "more?" prompt
+after an answer (read straight from the terminal, on the answer's line), its history file, and
+the terminal mode a running query needs for Ctrl-C to be a signal.
 
     Prompts = (query: () -> str, more: () -> bool)   query raises EOFError at Ctrl-D and
                                                      KeyboardInterrupt at Ctrl-C
@@ -54,19 +54,9 @@ def prompts(workspace: Workspace) -> tuple[Callable[[], str], Callable[[], bool]
     session = PromptSession(history=history, multiline=True, key_bindings=keys,
                             completer=_completer(workspace),
                             prompt_continuation=lambda width, line, soft: "|    ")
-    more_keys = KeyBindings()
-    for key in (";", "n", "r", " ", "tab"):
-        more_keys.add(key)(lambda event: event.app.exit(result=True))
-    for key in ("enter", ".", "c", "a", "escape"):
-        more_keys.add(key)(lambda event: event.app.exit(result=False))
-    more_keys.add("c-c")(lambda event: event.app.exit(result=False))
-    answer_session = PromptSession(key_bindings=more_keys)
 
     def more() -> bool:
-        try:
-            return bool(answer_session.prompt(""))
-        except (KeyboardInterrupt, EOFError):
-            return False
+        return more_answers(session.input)
 
     # SIGINT while the query prompt reads. prompt_toolkit's own handler (handle_sigint) stays
     # in place for a while after the Enter that ended the input, with the terminal back in
@@ -90,6 +80,106 @@ def prompts(workspace: Workspace) -> tuple[Callable[[], str], Callable[[], bool]
     prompt.input = session.input         # whose keys typed ahead signals_from_keyboard looks at
     prompt.interrupted = interrupted     # and the Ctrl-C that came as a signal after the Enter
     return prompt, more
+
+
+# The keys of the "more?" prompt, as SWI-Prolog's top level takes them: True asks for the next
+# answer, False stops. Any other key rings the bell; a cursor-position report is no key.
+MORE_KEYS = {";": True, "n": True, "r": True, " ": True, "c-i": True,
+             "c-m": False, "c-j": False, ".": False, "c": False, "a": False, "escape": False,
+             "c-c": False, "c-d": False}
+
+
+def more_answers(input_obj=None) -> bool:
+    """Read one key of the "more?" prompt; the keys typed after it stay for the next prompt.
+
+    Not a prompt_toolkit application: one assumes it starts at column 0, and once the terminal
+    answers its cursor-position request it reserves the rows below with CR-LFs, moves back up
+    and erases to the end of the screen: the answer on the cursor's line was erased.
+    Nothing is written here; the caller ends the answer's line (" ;" or ".").
+    """
+    import codecs
+    import select
+    import termios
+
+    from prompt_toolkit.input.typeahead import get_typeahead, store_typeahead
+    from prompt_toolkit.input.vt100_parser import Vt100Parser
+
+    keys = list(get_typeahead(input_obj)) if input_obj is not None else []
+    parser = Vt100Parser(keys.append)
+    decoder = codecs.getincrementaldecoder("utf-8")("replace")
+    try:
+        fd = sys.stdin.fileno()
+        saved = termios.tcgetattr(fd)
+    except (OSError, ValueError, termios.error):
+        return False
+    quiet = list(saved)
+    # no line editing, no echo, Ctrl-C a key rather than a signal; one byte is enough to go on
+    quiet[3] &= ~(termios.ICANON | termios.ECHO | termios.ISIG | termios.IEXTEN)
+    quiet[6] = list(saved[6])
+    quiet[6][termios.VMIN], quiet[6][termios.VTIME] = 1, 0
+    try:
+        termios.tcsetattr(fd, termios.TCSANOW, quiet)
+        while True:
+            for i, key in enumerate(keys):
+                verdict = MORE_KEYS.get(_key_name(key))
+                if verdict is not None:
+                    if input_obj is not None:
+                        store_typeahead(input_obj, keys[i + 1:])
+                    return verdict
+            if any(_key_name(k) != "<cursor-position-response>" for k in keys):
+                os.write(sys.stdout.fileno(), b"\a")
+            keys.clear()
+            # a lone escape is a key only when nothing follows it soon (else a sequence begins)
+            if not select.select([fd], [], [], 0.05)[0]:
+                parser.flush()
+                if keys:
+                    continue
+            data = os.read(fd, 1024)
+            if not data:
+                return False
+            parser.feed(decoder.decode(data))
+    except KeyboardInterrupt:       # a SIGINT sent by another process
+        return False
+    except OSError:
+        return False
+    finally:
+        try:
+            termios.tcsetattr(fd, termios.TCSANOW, saved)
+        except (OSError, termios.error):
+            pass
+
+
+def _key_name(key) -> str:
+    """A key press's name as MORE_KEYS spells it ("c-m", ";")."""
+    return getattr(key.key, "value", key.key)
+
+
+class no_echo_between_prompts:
+    """For the whole session: the terminal echoes no key typed ahead between two prompts (an
+    Enter would open an empty line among the answers); the next prompt shows what was typed.
+    The terminal's mode is put back when the session ends."""
+
+    def __enter__(self) -> None:
+        self.saved = None
+        try:
+            import termios
+
+            fd = sys.stdin.fileno()
+            self.saved = termios.tcgetattr(fd)
+            attrs = termios.tcgetattr(fd)
+            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL)
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
+        except (ImportError, OSError, ValueError):
+            self.saved = None
+
+    def __exit__(self, *exc) -> None:
+        if self.saved is not None:
+            import termios
+
+            try:
+                termios.tcsetattr(sys.stdin.fileno(), termios.TCSANOW, self.saved)
+            except (OSError, ValueError, termios.error):
+                pass
 
 
 class signals_from_keyboard:
@@ -116,11 +206,13 @@ class signals_from_keyboard:
             self.saved = termios.tcgetattr(fd)
             attrs = termios.tcgetattr(fd)
             attrs[3] |= termios.ISIG
+            # no echo of keys typed while it runs, "^C" included: "% interrupted" starts its line
+            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL)
             termios.tcsetattr(fd, termios.TCSANOW, attrs)
         except (ImportError, OSError, ValueError):
             self.saved = None
             return
-        if self.input is not None and _typed_ctrl_c(self.input, fd, self.saved):
+        if self.input is not None and _typed_ctrl_c(self.input, fd, attrs):
             self.__exit__()
             raise KeyboardInterrupt
 

@@ -94,10 +94,10 @@ def run(args: argparse.Namespace) -> int:
     vacuity = vacuity_of(original, World(original), report.initial_states, args.max_states)
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed), vacuity),
-                        indent=2) + "\n", args.output, inputs_of(args, inputs))
+                        indent=2) + "\n", args.output, inputs_of(args, inputs), _verdict_words(report, "JSON", vacuity))
     else:
         lines = verify_lines(report, how, count_nodes(original), count_nodes(compressed), args.states, vacuity)
-        emit("\n".join(lines) + "\n", args.output, inputs_of(args, inputs))
+        emit("\n".join(lines) + "\n", args.output, inputs_of(args, inputs), _verdict_words(report, "text", vacuity))
     return exit_status(report, vacuity)
 
 
@@ -290,6 +290,12 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str,
               "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
               "selection": "selection under emphasis (diagnostic)"}
     for name, verdict in report.properties.items():
+        sound = report.properties["soundness"].holds is True
+        removed = _interleavings_removed(verdict) if name == "traces" and sound else None
+        if removed is not None:
+            lines.append(f"{titles[name]}: {removed}")
+            lines.append("")
+            continue
         status = {True: "holds", False: "FAILS", None: "unknown"}[verdict.holds]
         lines.append(f"{titles[name]}: {status}: {verdict.summary}")
         if verdict.counterexample is not None:
@@ -311,6 +317,37 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str,
         verdict = "no counterexample found, but this is not a proof (exit 3)"
     lines.append(f"result: {verdict}")
     return lines
+
+
+def _verdict_words(report, fmt: str, vacuity: "Vacuity | None" = None) -> str:
+    """What a verification written to a file says, for `wrote FILE: ...`."""
+    verdict = ("not sound" if report.properties["soundness"].holds is False else "not complete") \
+        if report.violated else "vacuous (the task itself cannot complete)" if vacuity is not None and vacuity.vacuous \
+        else "sound and complete" if report.exhaustive and report.sound and report.complete \
+        else "no proof"
+    return f"the verification of {term_to_text(report.task)}: {verdict} ({fmt})"
+
+
+def _interleavings_removed(verdict) -> str | None:
+    """Fewer complete traces in a sound compressed tree (each of its runs is one of the
+    original's), as what merging does: it runs a merged sequence as one behaviour, so the orders
+    its actions could interleave in are gone by design. None when the counts are not that
+    (equal, unknown, infinite, or more traces)."""
+    rows = verdict.details.get("states") if verdict.holds is False else None
+    try:
+        original = sum(r["original"] for r in rows)
+        compressed = sum(r["compressed"] for r in rows)
+    except (TypeError, KeyError):          # not counted, or infinitely many
+        return None
+    if compressed >= original:
+        return None
+    text = (f"{original - compressed:,} interleaving{'s' if original - compressed != 1 else ''} removed "
+            f"by merging (by design: a merged behaviour runs its actions as one): the original has "
+            f"{original:,} complete trace{'s' if original != 1 else ''}, the compressed tree {compressed:,}")
+    lost = verdict.details.get("lost_example")
+    if lost:
+        text += "; e.g. this original trace is no longer produced: " + ", ".join(lost["trace"])
+    return text
 
 
 def counterexample_lines(ce) -> list[str]:

@@ -360,12 +360,27 @@ def _reader(start: str) -> _Reader:
     return _Reader(start)
 
 
+# What a Prolog user calls the grammar's terminals (grammar/schemalog.lark), for the
+# "expected ..." of a syntax error; any terminal a term can begin with is "a term".
+_TERM_STARTS = frozenset({"NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING", "FUNCTOR",
+                          "SYMFUNCTOR", "PREFIX", "LPAR", "LSQB", "LBRACE"})
 _EXPECTED_NAMES = {
     "END": "'.' (end of clause)", "RPAR": "')'", "RSQB": "']'", "RBRACE": "'}'",
-    "COMMA": "','", "VBAR": "'|'", "LPAR": "'('", "LSQB": "'['", "LBRACE": "'{'",
-    "NAME": "an atom", "VAR": "a variable", "INT": "a number", "FLOAT": "a number",
-    "STRING": "a string", "QATOM": "an atom", "FUNCTOR": "a compound term",
+    "COMMA": "','", "VBAR": "'|'", "INFIX": "an operator", "DOT": "an operator",
+    "$END": "the end of the input",
 }
+
+
+def _expected_words(names) -> list[str]:
+    """What a parser expecting the terminals `names` says it expected, a term first."""
+    names = [n for n in names if not n.startswith("__")]
+    words = sorted({_EXPECTED_NAMES.get(n, "a term" if n in _TERM_STARTS else n.lower()) for n in names}
+                   - {"a term"})
+    return (["a term"] if any(n in _TERM_STARTS for n in names) else []) + words
+
+
+def _or(words: list[str]) -> str:
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " or " + words[-1]
 
 
 def _describe_token(token: Token) -> str:
@@ -387,9 +402,8 @@ def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogErr
         message = "unexpected end of file: a clause is not finished (missing ')', ']' or the final '.'?)"
     elif isinstance(err, UnexpectedToken):
         line, column = err.line, err.column
-        expected = sorted({_EXPECTED_NAMES.get(name) or f"'{name.lower()}'"
-                           for name in err.expected if not name.startswith("__")})
-        wanted = f"; expected {', '.join(expected[:6])}" if expected else ""
+        expected = _expected_words(err.accepts or err.expected)   # accepts: after reductions
+        wanted = f"; expected {_or(expected)}" if expected else ""
         message = f"syntax error: unexpected {_describe_token(err.token)}{wanted}"
     elif isinstance(err, UnexpectedCharacters):
         line, column = err.line, err.column

@@ -1,7 +1,8 @@
 """The attentional executive: enabling, emphasis and winner-take-all against an emulated robot.
 
     Decision = (behaviour, emphasis, runner-up, enabled, executed, skipped, failed, seconds,
-                hand, decompressed, inhibited)
+                hand, decompressed, inhibited, apart)   apart: where the winner and a runner-up
+                                                        of the same label are in the tree
     Outcome  = (status, reason, blocked)
     Run      = an iterator of Decisions: `for d in Executive(tree, world, scene): ...`
 
@@ -86,6 +87,7 @@ class Decision:
     hand: Position
     decompressed: tuple[Term, ...] = ()   # after a failure: the merged leaf split, then its constituents
     inhibited: Term | None = None         # the leaf inhibited after this decision's failure
+    apart: tuple[str, str] | None = None  # a runner-up with the winner's label: where each is
 
 
 @dataclass(frozen=True)
@@ -424,6 +426,24 @@ class IncrementalSelector:
         return candidates[:2], total
 
 
+def tell_apart(plan: Plan, a: int, b: int) -> tuple[str, str]:
+    """Where two nodes of one label are: the sub-trees their paths enter below their lowest
+    common ancestor ("in preparecoffee", "in preparetea"), or their pre-order ids when those
+    sub-trees have one label too."""
+    def up(i: int) -> list[int]:
+        path = [i]
+        while plan.parent[path[-1]] >= 0:
+            path.append(plan.parent[path[-1]])
+        return path[::-1]               # the root first
+
+    pa, pb = up(a), up(b)
+    k = next(k for k in range(min(len(pa), len(pb))) if pa[k] != pb[k])
+    x, y = plan.nodes[pa[k]].label, plan.nodes[pb[k]].label
+    if x != y:
+        return f"in {term_to_text(x)}", f"in {term_to_text(y)}"
+    return f"node {a}", f"node {b}"
+
+
 def make_selector(name: str, plan: Plan, world: World, scene: Scene):
     if name == "scan":
         return ScanSelector(plan, world, scene)
@@ -533,6 +553,7 @@ class Executive:
         leaf = -order
         label = self.plan.nodes[leaf].label
         runner_up = (self.plan.nodes[-best[1][2]].label, best[1][0]) if len(best) > 1 else None
+        apart = tell_apart(self.plan, leaf, -best[1][2]) if runner_up and runner_up[0] == label else None
         executed, skipped, failed, step = self._execute(leaf)
         decompressed: tuple[Term, ...] = ()
         inhibited = None
@@ -547,7 +568,8 @@ class Executive:
         else:
             self.failures.pop(leaf, None)
         decision = Decision(len(self.decisions) + 1, label, e, runner_up, enabled, tuple(executed),
-                            tuple(skipped), failed, seconds, self.robot.hand, decompressed, inhibited)
+                            tuple(skipped), failed, seconds, self.robot.hand, decompressed, inhibited,
+                            apart)
         self.decisions.append(decision)
         self._check_loop()
         return decision

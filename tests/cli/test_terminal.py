@@ -1,0 +1,187 @@
+"""The REPL on a real terminal, read as a person reads it: tmux runs it (send-keys types,
+capture-pane shows the screen), with the terminal answering prompt_toolkit's cursor-position
+requests (no PROMPT_TOOLKIT_NO_CPR), under the TERMs people use.
+
+With CI set, a missing tmux fails these tests (.ci/run installs it); elsewhere they skip.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import pytest
+
+from conftest import MIX, ROOT
+
+WIDTH, HEIGHT = 120, 40
+PATIENCE = 60.0          # seconds to wait for a text on the screen: CI is slower than a laptop
+
+
+@pytest.fixture
+def tmux():
+    if shutil.which("tmux") is None:
+        if os.environ.get("CI"):
+            pytest.fail("CI is set but tmux is not on PATH: the REPL cannot be tested on a real "
+                        "terminal (.ci/run installs tmux)")
+        pytest.skip("tmux is not installed")
+    home = tempfile.mkdtemp(prefix="sl-tmux-")       # short: a socket path has ~100 bytes
+    terminal = Terminal(home)
+    yield terminal
+    terminal.close()
+    shutil.rmtree(home, ignore_errors=True)
+
+
+class Terminal:
+    """One tmux server on its own socket, one pane running the REPL."""
+
+    def __init__(self, home: str) -> None:
+        self.home = home
+        self.socket = os.path.join(home, "sock")
+        conf = os.path.join(home, "tmux.conf")
+        with open(conf, "w") as f:     # keep the pane after :quit so the last screen can be read
+            f.write("set -g remain-on-exit on\nset -g history-limit 5000\n")
+        self.conf = conf
+
+    def tmux(self, *args: str) -> str:
+        r = subprocess.run(["tmux", "-S", self.socket, "-f", self.conf, *args],
+                           capture_output=True, text=True, timeout=30)
+        assert r.returncode == 0, (args, r.stderr)
+        return r.stdout
+
+    def start(self, term: str, *files) -> None:
+        env = ["env", "-u", "PROMPT_TOOLKIT_NO_CPR", f"TERM={term}",
+               f"PYTHONPATH={os.environ.get('PYTHONPATH', '')}",
+               f"SCHEMALOG_HISTORY={os.path.join(self.home, 'history')}"]
+        command = [*env, sys.executable, "-m", "schemalog", "repl", *map(str, files)]
+        # the exit status goes to a file: tmux's pane_dead_status is at times never set
+        self.status = os.path.join(self.home, "status")
+        # and the terminal's mode, before and after: the REPL must leave it as it found it
+        modes = [_quoted(os.path.join(self.home, f"stty-{when}")) for when in ("before", "after")]
+        shell = (f"stty -g > {modes[0]}; {' '.join(map(_quoted, command))}; echo $? > {_quoted(self.status)}; "
+                 f"stty -g > {modes[1]}")
+        self.tmux("new-session", "-d", "-s", "repl", "-x", str(WIDTH), "-y", str(HEIGHT),
+                  "-c", str(ROOT), shell)
+
+    def type(self, text: str) -> None:
+        self.tmux("send-keys", "-t", "repl", "-l", text)
+
+    def key(self, name: str) -> None:
+        # tmux reads a lone ';' as its command separator: '\;' is the key
+        self.tmux("send-keys", "-t", "repl", "\\;" if name == ";" else name)
+
+    def lines(self, history: bool = False) -> list[str]:
+        """The screen (and with `history`, the scrollback above it), trailing blanks dropped."""
+        text = self.tmux("capture-pane", "-p", "-t", "repl", *(["-S", "-"] if history else []))
+        lines = [line.rstrip() for line in text.splitlines()]
+        while lines and not lines[-1]:
+            lines.pop()
+        return lines
+
+    def wait_for(self, *expected: str) -> list[str]:
+        """The screen once its last lines are `expected` (regular expressions, whole lines)."""
+        deadline = time.monotonic() + PATIENCE
+        while True:
+            lines = self.lines()
+            tail = lines[-len(expected):]
+            if len(tail) == len(expected) and all(re.fullmatch(e, l) for e, l in zip(expected, tail)):
+                return lines
+            if time.monotonic() > deadline:
+                pytest.fail(f"waited {PATIENCE:.0f} s for {expected!r}; the screen:\n" + "\n".join(lines))
+            time.sleep(0.05)
+
+    def exit_status(self) -> int:
+        deadline = time.monotonic() + PATIENCE
+        while True:
+            try:
+                with open(self.status) as f:
+                    status = f.read()
+                with open(os.path.join(self.home, "stty-after")) as f:
+                    after = f.read()
+                if status.endswith("\n") and after.endswith("\n"):
+                    with open(os.path.join(self.home, "stty-before")) as f:
+                        assert f.read() == after, "the REPL left the terminal in another mode"
+                    return int(status)
+            except FileNotFoundError:
+                pass
+            assert time.monotonic() < deadline, "the REPL did not leave; the screen:\n" + "\n".join(self.lines())
+            time.sleep(0.05)
+
+    def close(self) -> None:
+        subprocess.run(["tmux", "-S", self.socket, "kill-server"], capture_output=True, timeout=30)
+
+
+def _quoted(word: str) -> str:
+    return "'" + word.replace("'", "'\\''") + "'"
+
+
+PROMPT = r"\?-"
+
+
+@pytest.mark.parametrize("term", ["tmux-256color", "xterm-256color"])
+def test_the_screen_keeps_every_answer_an_interrupt_an_error_and_the_goodbye(tmux, term):
+    tmux.start(term, MIX)
+    tmux.wait_for(PROMPT)
+
+    tmux.type("member(X, [a, b, c]).")
+    tmux.key("Enter")
+    tmux.wait_for(r"\?- member\(X, \[a, b, c\]\)\.", "X = a")
+    tmux.key(";")                  # the answer stays; ' ;' ends its line, the next one follows
+    tmux.wait_for(r"\?- member\(X, \[a, b, c\]\)\.", "X = a ;", "X = b")
+    tmux.key("Enter")              # Enter stops: '.' ends the last answer's line
+    tmux.wait_for(r"\?- member\(X, \[a, b, c\]\)\.", "X = a ;", "X = b.", PROMPT)
+
+    tmux.type("x = y.")            # no answer: nothing waits for a key
+    tmux.key("Enter")
+    tmux.wait_for("X = b.", r"\?- x = y\.", r"false\.", PROMPT)
+
+    tmux.type("between(1, inf, X), X < 0.")
+    tmux.key("Enter")
+    tmux.wait_for(r"\?- between\(1, inf, X\), X < 0\.")
+    time.sleep(0.5)                # let it run: Ctrl-C stops a running query, not only its start
+    tmux.key("C-c")
+    tmux.wait_for(r"\?- between\(1, inf, X\), X < 0\.", "% interrupted", PROMPT)
+
+    tmux.type("foo(.")
+    tmux.key("Enter")
+    screen = tmux.wait_for(r"\?- foo\(\.", r"<query>:1:5: error: syntax error: .*", r"    foo\(\.",
+                           r"        \^", PROMPT)
+    error = screen[-4]
+    assert "unexpected '.'" in error and "expected" in error
+    assert not re.search(r"symatom|symfunctor|'prefix'|'infix'|'dot'", error), error
+
+    tmux.type(":quit")
+    tmux.key("Enter")
+    assert tmux.exit_status() == 0
+    # everything said is still there, in order, on the screen and in the scrollback
+    said = ["?- member(X, [a, b, c]).", "X = a ;", "X = b.", "?- x = y.", "false.",
+            "?- between(1, inf, X), X < 0.", "% interrupted", "?- foo(.", "?- :quit"]
+    for lines in (tmux.lines(), tmux.lines(history=True)):
+        kept = [line for line in lines if line in said]
+        assert kept == said, "\n".join(lines)
+
+
+def test_keys_typed_ahead_of_an_answer_are_taken_in_order(tmux):
+    tmux.start("tmux-256color", MIX)
+    tmux.wait_for(PROMPT)
+    # the query, two ';' and the next query typed at once, before the first answer shows
+    tmux.type("member(X, [a, b, c, d]).")
+    tmux.key("Enter")
+    tmux.key(";")
+    tmux.key(";")
+    tmux.key("Enter")
+    tmux.type("Y = 1.")
+    tmux.key("Enter")
+    tmux.wait_for(r"\?- member\(X, \[a, b, c, d\]\)\.", "X = a ;", "X = b ;", r"X = c\.",
+                  r"\?- Y = 1\.", r"Y = 1\.", PROMPT)
+    tmux.type("member(X, [a, b]).")
+    tmux.key("Enter")
+    tmux.wait_for("X = a")
+    tmux.type("q")                 # no key of the "more?" prompt: the bell, the answer stays
+    tmux.key("Escape")             # a lone Escape stops
+    tmux.wait_for(r"\?- member\(X, \[a, b\]\)\.", r"X = a\.", PROMPT)
