@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from .. import defaults
-from .options import Parents, budget
+from .options import TOGETHER, Parents, budget
 
 TARGETS = ("btcpp", "py_trees")
 
@@ -15,7 +15,7 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog export` and its arguments to the command line."""
     p = sub.add_parser("export", parents=[parents.limits, parents.resources],
                        help="write a task tree for BehaviorTree.CPP v4 (XML) or py_trees (a Python module)")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task, {TOGETHER}")
     p.add_argument("--to", choices=TARGETS, help="the runtime (default: from -o's suffix, .xml or .py)")
     p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
     p.add_argument("--task", help="the task to export (default: the first task/1)")

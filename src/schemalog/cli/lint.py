@@ -6,14 +6,14 @@ import argparse
 import json
 import sys
 
-from .options import Parents
+from .options import TOGETHER, Parents
 
 
 def register(sub, parents: Parents) -> None:
     """Add `schemalog lint` and its arguments to the command line."""
     p = sub.add_parser("lint", parents=[parents.limits, parents.resources],
                        help="find knowledge that loads but cannot work (file:line:col, what to do)")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files to lint, {TOGETHER}")
     p.add_argument("--task", help="lint this task (default: every task/1)")
     p.add_argument("--strict", action="store_true", help="fail (exit 1) on warnings too")
     p.add_argument("--json", action="store_true", help="print the findings as JSON (docs/formats.md)")
