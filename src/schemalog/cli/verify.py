@@ -40,6 +40,13 @@ def register(sub, parents: Parents) -> None:
                    help=f"stop exploring after N states per tree, or {defaults.WORK_PER_STATE:,} units of "
                         f"work (condition tests, state atoms) per state; the result then says it is no proof "
                         f"(default {defaults.MAX_STATES:,})")
+    p.add_argument("--method", choices=["auto", "symbolic", "explicit"], default="auto",
+                   help="explore states as sets (symbolic: decision diagrams, every covered initial state "
+                        "at once), one by one (explicit: the reference, which also counts traces), or "
+                        "symbolic where it is exact and explicit elsewhere (auto, the default)")
+    p.add_argument("--max-bdd-nodes", type=positive, default=5_000_000, metavar="N",
+                   help="symbolic: stop past N decision-diagram nodes alive at once, with no proof "
+                        "(exit 3; default 5,000,000, about 160 MB)")
     p.add_argument("--no-split", action="store_true",
                    help="explore the whole task even where it splits into independent parts")
     p.add_argument("--sample", type=sample_runs, metavar="RUNS",
@@ -86,10 +93,14 @@ def run(args: argparse.Namespace) -> int:
                                  progress=_progress if tty else None)
         if tty:
             print("\r\033[K", end="", file=sys.stderr, flush=True)
-    elif not args.no_split:
+    elif args.method != "explicit":
+        report = _verify_symbolic(args, original, compressed, world, initial, scene, task)
+    if report is None and not args.no_split and not args.sample:
         report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
     if report is None:
         report = verifier.verify(initial, scene, task)
+    if report.method == "explicit" and getattr(args, "_symbolic_note", ""):
+        report.note = args._symbolic_note
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
               args.output, inputs_of(args, inputs))
@@ -99,6 +110,39 @@ def run(args: argparse.Namespace) -> int:
     if report.violated:
         return 1
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
+
+
+def _verify_symbolic(args, original, compressed, world, initial, scene, task):
+    """--method symbolic|auto: by independent parts where the task splits, else whole; None
+    (auto: the explorer follows, saying why) where the symbolic encoding would not be exact."""
+    from ..run import symbolic
+    from ..run.verify import Report, Verdict, verify_by_parts, verify_symbolic
+
+    try:
+        report = None
+        if not args.no_split:
+            try:
+                report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states,
+                                         "symbolic", args.max_bdd_nodes)
+            except symbolic.Unsupported:    # a part's own root may not settle monotonically: the whole
+                report = None
+        return report or verify_symbolic(original, compressed, world, initial, scene, task,
+                                         args.max_bdd_nodes, args.max_states)
+    except symbolic.Unsupported as why:
+        if args.method == "symbolic":
+            raise SchemalogError(f"--method symbolic cannot verify this task exactly: {why}; "
+                                 f"use --method explicit or auto") from None
+        args._symbolic_note = f"explored one state at a time: {why}"
+        return None
+    except RuntimeError as err:      # CUDD refused memory (--max-memory): the out-of-memory message
+        if "CUDD" in str(err):
+            raise MemoryError(str(err)) from None
+        raise
+    except symbolic.OutOfNodes as blowup:
+        unknown = {name: Verdict(name, None, "not decided: " + blowup.message)
+                   for name in ("soundness", "completion", "flexibility", "traces", "selection")}
+        return Report(task, initial, unknown, 0, 0, 0.0, exhaustive=False, method="symbolic",
+                      limit=f"{args.max_bdd_nodes:,} decision-diagram nodes (--max-bdd-nodes): {blowup.message}")
 
 
 def _verify_inputs(args: argparse.Namespace):
@@ -180,10 +224,13 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
              f"{n} initial state{'s' if n != 1 else ''} ({which})",
              (f"sampled: visited {report.compressed_states:,} states of the compressed tree in "
               f"{report.seconds:.2f} s (NOT a proof)" if report.sampled else
+              f"explored {report.compressed_states:,} states of the compressed tree as sets (at most "
+              f"{report.nodes:,} decision-diagram nodes) in {report.seconds:.2f} s" if report.method == "symbolic" else
               f"explored {report.compressed_states:,} states of the compressed tree and "
               f"{report.original_states:,} of the original in {report.seconds:.2f} s"
               + (f", in {report.parts} independent parts" if report.parts > 1 else "")
-              + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")), ""]
+              + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")),
+             *([f"note: {report.note}"] if report.note else []), ""]
     titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",
               "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
               "selection": "selection under emphasis (diagnostic)"}
@@ -251,7 +298,9 @@ def verify_json(report, how: str, before: int, after: int) -> dict:
         "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
         "explored": {"compressed": report.compressed_states, "original": report.original_states,
                      "seconds": report.seconds, "parts": report.parts, "sampled": report.sampled,
-                     "stopped_at": report.limit or None},
+                     "stopped_at": report.limit or None, "method": report.method,
+                     "bdd_nodes": report.nodes if report.method == "symbolic" else None,
+                     "note": report.note or None},
         "counterexample": ce_json(report.properties["soundness"].counterexample
                                   or report.properties["completion"].counterexample),
         "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),

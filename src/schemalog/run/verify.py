@@ -37,6 +37,8 @@ State = frozenset
 Action = tuple[Term, Condition]           # an original action: its label and post-condition
 
 DEFAULT_MAX_STATES = defaults.MAX_STATES
+METHODS = ("auto", "symbolic", "explicit")   # auto: symbolic where it is exact, else explicit
+DEFAULT_MAX_NODES = 5_000_000                # decision-diagram nodes alive at once (about 32 bytes each)
 WORK_PER_STATE = defaults.WORK_PER_STATE
 MAX_FREE_ATOMS = 16
 CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, states can be large
@@ -226,6 +228,9 @@ class Report:
     sampled: bool = False
     parts: int = 1
     limit: str = ""          # the limit that stopped the exploration early, in words ("" if none)
+    method: str = "explicit" # how the states were explored: one by one, or as sets ("symbolic")
+    nodes: int = 0           # symbolic: the most decision-diagram nodes alive at once
+    note: str = ""           # why the method asked for was not used ("" if it was)
 
     @property
     def sound(self) -> bool:
@@ -958,9 +963,11 @@ def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], 
 
 def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
                     scene: Scene | None = None, task: Term | None = None,
-                    max_states: int = DEFAULT_MAX_STATES) -> Report | None:
+                    max_states: int = DEFAULT_MAX_STATES, method: str = "explicit",
+                    max_nodes: int = DEFAULT_MAX_NODES) -> Report | None:
     """Verify each independent part on its own and combine exactly (None if the task does not
-    split, or when more than one initial state is covered)."""
+    split, or when more than one initial state is covered). `method` "symbolic" explores each
+    part as sets of states (raising symbolic.Unsupported where that would not be exact)."""
     if len(initial) != 1:
         return None
     parts = independent_parts(original, compressed, initial)
@@ -970,10 +977,15 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
     whole_initial = initial[0]
     facts = []
     limit = ""
+    nodes = 0
     for part in parts:
         part_world = World(part.original)
         part_world.reset(whole_initial & part.atoms)
         start = frozenset(part_world.atoms)
+        if method == "symbolic":
+            facts.append(_symbolic_part(part, part_world, start, max_states, max_nodes))
+            nodes = max(nodes, facts[-1]["nodes"])
+            continue
         v = Verifier(part.original, part.compressed, part_world, max_states)
         v.meter.limit = v.max_work
         parent, succ, order, unsound, stuck, exhaustive = v._explore_compressed([start])
@@ -991,7 +1003,8 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
             "stuck": next((q for q in stuck if v.original.enabled(q)), None),
             "dead": next((q for q in order if q in good_o and q not in good_c), None),
             "can": next((q for q in order if q in good_o), None),
-            "o_init": start in good_o, "c_init": start in good_c})
+            "o_init": start in good_o, "c_init": start in good_c,
+            "path": lambda state, v=v, parent=parent: v._path(parent, state)[1]})
     whole = Verifier(original, compressed, world, max_states)
     exhaustive = all(f["exhaustive"] for f in facts)
     props: dict[str, Verdict] = {}
@@ -1010,7 +1023,50 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
     props["selection"] = whole._selection(initial, scene)
     return Report(task if task is not None else compressed.label, initial, props,
                   sum(f["states"] for f in facts), sum(f["o_states"] for f in facts),
-                  time.perf_counter() - started, exhaustive, parts=len(parts), limit=limit)
+                  time.perf_counter() - started, exhaustive, parts=len(parts), limit=limit,
+                  method=method, nodes=nodes)
+
+
+def _symbolic_part(part: Part, world: World, start: State, max_states: int, max_nodes: int) -> dict:
+    """The facts verify_by_parts combines, for one part explored as sets of states."""
+    from . import symbolic
+
+    m = symbolic.SymbolicModel(part.original, part.compressed, world, start, max_nodes)
+    found = symbolic.explore(m, [start])
+    v = Verifier(part.original, part.compressed, world, max_states)
+    bdd = m.bdd
+
+    def one(u):
+        return None if u == bdd.false else m.pick(u)
+
+    def path(state: State) -> tuple[Step, ...]:
+        return symbolic.path_to(m, v.compressed, [start], m.state(state), found.unsound)[1]
+
+    if found.unsound == bdd.false:
+        soundness = Verdict("soundness", True, "every reachable state (as sets): each step of the compressed "
+                                               "tree is a run of the original")
+    else:
+        first, steps, s = symbolic.path_to(m, v.compressed, [start], found.unsound)
+        soundness = _first_refused(v, first, steps, s)
+    return {"part": part, "verifier": v, "start": start, "states": m.count(found.reachable), "o_states": 0,
+            "exhaustive": True, "soundness": soundness,
+            "quiet": one(found.reachable & ~m.c.any_enabled), "stuck": one(found.stuck), "dead": one(found.dead),
+            "can": one(found.reachable & found.can_o), "o_init": m.member(start, found.can_o),
+            "c_init": m.member(start, found.can_c), "path": path, "nodes": found.peak_nodes}
+
+
+def _first_refused(v: "Verifier", first: State, path: tuple[Step, ...], s: State) -> Verdict:
+    """The soundness verdict for the first leaf enabled in `s` whose step the original refuses,
+    at the first action it refuses."""
+    c, o = v.compressed, v.original
+    for leaf in c.enabled(s):
+        actions, states = c.step(s, leaf)
+        before = s
+        for j, action in enumerate(actions):
+            if not o.allows(before, action):
+                return v._unsound(first, path, s, leaf, j, before)
+            before = states[j]
+    raise AssertionError("the symbolic and the explicit model disagree on soundness")
 
 
 def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, count: int) -> Verdict:
@@ -1022,8 +1078,7 @@ def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, co
         state = set(initial)
         for k, f in enumerate(facts):
             target = chosen.get(k, f["start"])
-            _, steps = f["verifier"]._path(f["parent"], target)
-            path.extend(steps)
+            path.extend(f["path"](target))
             state = (state - f["part"].atoms) | target
         return Counterexample(initial, tuple(path), frozenset(state))
 
@@ -1066,4 +1121,65 @@ def _lift(ce: Counterexample | None, part: Part, whole: State) -> Counterexample
 
 
 __all__ = ["Verifier", "Report", "Verdict", "Counterexample", "Step", "Model", "free_atoms", "constraints",
-           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part"]
+           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part",
+           "verify_symbolic", "METHODS", "DEFAULT_MAX_NODES"]
+
+
+# ---------------------------------------------------------------------------
+# Proof by sets of states (run/symbolic.py; docs/semantics.md, "Proof by sets of states")
+
+
+def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
+                    scene: Scene | None = None, task: Term | None = None,
+                    max_nodes: int = DEFAULT_MAX_NODES, max_states: int = DEFAULT_MAX_STATES) -> Report:
+    """Soundness and completion from every covered initial state at once, with sets of states
+    as decision diagrams; counterexamples replayed with the explicit model. Raises
+    symbolic.Unsupported where the encoding would not be exact, symbolic.OutOfNodes at the
+    node limit."""
+    from . import symbolic
+
+    started = time.perf_counter()
+    extra = {a for s in initial for a in s}
+    m = symbolic.SymbolicModel(original, compressed, world, extra, max_nodes)
+    found = symbolic.explore(m, initial)
+    v = Verifier(original, compressed, world, max_states)
+    c, o = v.compressed, v.original
+    bdd = m.bdd
+    reachable = m.count(found.reachable)
+    props: dict[str, Verdict] = {}
+    if found.unsound == bdd.false:
+        props["soundness"] = Verdict("soundness", True, f"every reachable state ({reachable:,}, as sets): each "
+                                                        f"step of the compressed tree is a run of the original")
+    else:   # a shortest run to a bad state: every step before it is sound
+        first, path, s = symbolic.path_to(m, c, initial, found.unsound)
+        props["soundness"] = _first_refused(v, first, path, s)
+    if found.stuck != bdd.false:
+        first, path, s = symbolic.path_to(m, c, initial, found.stuck, found.unsound)
+        world.load(s)
+        blocked = blocked_reasons(c.plan, world, set(), Counter())
+        offered = ", ".join(dict.fromkeys(term_to_text(o.label(i)) for i in o.enabled(s)))
+        props["completion"] = Verdict("completion", False, "the compressed tree gets stuck where the original does "
+                                      "not", Counterexample(first, path, s, reasons=(
+                                          f"the original could still take: {offered}", *blocked)))
+    elif found.dead != bdd.false:
+        first, path, s = symbolic.path_to(m, c, initial, found.dead, found.unsound)
+        props["completion"] = Verdict("completion", False, "the compressed tree reaches a state it cannot complete "
+                                      "from, where the original can", Counterexample(first, path, s, reasons=(
+                                          "from this state the original can still complete the task, the compressed "
+                                          "tree cannot (every continuation loops or gets stuck)",)))
+    else:
+        can_o = [m.member(s, found.can_o) for s in initial]
+        lost = [s for s, yes in zip(initial, can_o) if yes != m.member(s, found.can_c)]
+        if lost:
+            props["completion"] = Verdict("completion", False, f"{len(lost)} initial state(s) complete with one "
+                                          f"tree only", Counterexample(lost[0], (), lost[0]))
+        else:
+            props["completion"] = Verdict("completion", True, f"no dead end that the original does not share; "
+                                          f"{sum(can_o)} of {len(initial)} initial state(s) can complete, in "
+                                          f"both trees")
+    props["flexibility"] = v._flexibility(initial)
+    props["traces"] = Verdict("traces", None, "not counted: the states were explored as sets, whose traces "
+                                              "are not enumerated (--method explicit counts them)")
+    props["selection"] = v._selection(initial, scene)
+    return Report(task if task is not None else compressed.label, initial, props, reachable, 0,
+                  time.perf_counter() - started, True, method="symbolic", nodes=found.peak_nodes)
