@@ -104,12 +104,11 @@ def run(args: argparse.Namespace) -> int:
 
 def _verify_compression(kb: KnowledgeBase, result, args: argparse.Namespace):
     """`compress --verify`: prove the compressed tree against its original from the initial state."""
-    from ..run.verify import Verifier, verify_by_parts
+    from ..run.verify import prove
     from ..run.world import World, initial_state
 
     world = World(result.original)
     world.reset(initial_state(kb))
     initial = [world.atoms]
     task = result.original.label
-    report = verify_by_parts(result.original, result.tree, world, initial, None, task)
-    return report if report is not None else Verifier(result.original, result.tree, world).verify(initial, None, task)
+    return prove(result.original, result.tree, world, initial, None, task)

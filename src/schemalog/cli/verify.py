@@ -74,7 +74,7 @@ def _progress(done: int, runs: int) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Prove a compressed task against its original: soundness and completion, with diagnostics."""
-    from ..run.verify import Verifier, verify_by_parts
+    from ..run.verify import Verifier, prove
     from ..run.world import World
     from ..task.tree import count_nodes
     from .common import check_output, emit, inputs_of, scene_of
@@ -93,14 +93,9 @@ def run(args: argparse.Namespace) -> int:
                                  progress=_progress if tty else None)
         if tty:
             print("\r\033[K", end="", file=sys.stderr, flush=True)
-    elif args.method != "explicit":
-        report = _verify_symbolic(args, original, compressed, world, initial, scene, task)
-    if report is None and not args.no_split and not args.sample:
-        report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
-    if report is None:
-        report = verifier.verify(initial, scene, task)
-    if report.method == "explicit" and getattr(args, "_symbolic_note", ""):
-        report.note = args._symbolic_note
+    else:
+        report = prove(original, compressed, world, initial, scene, task, args.method, args.max_states,
+                       args.max_bdd_nodes, split=not args.no_split)
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed)), indent=2) + "\n",
               args.output, inputs_of(args, inputs))
@@ -110,39 +105,6 @@ def run(args: argparse.Namespace) -> int:
     if report.violated:
         return 1
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
-
-
-def _verify_symbolic(args, original, compressed, world, initial, scene, task):
-    """--method symbolic|auto: by independent parts where the task splits, else whole; None
-    (auto: the explorer follows, saying why) where the symbolic encoding would not be exact."""
-    from ..run import symbolic
-    from ..run.verify import Report, Verdict, verify_by_parts, verify_symbolic
-
-    try:
-        report = None
-        if not args.no_split:
-            try:
-                report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states,
-                                         "symbolic", args.max_bdd_nodes)
-            except symbolic.Unsupported:    # a part's own root may not settle monotonically: the whole
-                report = None
-        return report or verify_symbolic(original, compressed, world, initial, scene, task,
-                                         args.max_bdd_nodes, args.max_states)
-    except symbolic.Unsupported as why:
-        if args.method == "symbolic":
-            raise SchemalogError(f"--method symbolic cannot verify this task exactly: {why}; "
-                                 f"use --method explicit or auto") from None
-        args._symbolic_note = f"explored one state at a time: {why}"
-        return None
-    except RuntimeError as err:      # CUDD refused memory (--max-memory): the out-of-memory message
-        if "CUDD" in str(err):
-            raise MemoryError(str(err)) from None
-        raise
-    except symbolic.OutOfNodes as blowup:
-        unknown = {name: Verdict(name, None, "not decided: " + blowup.message)
-                   for name in ("soundness", "completion", "flexibility", "traces", "selection")}
-        return Report(task, initial, unknown, 0, 0, 0.0, exhaustive=False, method="symbolic",
-                      limit=f"{args.max_bdd_nodes:,} decision-diagram nodes (--max-bdd-nodes): {blowup.message}")
 
 
 def _verify_inputs(args: argparse.Namespace):

@@ -39,7 +39,7 @@ from ..run.scene import Scene, scene_from_yaml
 from ..logic.parse import parse_term
 from ..shipped import shipped_text
 from ..task.tree import Behaviour, count_nodes, instantiate, walk
-from ..run.verify import Verifier, verify_by_parts
+from ..run.verify import prove
 from ..run.world import World, initial_state
 
 Shape = tuple[int, int]                     # (depth, children)
@@ -275,8 +275,7 @@ def verify_cell(original: Behaviour, compressed: Behaviour, initial: frozenset, 
     """Prove the compressed tree against the original where that is exact within max_states."""
     world = World(original, initial)
     started = time.perf_counter()
-    report = verify_by_parts(original, compressed, world, [world.atoms], max_states=max_states) or \
-        Verifier(original, compressed, world, max_states).verify([world.atoms])
+    report = prove(original, compressed, world, [world.atoms], max_states=max_states)
     cell.verify_seconds = time.perf_counter() - started
     cell.verify_states = report.compressed_states + report.original_states
     cell.verify_result = ("counterexample" if report.violated else

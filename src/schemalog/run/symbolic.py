@@ -26,7 +26,8 @@ from ..task.tree import Behaviour, walk
 from .execute import Plan
 from .world import World, effect_of
 
-MEMORY_ESTIMATE = 256 * 2**20    # bytes CUDD sizes its tables for at first (it grows past them)
+MEMORY_PER_ATOM = 32 * 2**10    # bytes CUDD sizes its tables for at first, per atom (it grows past
+MEMORY_ESTIMATE = (2**20, 256 * 2**20)     # them), within these bounds: a small part stays small
 
 
 class Unsupported(Exception):
@@ -96,7 +97,9 @@ class SymbolicModel:
         atoms.update((a, None) for a in extra_atoms)
         self.atoms = list(atoms)
         self.index = {a: i for i, a in enumerate(self.atoms)}
-        self.bdd = cudd.BDD(memory_estimate=MEMORY_ESTIMATE)
+        low, high = MEMORY_ESTIMATE
+        estimate = min(high, max(low, MEMORY_PER_ATOM * len(self.atoms)))
+        self.bdd = cudd.BDD(memory_estimate=estimate, initial_cache_size=max(2**12, estimate // 256))
         self.bdd.configure(reordering=False)
         names = []
         for i in range(len(self.atoms)):

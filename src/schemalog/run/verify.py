@@ -1183,3 +1183,48 @@ def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, in
     props["selection"] = v._selection(initial, scene)
     return Report(task if task is not None else compressed.label, initial, props, reachable, 0,
                   time.perf_counter() - started, True, method="symbolic", nodes=found.peak_nodes)
+
+
+def prove(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
+          scene: Scene | None = None, task: Term | None = None, method: str = "auto",
+          max_states: int = DEFAULT_MAX_STATES, max_nodes: int = DEFAULT_MAX_NODES, split: bool = True) -> Report:
+    """Verify as `schemalog verify --method METHOD` does: symbolic by independent parts, else
+    symbolic whole, where the encoding is exact; explicit (by parts where it splits) for
+    `explicit`, or under `auto` where it is not, the report saying why. A symbolic blow-up at
+    `max_nodes` gives a report that proves nothing."""
+    from . import symbolic
+
+    note = ""
+    if method != "explicit":
+        try:
+            report = None
+            if split:
+                try:
+                    report = verify_by_parts(original, compressed, world, initial, scene, task, max_states,
+                                             "symbolic", max_nodes)
+                except symbolic.Unsupported:     # a part's root (its children's posts) may not settle
+                    report = None               # monotonically while the whole does
+            return report or verify_symbolic(original, compressed, world, initial, scene, task, max_nodes,
+                                             max_states)
+        except symbolic.Unsupported as why:
+            if method == "symbolic":
+                raise SchemalogError(f"--method symbolic cannot verify this task exactly: {why}; use "
+                                     f"--method explicit or auto") from None
+            note = f"explored one state at a time: {why}"
+        except RuntimeError as err:          # CUDD refused memory (--max-memory): out of memory
+            if "CUDD" in str(err):
+                raise MemoryError(str(err)) from None
+            raise
+        except symbolic.OutOfNodes as blowup:
+            unknown = {name: Verdict(name, None, "not decided: " + blowup.message)
+                       for name in ("soundness", "completion", "flexibility", "traces", "selection")}
+            return Report(task if task is not None else compressed.label, initial, unknown, 0, 0, 0.0,
+                          exhaustive=False, method="symbolic", limit=f"{max_nodes:,} decision-diagram nodes "
+                                                                     f"(--max-bdd-nodes)")
+    report = verify_by_parts(original, compressed, world, initial, scene, task, max_states) if split else None
+    report = report or Verifier(original, compressed, world, max_states).verify(initial, scene, task)
+    report.note = note
+    return report
+
+
+__all__ += ["prove"]
