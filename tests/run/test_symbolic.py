@@ -230,3 +230,55 @@ def test_initial_states_of_the_file_are_covered_at_once():
     report = verify_symbolic(tree, compress(tree).tree, world, initial)
     assert len(report.initial_states) == 64 and report.sound and report.complete
     assert "40 of 64 initial state(s) can complete" in report.properties["completion"].summary
+
+
+# --- the command line, as a user runs it ----------------------------------------
+
+def schemalog(*args):
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "schemalog", *args], capture_output=True, text=True, timeout=300)
+
+
+def test_verify_proves_symbolically_by_default_and_explicitly_on_request():
+    default = schemalog("verify", COFFEE, "--states", "all")
+    explicit = schemalog("verify", COFFEE, "--states", "all", "--method", "explicit")
+    assert default.returncode == explicit.returncode == 0
+    assert "explored 474 states of the compressed tree as sets" in default.stdout
+    assert "explored 474 states of the compressed tree and 1,659 of the original" in explicit.stdout
+    refuted = schemalog("verify", COFFEE, "--propagate", "pre", "--json")
+    assert refuted.returncode == 1
+    import json
+    data = json.loads(refuted.stdout)
+    assert data["explored"]["method"] == "symbolic" and data["sound"] is False
+    assert data["counterexample"]["action"] == "gripper(close)"
+
+
+def test_a_blow_up_says_where_and_proves_nothing(tmp_path):
+    task = tmp_path / "g.pl"
+    assert schemalog("generate", "--depth", "5", "--children", "3", "--rd", "0.5", "--seed", "1",
+                     "-o", str(task)).returncode == 0
+    out = schemalog("verify", str(task), "--max-bdd-nodes", "300")
+    assert out.returncode == 3 and "Traceback" not in out.stderr
+    assert "in the independent part of" in out.stdout and "grew past 300 nodes" in out.stdout
+    assert "result: no proof" in out.stdout
+    whole = schemalog("verify", str(task), "--max-bdd-nodes", "300", "--no-split")
+    assert whole.returncode == 3 and "grew past 300 nodes while" in whole.stdout
+    assert "in the independent part" not in whole.stdout
+
+
+def test_symbolic_refuses_what_it_cannot_encode_and_auto_falls_back(tmp_path):
+    task = tmp_path / "t.pl"
+    task.write_text("task(r).\n"
+                    "schema(r, [(s, true), (u, true)], r.done).\n"
+                    "schema(s, [(a, true)], (s.done, hand.free)).\n"
+                    "schema(u, [(g, true)], u.done).\n"
+                    "schema(a, [], a.done).\n"
+                    "schema(g, [], -hand.free).\n")
+    auto = schemalog("verify", str(task))
+    assert auto.returncode in (0, 1, 3) and "note: explored one state at a time: settling is not a monotone" \
+        in auto.stdout
+    strict = schemalog("verify", str(task), "--method", "symbolic")
+    assert strict.returncode == 2 and "--method symbolic cannot verify this task exactly" in strict.stderr
+    assert "Traceback" not in strict.stderr

@@ -186,10 +186,10 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str) 
              f"{n} initial state{'s' if n != 1 else ''} ({which})",
              (f"sampled: visited {report.compressed_states:,} states of the compressed tree in "
               f"{report.seconds:.2f} s (NOT a proof)" if report.sampled else
-              f"explored {report.compressed_states:,} states of the compressed tree as sets (at most "
-              f"{report.nodes:,} decision-diagram nodes) in {report.seconds:.2f} s" if report.method == "symbolic" else
-              f"explored {report.compressed_states:,} states of the compressed tree and "
-              f"{report.original_states:,} of the original in {report.seconds:.2f} s"
+              (f"explored {report.compressed_states:,} states of the compressed tree as sets (at most "
+               f"{report.nodes:,} decision-diagram nodes) in {report.seconds:.2f} s" if report.method == "symbolic" else
+               f"explored {report.compressed_states:,} states of the compressed tree and "
+               f"{report.original_states:,} of the original in {report.seconds:.2f} s")
               + (f", in {report.parts} independent parts" if report.parts > 1 else "")
               + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")),
              *([f"note: {report.note}"] if report.note else []), ""]

@@ -1031,8 +1031,14 @@ def _symbolic_part(part: Part, world: World, start: State, max_states: int, max_
     """The facts verify_by_parts combines, for one part explored as sets of states."""
     from . import symbolic
 
-    m = symbolic.SymbolicModel(part.original, part.compressed, world, start, max_nodes)
-    found = symbolic.explore(m, [start])
+    try:
+        m = symbolic.SymbolicModel(part.original, part.compressed, world, start, max_nodes)
+        found = symbolic.explore(m, [start])
+    except symbolic.OutOfNodes as blowup:
+        names = ", ".join(term_to_text(k.label) for k in part.original.children[:4])
+        more = ", ..." if len(part.original.children) > 4 else ""
+        raise symbolic.OutOfNodes(f"in the independent part of {term_to_text(part.label)} made of {names}{more} "
+                                  f"({len(part.atoms):,} atoms), {blowup.message}") from None
     v = Verifier(part.original, part.compressed, world, max_states)
     bdd = m.bdd
 
@@ -1208,8 +1214,9 @@ def prove(original: Behaviour, compressed: Behaviour, world: World, initial: lis
                                              max_states)
         except symbolic.Unsupported as why:
             if method == "symbolic":
-                raise SchemalogError(f"--method symbolic cannot verify this task exactly: {why}; use "
-                                     f"--method explicit or auto") from None
+                from ..errors import UsageError      # the request, not the input, is at fault: exit 2
+                raise UsageError(f"--method symbolic cannot verify this task exactly: {why}; use "
+                                 f"--method explicit or auto") from None
             note = f"explored one state at a time: {why}"
         except RuntimeError as err:          # CUDD refused memory (--max-memory): out of memory
             if "CUDD" in str(err):
