@@ -341,9 +341,8 @@ def path_to(m: SymbolicModel, explicit, initial, target, avoid=None):
     """A shortest run of the compressed tree from an initial state to a state of `target`, found
     by backward layers and replayed with the explicit model: (initial, steps, last state).
     With `avoid`, a run through none of its states if there is one (a completion
-    counterexample whose steps are all sound, hence runs of the original too)."""
-    from .verify import Step
-
+    counterexample whose steps are all sound, hence runs of the original too). A step is
+    (the leaf's label, its actions)."""
     bdd, c = m.bdd, m.c
     init = bdd.false
     for s in initial:
@@ -370,7 +369,7 @@ def path_to(m: SymbolicModel, explicit, initial, target, avoid=None):
             actions, states = explicit.step(state, leaf)
             after = states[-1] if states else state
             if m.member(after, layer):
-                steps.append(Step(explicit.label(leaf), tuple(a for a, _ in actions)))
+                steps.append((explicit.label(leaf), tuple(a for a, _ in actions)))
                 state = after
                 break
         else:

@@ -34,6 +34,7 @@ from ..task.tree import Behaviour
 from .world import World, state_atoms
 
 State = frozenset
+Code = int                                # a state kept by the explorer: one bit per atom (Codec)
 Action = tuple[Term, Condition]           # an original action: its label and post-condition
 
 DEFAULT_MAX_STATES = defaults.MAX_STATES
@@ -66,6 +67,38 @@ class Meter:
         if self.limit is not None and self.work > self.limit:
             self.spent = True
             raise OutOfWork
+
+
+# ---------------------------------------------------------------------------
+# States as integers: what the explorer keeps
+
+class Codec:
+    """States as integers, one bit per atom: an explored state costs a few hundred bytes, not
+    a frozenset of its atoms (about 32 KB for 700 true atoms). Atoms get bits as first seen."""
+
+    def __init__(self) -> None:
+        self.bit: dict[Term, int] = {}
+        self.atoms: list[Term] = []
+
+    def encode(self, state: State) -> Code:
+        code = 0
+        bit = self.bit
+        for atom in state:
+            i = bit.get(atom)
+            if i is None:
+                i = bit[atom] = len(self.atoms)
+                self.atoms.append(atom)
+            code |= 1 << i
+        return code
+
+    def decode(self, code: Code) -> State:
+        atoms = self.atoms
+        found = []
+        while code:
+            low = code & -code
+            found.append(atoms[low.bit_length() - 1])
+            code ^= low
+        return frozenset(found)
 
 
 # ---------------------------------------------------------------------------
@@ -316,6 +349,7 @@ class Verifier:
         self.meter = Meter()
         self.original = Model(original, world, self.meter)
         self.compressed = Model(compressed, world, self.meter)
+        self.codec = Codec()
 
     @property
     def max_work(self) -> int:
@@ -337,7 +371,7 @@ class Verifier:
         self.meter.limit = None
         props["soundness"] = self._soundness(sound, parent, exhaustive, len(order))
         exhaustive = exhaustive and o_exhaustive
-        good_c = _backward(order, succ, self.compressed.accomplished)
+        good_c = _backward(order, succ, self._decoded(self.compressed.accomplished))
         props["completion"] = self._completion(initial, parent, order, stuck, good_o, good_c, exhaustive)
         props["flexibility"] = self._flexibility(initial)
         props["traces"] = self._traces(initial, good_o) if exhaustive else Verdict(
@@ -433,70 +467,77 @@ class Verifier:
                       limit="" if done == runs else self.limit_text())
 
     def _explore_compressed(self, initial: list[State]):
-        """Breadth first over every enabled behaviour; the first unsound step and stuck state."""
+        """Breadth first over every enabled behaviour; the first unsound step and stuck state.
+        States are kept as Codes (parent, successors, order, stuck), expanded one at a time."""
         c, o = self.compressed, self.original
-        parent: dict[State, tuple[State, int] | None] = {}
-        succ: dict[State, list[State]] = {}
-        order: list[State] = []
-        queue: deque[State] = deque()
-        interned: dict[State, State] = {}                  # one object per state (memory)
+        encode, decode = self.codec.encode, self.codec.decode
+        parent: dict[Code, tuple[Code, int] | None] = {}
+        succ: dict[Code, list[Code]] = {}
+        order: list[Code] = []
+        queue: deque[Code] = deque()
         for s in initial:
-            if s not in parent:
-                parent[s] = None
-                interned[s] = s
-                queue.append(s)
+            k = encode(s)
+            if k not in parent:
+                parent[k] = None
+                queue.append(k)
         unsound = None
-        stuck: list[State] = []
+        stuck: list[Code] = []
         exhaustive = True
         while queue:
-            s = queue.popleft()
+            k = queue.popleft()
+            s = decode(k)
             try:
                 leaves = [] if c.accomplished(s) else c.enabled(s)
             except OutOfWork:
                 exhaustive = False
                 break
-            order.append(s)
-            nexts = succ[s] = []
+            order.append(k)
+            nexts = succ[k] = []
             if c.accomplished(s):
                 continue
             if not leaves:
-                stuck.append(s)
+                stuck.append(k)
                 continue
             try:
                 for leaf in leaves:
                     actions, states = c.step(s, leaf)
                     if unsound is None:
                         before = s
-                        for k, action in enumerate(actions):
+                        for j, action in enumerate(actions):
                             if not o.allows(before, action):
-                                unsound = (s, leaf, k, before)
+                                unsound = (s, leaf, j, before)
                                 break
-                            before = states[k]
-                    after = states[-1] if states else s
-                    known = interned.get(after)
-                    if known is not None:
-                        nexts.append(known)
+                            before = states[j]
+                    after = encode(states[-1]) if states else k
+                    if after in parent:
+                        nexts.append(after)
                         continue
                     if len(parent) >= self.max_states:
                         exhaustive = False
                         continue
-                    interned[after] = after
                     nexts.append(after)
-                    parent[after] = (s, leaf)
+                    parent[after] = (k, leaf)
                     queue.append(after)
             except OutOfWork:     # the budget ran out inside this state: what was found stands
                 exhaustive = False
                 break
         return parent, succ, order, unsound, stuck, exhaustive
 
-    def _path(self, parent, state: State) -> tuple[State, tuple[Step, ...]]:
+    def _decoded(self, test):
+        """`test` on a state, asked of its Code."""
+        decode = self.codec.decode
+        return lambda k: test(decode(k))
+
+    def _path(self, parent, state: State | Code) -> tuple[State, tuple[Step, ...]]:
+        """The run from an initial state to `state` (a State or its Code) in `parent`."""
+        k = self.codec.encode(state) if isinstance(state, frozenset) else state
         steps = []
-        while parent[state] is not None:
-            before, leaf = parent[state]
-            actions, _ = self.compressed.step(before, leaf)
+        while parent[k] is not None:
+            before, leaf = parent[k]
+            actions, _ = self.compressed.step(self.codec.decode(before), leaf)
             steps.append(Step(self.compressed.label(leaf), tuple(a for a, _ in actions)))
-            state = before
-        return state, tuple(reversed(steps))
+            k = before
+        return self.codec.decode(k), tuple(reversed(steps))
 
     def _soundness(self, unsound, parent, exhaustive: bool, explored: int) -> Verdict:
         if unsound is None:
@@ -519,42 +560,45 @@ class Verifier:
         return Verdict("soundness", False, f"the compressed tree can take {term_to_text(action[0])} where the "
                                            f"original would not (perceptual aliasing)", ce)
 
-    def _can_complete_original(self, seeds: list[State]) -> tuple[set[State], int, bool]:
+    def _can_complete_original(self, seeds: list[Code]) -> tuple[set[Code], int, bool]:
         """The states, reachable by the original from the compressed tree's states, from which
-        the original can complete."""
+        the original can complete (as Codes)."""
         o = self.original
-        succ: dict[State, list[State]] = {}
+        encode, decode = self.codec.encode, self.codec.decode
+        succ: dict[Code, list[Code]] = {}
         queue = deque(seeds)
-        seen: dict[State, State] = {s: s for s in seeds}     # one object per state (memory)
+        seen: set[Code] = set(seeds)
         budget = len(seen) + self.max_states                  # its own budget beyond the seeds
         order = []
         exhaustive = True
         while queue:
-            s = queue.popleft()
+            k = queue.popleft()
+            s = decode(k)
             try:
                 moves = [o.step(s, leaf)[1] for leaf in o.enabled(s)]
             except OutOfWork:
                 exhaustive = False
                 break
-            order.append(s)
-            nexts = succ[s] = []
+            order.append(k)
+            nexts = succ[k] = []
             for states in moves:
-                after = states[-1] if states else s
-                known = seen.get(after)
-                if known is not None:
-                    nexts.append(known)
+                after = encode(states[-1]) if states else k
+                if after in seen:
+                    nexts.append(after)
                     continue
                 if len(seen) >= budget:
                     exhaustive = False
                     continue
-                seen[after] = after
+                seen.add(after)
                 nexts.append(after)
                 queue.append(after)
-        return _backward(order, succ, o.accomplished), len(order), exhaustive
+        return _backward(order, succ, self._decoded(o.accomplished)), len(order), exhaustive
 
     def _completion(self, initial, parent, order, stuck, good_o, good_c, exhaustive) -> Verdict:
         o, c = self.original, self.compressed
-        for s in stuck:
+        decode, encode = self.codec.decode, self.codec.encode
+        for k in stuck:
+            s = decode(k)
             if o.enabled(s):
                 first, path = self._path(parent, s)
                 world = self.world
@@ -568,16 +612,16 @@ class Verifier:
             return Verdict("completion", None, "no state where only the compressed tree is stuck among the "
                                                "explored ones; the rest needs the whole graph (a limit of "
                                                "--max-states reached: not a proof)")
-        for s in order:
-            if s in good_o and s not in good_c:
-                first, path = self._path(parent, s)
-                ce = Counterexample(first, path, s, reasons=(
+        for k in order:
+            if k in good_o and k not in good_c:
+                first, path = self._path(parent, k)
+                ce = Counterexample(first, path, decode(k), reasons=(
                     "from this state the original can still complete the task, the compressed tree cannot "
                     "(every continuation loops or gets stuck)",))
                 return Verdict("completion", False, "the compressed tree reaches a state it cannot complete from, "
                                                     "where the original can", ce)
-        both = sum(1 for s in initial if s in good_o)
-        lost = [s for s in initial if (s in good_o) != (s in good_c)]
+        both = sum(1 for s in initial if encode(s) in good_o)
+        lost = [s for s in initial if (encode(s) in good_o) != (encode(s) in good_c)]
         if lost:
             return Verdict("completion", False, f"{len(lost)} initial state(s) complete with one tree only",
                            Counterexample(lost[0], (), lost[0]))
@@ -993,17 +1037,18 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
         v.meter.limit = None
         if not (exhaustive and o_exhaustive):
             limit = limit or v.limit_text()
-        good_c = _backward(order, succ, v.compressed.accomplished)
-        quiet = next((q for q in order if not v.compressed.enabled(q)), None)
+        good_c = _backward(order, succ, v._decoded(v.compressed.accomplished))
+        decode, encode = v.codec.decode, v.codec.encode
+        quiet = next((decode(q) for q in order if not v.compressed.enabled(decode(q))), None)
         facts.append({
             "part": part, "verifier": v, "parent": parent, "start": start, "states": len(order),
             "o_states": o_states, "exhaustive": exhaustive and o_exhaustive,
             "soundness": v._soundness(unsound, parent, exhaustive, len(order)),
             "quiet": quiet,                                        # a reachable quiescent state
-            "stuck": next((q for q in stuck if v.original.enabled(q)), None),
-            "dead": next((q for q in order if q in good_o and q not in good_c), None),
-            "can": next((q for q in order if q in good_o), None),
-            "o_init": start in good_o, "c_init": start in good_c,
+            "stuck": next((decode(q) for q in stuck if v.original.enabled(decode(q))), None),
+            "dead": next((decode(q) for q in order if q in good_o and q not in good_c), None),
+            "can": next((decode(q) for q in order if q in good_o), None),
+            "o_init": encode(start) in good_o, "c_init": encode(start) in good_c,
             "path": lambda state, v=v, parent=parent: v._path(parent, state)[1]})
     whole = Verifier(original, compressed, world, max_states)
     exhaustive = all(f["exhaustive"] for f in facts)
@@ -1046,19 +1091,25 @@ def _symbolic_part(part: Part, world: World, start: State, max_states: int, max_
         return None if u == bdd.false else m.pick(u)
 
     def path(state: State) -> tuple[Step, ...]:
-        return symbolic.path_to(m, v.compressed, [start], m.state(state), found.unsound)[1]
+        return _run_to(symbolic, m, v.compressed, [start], m.state(state), found.unsound)[1]
 
     if found.unsound == bdd.false:
         soundness = Verdict("soundness", True, "every reachable state (as sets): each step of the compressed "
                                                "tree is a run of the original")
     else:
-        first, steps, s = symbolic.path_to(m, v.compressed, [start], found.unsound)
+        first, steps, s = _run_to(symbolic, m, v.compressed, [start], found.unsound)
         soundness = _first_refused(v, first, steps, s)
     return {"part": part, "verifier": v, "start": start, "states": m.count(found.reachable), "o_states": 0,
             "exhaustive": True, "soundness": soundness,
             "quiet": one(found.reachable & ~m.c.any_enabled), "stuck": one(found.stuck), "dead": one(found.dead),
             "can": one(found.reachable & found.can_o), "o_init": m.member(start, found.can_o),
             "c_init": m.member(start, found.can_c), "path": path, "nodes": found.peak_nodes}
+
+
+def _run_to(symbolic, *args):
+    """symbolic.path_to, its steps as Steps."""
+    first, steps, last = symbolic.path_to(*args)
+    return first, tuple(Step(label, actions) for label, actions in steps), last
 
 
 def _first_refused(v: "Verifier", first: State, path: tuple[Step, ...], s: State) -> Verdict:
@@ -1157,10 +1208,10 @@ def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, in
         props["soundness"] = Verdict("soundness", True, f"every reachable state ({reachable:,}, as sets): each "
                                                         f"step of the compressed tree is a run of the original")
     else:   # a shortest run to a bad state: every step before it is sound
-        first, path, s = symbolic.path_to(m, c, initial, found.unsound)
+        first, path, s = _run_to(symbolic, m, c, initial, found.unsound)
         props["soundness"] = _first_refused(v, first, path, s)
     if found.stuck != bdd.false:
-        first, path, s = symbolic.path_to(m, c, initial, found.stuck, found.unsound)
+        first, path, s = _run_to(symbolic, m, c, initial, found.stuck, found.unsound)
         world.load(s)
         blocked = blocked_reasons(c.plan, world, set(), Counter())
         offered = ", ".join(dict.fromkeys(term_to_text(o.label(i)) for i in o.enabled(s)))
@@ -1168,7 +1219,7 @@ def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, in
                                       "not", Counterexample(first, path, s, reasons=(
                                           f"the original could still take: {offered}", *blocked)))
     elif found.dead != bdd.false:
-        first, path, s = symbolic.path_to(m, c, initial, found.dead, found.unsound)
+        first, path, s = _run_to(symbolic, m, c, initial, found.dead, found.unsound)
         props["completion"] = Verdict("completion", False, "the compressed tree reaches a state it cannot complete "
                                       "from, where the original can", Counterexample(first, path, s, reasons=(
                                           "from this state the original can still complete the task, the compressed "
