@@ -222,6 +222,17 @@ def test_non_monotone_settling_is_left_to_the_explorer():
         verify_symbolic(root, compress(root).tree, world, [world.atoms])
 
 
+def test_auto_leaves_a_long_merged_behaviour_to_the_explorer():
+    from conftest import wide_task
+    from schemalog.run.verify import LONGEST_SYMBOLIC_STEP, prove
+
+    kb, tree = wide_task(LONGEST_SYMBOLIC_STEP + 1)
+    world = World(tree, initial_state(kb))
+    report = prove(tree, compress(tree).tree, world, [world.atoms])
+    assert report.method == "explicit" and report.sound and report.complete and report.exhaustive
+    assert f"a merged behaviour of {LONGEST_SYMBOLIC_STEP + 1} actions" in report.note
+
+
 def test_initial_states_of_the_file_are_covered_at_once():
     kb = load_kb([COFFEE])
     tree = instantiate(kb, parse_term("prepareboth"))
@@ -259,13 +270,15 @@ def test_a_blow_up_says_where_and_proves_nothing(tmp_path):
     task = tmp_path / "g.pl"
     assert schemalog("generate", "--depth", "5", "--children", "3", "--rd", "0.5", "--seed", "1",
                      "-o", str(task)).returncode == 0
-    out = schemalog("verify", str(task), "--max-bdd-nodes", "300")
+    out = schemalog("verify", str(task), "--max-bdd-nodes", "300", "--method", "symbolic")
     assert out.returncode == 3 and "Traceback" not in out.stderr
     assert "in the independent part of" in out.stdout and "grew past 300 nodes" in out.stdout
     assert "result: no proof" in out.stdout
-    whole = schemalog("verify", str(task), "--max-bdd-nodes", "300", "--no-split")
+    whole = schemalog("verify", str(task), "--max-bdd-nodes", "300", "--no-split", "--method", "symbolic")
     assert whole.returncode == 3 and "grew past 300 nodes while" in whole.stdout
     assert "in the independent part" not in whole.stdout
+    auto = schemalog("verify", str(task), "--max-bdd-nodes", "300")     # auto: the explorer takes over
+    assert auto.returncode == 0 and "note: explored one state at a time: in the independent part" in auto.stdout
 
 
 def test_symbolic_refuses_what_it_cannot_encode_and_auto_falls_back(tmp_path):

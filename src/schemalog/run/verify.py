@@ -40,6 +40,8 @@ Action = tuple[Term, Condition]           # an original action: its label and po
 DEFAULT_MAX_STATES = defaults.MAX_STATES
 METHODS = ("auto", "symbolic", "explicit")   # auto: symbolic where it is exact, else explicit
 DEFAULT_MAX_NODES = 5_000_000                # decision-diagram nodes alive at once (about 32 bytes each)
+LONGEST_SYMBOLIC_STEP = 256                  # auto: a longer merged leaf is explored explicitly (its
+                                             # symbolic step costs the square of its actions: 1,000 took 19 s)
 WORK_PER_STATE = defaults.WORK_PER_STATE
 MAX_FREE_ATOMS = 16
 CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, states can be large
@@ -1242,17 +1244,31 @@ def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, in
                   time.perf_counter() - started, True, method="symbolic", nodes=found.peak_nodes)
 
 
+def _leaves_of(tree: Behaviour):
+    stack = [tree]
+    while stack:
+        n = stack.pop()
+        if not n.children:
+            yield n
+        stack.extend(n.children)
+
+
 def prove(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
           scene: Scene | None = None, task: Term | None = None, method: str = "auto",
           max_states: int = DEFAULT_MAX_STATES, max_nodes: int = DEFAULT_MAX_NODES, split: bool = True) -> Report:
     """Verify as `schemalog verify --method METHOD` does: symbolic by independent parts, else
     symbolic whole, where the encoding is exact; explicit (by parts where it splits) for
-    `explicit`, or under `auto` where it is not, the report saying why. A symbolic blow-up at
-    `max_nodes` gives a report that proves nothing."""
+    `explicit`, or under `auto` where it is not (a merged behaviour of more than
+    LONGEST_SYMBOLIC_STEP actions, a blow-up past `max_nodes`), the report saying why. Under
+    `symbolic`, a blow-up gives a report that proves nothing."""
     from . import symbolic
 
     note = ""
-    if method != "explicit":
+    longest = max((len(n.origins) for n in _leaves_of(compressed)), default=1)
+    if method == "auto" and longest > LONGEST_SYMBOLIC_STEP:
+        note = (f"explored one state at a time: a merged behaviour of {longest:,} actions (a symbolic step "
+                f"grows with the square of its actions; --method symbolic forces it)")
+    elif method != "explicit":
         try:
             report = None
             if split:
@@ -1274,11 +1290,14 @@ def prove(original: Behaviour, compressed: Behaviour, world: World, initial: lis
                 raise MemoryError(str(err)) from None
             raise
         except symbolic.OutOfNodes as blowup:
-            unknown = {name: Verdict(name, None, "not decided: " + blowup.message)
-                       for name in ("soundness", "completion", "flexibility", "traces", "selection")}
-            return Report(task if task is not None else compressed.label, initial, unknown, 0, 0, 0.0,
-                          exhaustive=False, method="symbolic", limit=f"{max_nodes:,} decision-diagram nodes "
-                                                                     f"(--max-bdd-nodes)")
+            if method == "auto":      # the explorer may still prove it: say so, and try it
+                note = f"explored one state at a time: {blowup.message}"
+            else:
+                unknown = {name: Verdict(name, None, "not decided: " + blowup.message)
+                           for name in ("soundness", "completion", "flexibility", "traces", "selection")}
+                return Report(task if task is not None else compressed.label, initial, unknown, 0, 0, 0.0,
+                              exhaustive=False, method="symbolic",
+                              limit=f"{max_nodes:,} decision-diagram nodes (--max-bdd-nodes)")
     report = verify_by_parts(original, compressed, world, initial, scene, task, max_states) if split else None
     report = report or Verifier(original, compressed, world, max_states).verify(initial, scene, task)
     report.note = note
