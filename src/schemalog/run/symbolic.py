@@ -211,8 +211,16 @@ class SymbolicModel:
         return self.bdd.let({v: b for v, b in values.items() if v in support}, u) == self.bdd.true
 
     def count(self, u) -> int:
+        """How many states `u` holds: CUDD counts in a double (exact to 2^53; past 2^1024 it
+        fails, and the count is given as 2^1024, a lower bound)."""
+        if u == self.bdd.false:
+            return 0
         support = len(self.bdd.support(u))
-        return int(round(self.bdd.count(u))) * 2 ** (len(self.atoms) - support) if u != self.bdd.false else 0
+        try:
+            found = self.bdd.count(u)
+        except RuntimeError:
+            return 2 ** 1024
+        return min(2 ** 1024, int(round(found)) * 2 ** (len(self.atoms) - support))
 
 
 class _Tree:
