@@ -12,6 +12,13 @@ One run, two tables:
    parts (the exact reduction), each bounded by --max-states, and --sample runs of the same
    tree (random runs, every step checked: the fallback that proves nothing). States counts
    add the compressed tree's and the original's.
+3. The paper's 36-cell grid (depth 4-6, 2-4 children, RD 0-0.7), full propagation: today's
+   explicit explorer (by parts) beside the symbolic method (by parts, run/symbolic.py), each
+   cell in its own process: states (symbolic: the reachable states counted from the sets,
+   approximate above 2^53), decision-diagram nodes, seconds, peak RSS.
+4. Growth of the symbolic method from 1,365 to 97,656 behaviours.
+
+    python benchmarks/bench_verify.py --only grid --only growth
 """
 
 from __future__ import annotations
@@ -89,15 +96,97 @@ def generated_table(max_states: int, runs: int) -> None:
     print()
 
 
+GRID = [(d, b, rd) for d in (4, 5, 6) for b in (2, 3, 4) for rd in (0.0, 0.3, 0.5, 0.7)]
+GROWTH = [(6, 4), (6, 6), (8, 5)]    # 1,365, 9,331 and 97,656 behaviours
+TIMEOUT = 600                        # seconds per cell
+
+
+def one_cell(depth: int, branching: int, rd: float, method: str, max_states: int, propagate: str) -> dict:
+    """Verify one generated task as `schemalog verify --method METHOD` would (by parts where it
+    splits); run in a child process, so that its peak memory is its own."""
+    import resource
+
+    from schemalog.run.verify import verify_symbolic
+
+    tree = generate(depth, branching, rd, seed=1)
+    compressed = compress(tree, propagate).tree
+    initial = [World(tree).atoms]
+    started = time.perf_counter()
+    report = verify_by_parts(tree, compressed, World(tree), initial, max_states=max_states, method=method)
+    if report is None:
+        report = (verify_symbolic(tree, compressed, World(tree), initial) if method == "symbolic" else
+                  Verifier(tree, compressed, World(tree), max_states).verify(initial))
+    seconds = time.perf_counter() - started
+    return {"behaviours": count_nodes(tree), "compressed": count_nodes(compressed),
+            "states": report.compressed_states + report.original_states, "nodes": report.nodes,
+            "parts": report.parts, "seconds": seconds, "result": verdict(report),
+            "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+
+
+def in_child(*cell) -> dict:
+    """one_cell in a fresh interpreter (its own peak RSS)."""
+    import json
+    import subprocess
+
+    code = (f"import json, sys; sys.path.insert(0, {ROOT + '/benchmarks'!r}); import bench_verify as b; "
+            f"print(json.dumps(b.one_cell{cell!r}))")
+    try:
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                             timeout=TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return {"behaviours": 0, "compressed": 0, "states": 0, "nodes": 0, "parts": 0, "seconds": TIMEOUT,
+                "result": f"stopped after {TIMEOUT} s", "peak_mb": 0}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def grid_table(max_states: int) -> None:
+    print(f"## The paper's grid, full propagation: explicit (at most {max_states:,} states per part) "
+          f"beside symbolic\n")
+    print("| depth | children | RD | Bi | Bm | parts | explicit: states | s | MB | result "
+          "| symbolic: states | BDD nodes | s | MB | result |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---|")
+    for depth, branching, rd in GRID:
+        old = in_child(depth, branching, rd, "explicit", max_states, "full")
+        new = in_child(depth, branching, rd, "symbolic", max_states, "full")
+        print(f"| {depth} | {branching} | {rd} | {old['behaviours']:,} | {old['compressed']:,} | {new['parts']} "
+              f"| {old['states']:,} | {old['seconds']:.2f} | {old['peak_mb']:.0f} | {old['result']} "
+              f"| {new['states']:,} | {new['nodes']:,} | {new['seconds']:.2f} | {new['peak_mb']:.0f} "
+              f"| {new['result']} |")
+        sys.stdout.flush()
+    print()
+
+
+def growth_table(max_states: int) -> None:
+    print("## Growth: symbolic, RD 0.5, full propagation (explicit beside it at 1k)\n")
+    print("| depth | children | Bi | method | parts | states | BDD nodes | s | MB | result |")
+    print("|---:|---:|---:|---|---:|---:|---:|---:|---:|---|")
+    for depth, branching in GROWTH:
+        for method in (("explicit", "symbolic") if depth == 6 and branching == 4 else ("symbolic",)):
+            r = in_child(depth, branching, 0.5, method, max_states, "full")
+            print(f"| {depth} | {branching} | {r['behaviours']:,} | {method} | {r['parts']} | {r['states']:,} "
+                  f"| {r['nodes']:,} | {r['seconds']:.2f} | {r['peak_mb']:.0f} | {r['result']} |")
+            sys.stdout.flush()
+    print()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--max-states", type=int, default=50_000)
     parser.add_argument("--sample", type=int, default=1000)
+    parser.add_argument("--only", choices=["paper", "generated", "grid", "growth"], action="append",
+                        help="run only these tables (default: all)")
     args = parser.parse_args()
     tune_gc()
+    only = set(args.only or ["paper", "generated", "grid", "growth"])
     print(f"python {sys.version.split()[0]}\n")
-    paper_table(args.max_states)
-    generated_table(args.max_states, args.sample)
+    if "paper" in only:
+        paper_table(args.max_states)
+    if "generated" in only:
+        generated_table(args.max_states, args.sample)
+    if "grid" in only:
+        grid_table(args.max_states)
+    if "growth" in only:
+        growth_table(args.max_states)
 
 
 if __name__ == "__main__":

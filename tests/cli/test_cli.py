@@ -444,8 +444,10 @@ def test_verify_a_compressed_file_against_its_original(tmp_path):
 
 
 def test_verify_inconclusive_runs_say_so():
-    r = run("verify", COFFEE, "--max-states", "30")
+    r = run("verify", COFFEE, "--max-states", "30", "--method", "explicit")
     assert r.returncode == 3 and "NOT a proof" in r.stdout and "soundness (no perceptual aliasing): unknown" in r.stdout
+    r = run("verify", COFFEE, "--max-bdd-nodes", "100", "--method", "symbolic")
+    assert r.returncode == 3 and "NOT a proof" in r.stdout and "grew past 100 nodes" in r.stdout
     r = run("verify", COFFEE, "--sample", "20", "--seed", "4")
     assert r.returncode == 3 and "sampled:" in r.stdout
     r = run("verify", COFFEE, "--sample", "20", "--propagate", "pre")

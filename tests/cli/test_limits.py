@@ -319,7 +319,11 @@ def test_the_time_limit_stops_sympy_and_the_verifier(tmp_path):
     r = python(SYMPY, MIX)
     assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
     assert run("generate", "--depth", 4, "--children", 4, "--rd", "0.5", "--seed", 1, "-o", tmp_path / "t.pl").returncode == 0
-    r = run("verify", tmp_path / "t.pl", "--no-split", "--max-states", 10**9, "--timeout", 2)
+    r = run("verify", tmp_path / "t.pl", "--no-split", "--max-states", 10**9, "--timeout", 2, "--method", "explicit")
+    assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
+    # the symbolic method too: the whole of a 1,365-behaviour task takes longer than 2 s
+    assert run("generate", "--depth", 6, "--children", 4, "--rd", "0.5", "--seed", 1, "-o", tmp_path / "b.pl").returncode == 0
+    r = run("verify", tmp_path / "b.pl", "--no-split", "--timeout", 2)
     assert r.returncode == 124 and "time limit of 2 s exceeded" in r.stderr and clean(r), r.stderr
 
 

@@ -41,7 +41,8 @@ def run(args: argparse.Namespace) -> int:
     from .common import choose_tasks, emit, inputs_of, instantiate_task, load_files
     from ..run.world import World
     from .output import PICTURES, emit_picture, output_format, print_rich, written, FORMAT_WORDS
-    from .verify import exit_status, vacuity_of, verify_json, verify_lines
+    from ..run.vacuity import vacuity_of
+    from .verify import exit_status, verify_json, verify_lines
 
     fmt = output_format(args)          # a picture asked for without Graphviz: say so before any work
     kb, _ = load_files(args)
@@ -133,12 +134,11 @@ def _figure2(kb: KnowledgeBase, result, args: argparse.Namespace) -> str:
 
 def _verify_compression(kb: KnowledgeBase, result, args: argparse.Namespace):
     """`compress --verify`: prove the compressed tree against its original from the initial state."""
-    from ..run.verify import Verifier, verify_by_parts
+    from ..run.verify import prove
     from ..run.world import World, initial_state
 
     world = World(result.original)
     world.reset(initial_state(kb))
     initial = [world.atoms]
     task = result.original.label
-    report = verify_by_parts(result.original, result.tree, world, initial, None, task)
-    return report if report is not None else Verifier(result.original, result.tree, world).verify(initial, None, task)
+    return prove(result.original, result.tree, world, initial, None, task)

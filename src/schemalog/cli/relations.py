@@ -29,7 +29,7 @@ from ..logic.terms import Atom, Float, Int, Struct, Term, Var, is_ground, make_l
 from ..logic.unify import Bindings
 from ..run.execute import BASE_ACTIVATION, Executive, Plan, ScanSelector, emphasis, enabled_indices
 from ..run.scene import NO_SCENE, Scene
-from ..run.verify import Verifier, verify_by_parts
+from ..run.verify import prove
 from ..run.world import World, initial_state
 from ..shipped import shipped_text
 from ..task import conditions as cond
@@ -305,10 +305,7 @@ class Workspace:
         """The verifier's report on `view`'s compression, from the files' initial state."""
         world = World(view.original, self.initial)
         initial = [world.atoms]
-        report = verify_by_parts(view.original, view.compressed, world, initial, None, view.task)
-        if report is None:
-            report = Verifier(view.original, view.compressed, world).verify(initial, None, view.task)
-        return report
+        return prove(view.original, view.compressed, world, initial, None, view.task)
 
 
 def verdict_term(report) -> Term:

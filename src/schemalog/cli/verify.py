@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from .. import defaults
@@ -16,6 +15,7 @@ from .options import Parents, budget, positive
 if TYPE_CHECKING:  # for annotations only: these load when the command runs
     from ..logic.kb import KnowledgeBase
     from ..logic.terms import Term
+    from ..run.vacuity import Vacuity
     from ..run.world import World
 
 
@@ -41,6 +41,13 @@ def register(sub, parents: Parents) -> None:
                    help=f"stop exploring after N states per tree, or {defaults.WORK_PER_STATE:,} units of "
                         f"work (condition tests, state atoms) per state; the result then says it is no proof "
                         f"(default {defaults.MAX_STATES:,})")
+    p.add_argument("--method", choices=["auto", "symbolic", "explicit"], default="auto",
+                   help="explore states as sets (symbolic: decision diagrams, every covered initial state "
+                        "at once), one by one (explicit: the reference, which also counts traces), or "
+                        "symbolic where it is exact and explicit elsewhere (auto, the default)")
+    p.add_argument("--max-bdd-nodes", type=positive, default=5_000_000, metavar="N",
+                   help="symbolic: stop past N decision-diagram nodes alive at once, with no proof "
+                        "(exit 3; default 5,000,000, about 160 MB)")
     p.add_argument("--no-split", action="store_true",
                    help="explore the whole task even where it splits into independent parts")
     p.add_argument("--sample", type=sample_runs, metavar="RUNS",
@@ -68,7 +75,8 @@ def _progress(done: int, runs: int) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Prove a compressed task against its original: soundness and completion, with diagnostics."""
-    from ..run.verify import Verifier, verify_by_parts
+    from ..run.verify import Verifier, prove
+    from ..run.vacuity import vacuity_of
     from ..run.world import World
     from ..task.tree import count_nodes
     from .common import check_output, emit, inputs_of, scene_of
@@ -87,10 +95,9 @@ def run(args: argparse.Namespace) -> int:
                                  progress=_progress if tty else None)
         if tty:
             print("\r\033[K", end="", file=sys.stderr, flush=True)
-    elif not args.no_split:
-        report = verify_by_parts(original, compressed, world, initial, scene, task, args.max_states)
-    if report is None:
-        report = verifier.verify(initial, scene, task)
+    else:
+        report = prove(original, compressed, world, initial, scene, task, args.method, args.max_states,
+                       args.max_bdd_nodes, split=not args.no_split)
     vacuity = vacuity_of(original, World(original), report.initial_states, args.max_states)
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed), vacuity),
@@ -107,75 +114,6 @@ def exit_status(report, vacuity: "Vacuity | None" = None) -> int:
     if report.violated or (vacuity is not None and vacuity.vacuous):
         return 1
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
-
-
-@dataclass(frozen=True)
-class Vacuity:
-    """Which covered initial states let the ORIGINAL task complete, and why not when none does.
-
-    completes[i] is True (a run completes), False (none does: every run gets stuck or loops)
-    or None (not decided within the state limit), for the report's initial state i."""
-
-    states: tuple
-    completes: tuple
-    cause: "object | None" = None        # the lint Finding that explains it, when there is one
-
-    @property
-    def vacuous(self) -> bool:
-        """No covered initial state completes: a proof about such a task says nothing."""
-        return bool(self.completes) and all(c is False for c in self.completes)
-
-    @property
-    def failing(self) -> list:
-        return [s for s, c in zip(self.states, self.completes) if c is False]
-
-
-def vacuity_of(original, world, states: list, max_states: int) -> Vacuity:
-    """Search, from each initial state, for a run of the original that completes the task (any
-    choice of enabled behaviour, bounded by --max-states); explain with lint when none does."""
-    from ..run.lint import Facts, lint_tree, task_cannot_complete
-
-    completes = tuple(original_completes(original, world, s, max_states) for s in states)
-    cause = None
-    if completes and all(c is False for c in completes):
-        always = frozenset.intersection(*map(frozenset, states))
-        facts = Facts(always, frozenset().union(*states) - always)
-        cause = task_cannot_complete(lint_tree(original, facts))
-    return Vacuity(tuple(states), completes, cause)
-
-
-def original_completes(original, world, start, max_states: int) -> bool | None:
-    """Whether some run of the original tree from `start` accomplishes the task (depth first:
-    a completing task is found in about one run), None when the state limit stops the search."""
-    from ..run.execute import Executive, Status
-    from ..run.verify import Meter, Model, OutOfWork
-
-    # One winner-take-all run first: it completes a task that can in about one decision per
-    # action, where the search below would test every enabled leaf of every state it passes.
-    world.reset(start)
-    if Executive(original, world).run().status is Status.COMPLETED:
-        return True
-    model = Model(original, world, Meter(max_states * defaults.WORK_PER_STATE))
-    seen, stack = {start}, [start]
-    cut = False
-    try:
-        while stack:
-            state = stack.pop()
-            if model.accomplished(state):
-                return True
-            for leaf in reversed(model.enabled(state)):
-                after = model.step(state, leaf)[1]
-                nxt = after[-1] if after else state
-                if nxt in seen:
-                    continue
-                if len(seen) >= max_states:
-                    cut = True
-                    continue
-                seen.add(nxt)
-                stack.append(nxt)
-    except OutOfWork:
-        return None
-    return None if cut else False
 
 
 def vacuity_lines(vacuity: "Vacuity | None") -> list[str]:
@@ -282,10 +220,13 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str,
              f"{n} initial state{'s' if n != 1 else ''} ({which})",
              (f"sampled: visited {report.compressed_states:,} states of the compressed tree in "
               f"{report.seconds:.2f} s (NOT a proof)" if report.sampled else
-              f"explored {report.compressed_states:,} states of the compressed tree and "
-              f"{report.original_states:,} of the original in {report.seconds:.2f} s"
+              (f"explored {report.compressed_states:,} states of the compressed tree as sets (at most "
+               f"{report.nodes:,} decision-diagram nodes) in {report.seconds:.2f} s" if report.method == "symbolic" else
+               f"explored {report.compressed_states:,} states of the compressed tree and "
+               f"{report.original_states:,} of the original in {report.seconds:.2f} s")
               + (f", in {report.parts} independent parts" if report.parts > 1 else "")
-              + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")), ""]
+              + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")),
+             *([f"note: {report.note}"] if report.note else []), ""]
     titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",
               "flexibility": "flexibility (diagnostic)", "traces": "trace equivalence (diagnostic)",
               "selection": "selection under emphasis (diagnostic)"}
@@ -395,7 +336,9 @@ def verify_json(report, how: str, before: int, after: int, vacuity: Vacuity | No
         "initial_states": [sorted(term_to_text(a) for a in s) for s in report.initial_states],
         "explored": {"compressed": report.compressed_states, "original": report.original_states,
                      "seconds": report.seconds, "parts": report.parts, "sampled": report.sampled,
-                     "stopped_at": report.limit or None},
+                     "stopped_at": report.limit or None, "method": report.method,
+                     "bdd_nodes": report.nodes if report.method == "symbolic" else None,
+                     "note": report.note or None},
         "counterexample": ce_json(report.properties["soundness"].counterexample
                                   or report.properties["completion"].counterexample),
         "properties": {name: {"holds": v.holds, "summary": v.summary, "counterexample": ce_json(v.counterexample),

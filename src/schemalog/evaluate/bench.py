@@ -47,7 +47,7 @@ from ..run.scene import Scene, scene_from_yaml
 from ..logic.parse import parse_term
 from ..shipped import shipped_text
 from ..task.tree import Behaviour, count_nodes, instantiate, walk
-from ..run.verify import Verifier, verify_by_parts
+from ..run.verify import prove
 from ..run.world import World, initial_state
 
 Shape = tuple[int, int]                     # (depth, children)
@@ -414,8 +414,7 @@ def verify_cell(original: Behaviour, compressed: Behaviour, initial: frozenset, 
     started = time.perf_counter()
     try:
         with cpu_budget(seconds):
-            report = verify_by_parts(original, compressed, world, [world.atoms], max_states=max_states) or \
-                Verifier(original, compressed, world, max_states).verify([world.atoms])
+            report = prove(original, compressed, world, [world.atoms], max_states=max_states)
     except _OutOfTime:
         cell.verify_seconds = time.perf_counter() - started
         cell.verify_result, cell.verify_states, cell.verify_limit = "limit", 0, "time"

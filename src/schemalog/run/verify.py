@@ -34,9 +34,14 @@ from ..task.tree import Behaviour
 from .world import World, state_atoms
 
 State = frozenset
+Code = int                                # a state kept by the explorer: one bit per atom (Codec)
 Action = tuple[Term, Condition]           # an original action: its label and post-condition
 
 DEFAULT_MAX_STATES = defaults.MAX_STATES
+METHODS = ("auto", "symbolic", "explicit")   # auto: symbolic where it is exact, else explicit
+DEFAULT_MAX_NODES = 5_000_000                # decision-diagram nodes alive at once (about 32 bytes each)
+LONGEST_SYMBOLIC_STEP = 256                  # auto: a longer merged leaf is explored explicitly (its
+                                             # symbolic step costs the square of its actions: 1,000 took 19 s)
 WORK_PER_STATE = defaults.WORK_PER_STATE
 MAX_FREE_ATOMS = 16
 CACHE_LIMIT = 20_000    # memoised steps and enabled sets per tree: bounded, states can be large
@@ -64,6 +69,38 @@ class Meter:
         if self.limit is not None and self.work > self.limit:
             self.spent = True
             raise OutOfWork
+
+
+# ---------------------------------------------------------------------------
+# States as integers: what the explorer keeps
+
+class Codec:
+    """States as integers, one bit per atom: an explored state costs a few hundred bytes, not
+    a frozenset of its atoms (about 32 KB for 700 true atoms). Atoms get bits as first seen."""
+
+    def __init__(self) -> None:
+        self.bit: dict[Term, int] = {}
+        self.atoms: list[Term] = []
+
+    def encode(self, state: State) -> Code:
+        code = 0
+        bit = self.bit
+        for atom in state:
+            i = bit.get(atom)
+            if i is None:
+                i = bit[atom] = len(self.atoms)
+                self.atoms.append(atom)
+            code |= 1 << i
+        return code
+
+    def decode(self, code: Code) -> State:
+        atoms = self.atoms
+        found = []
+        while code:
+            low = code & -code
+            found.append(atoms[low.bit_length() - 1])
+            code ^= low
+        return frozenset(found)
 
 
 # ---------------------------------------------------------------------------
@@ -226,6 +263,9 @@ class Report:
     sampled: bool = False
     parts: int = 1
     limit: str = ""          # the limit that stopped the exploration early, in words ("" if none)
+    method: str = "explicit" # how the states were explored: one by one, or as sets ("symbolic")
+    nodes: int = 0           # symbolic: the most decision-diagram nodes alive at once
+    note: str = ""           # why the method asked for was not used ("" if it was)
 
     @property
     def sound(self) -> bool:
@@ -311,6 +351,7 @@ class Verifier:
         self.meter = Meter()
         self.original = Model(original, world, self.meter)
         self.compressed = Model(compressed, world, self.meter)
+        self.codec = Codec()
 
     @property
     def max_work(self) -> int:
@@ -332,7 +373,7 @@ class Verifier:
         self.meter.limit = None
         props["soundness"] = self._soundness(sound, parent, exhaustive, len(order))
         exhaustive = exhaustive and o_exhaustive
-        good_c = _backward(order, succ, self.compressed.accomplished)
+        good_c = _backward(order, succ, self._decoded(self.compressed.accomplished))
         props["completion"] = self._completion(initial, parent, order, stuck, good_o, good_c, exhaustive)
         props["flexibility"] = self._flexibility(initial)
         props["traces"] = self._traces(initial, good_o) if exhaustive else Verdict(
@@ -428,70 +469,77 @@ class Verifier:
                       limit="" if done == runs else self.limit_text())
 
     def _explore_compressed(self, initial: list[State]):
-        """Breadth first over every enabled behaviour; the first unsound step and stuck state."""
+        """Breadth first over every enabled behaviour; the first unsound step and stuck state.
+        States are kept as Codes (parent, successors, order, stuck), expanded one at a time."""
         c, o = self.compressed, self.original
-        parent: dict[State, tuple[State, int] | None] = {}
-        succ: dict[State, list[State]] = {}
-        order: list[State] = []
-        queue: deque[State] = deque()
-        interned: dict[State, State] = {}                  # one object per state (memory)
+        encode, decode = self.codec.encode, self.codec.decode
+        parent: dict[Code, tuple[Code, int] | None] = {}
+        succ: dict[Code, list[Code]] = {}
+        order: list[Code] = []
+        queue: deque[Code] = deque()
         for s in initial:
-            if s not in parent:
-                parent[s] = None
-                interned[s] = s
-                queue.append(s)
+            k = encode(s)
+            if k not in parent:
+                parent[k] = None
+                queue.append(k)
         unsound = None
-        stuck: list[State] = []
+        stuck: list[Code] = []
         exhaustive = True
         while queue:
-            s = queue.popleft()
+            k = queue.popleft()
+            s = decode(k)
             try:
                 leaves = [] if c.accomplished(s) else c.enabled(s)
             except OutOfWork:
                 exhaustive = False
                 break
-            order.append(s)
-            nexts = succ[s] = []
+            order.append(k)
+            nexts = succ[k] = []
             if c.accomplished(s):
                 continue
             if not leaves:
-                stuck.append(s)
+                stuck.append(k)
                 continue
             try:
                 for leaf in leaves:
                     actions, states = c.step(s, leaf)
                     if unsound is None:
                         before = s
-                        for k, action in enumerate(actions):
+                        for j, action in enumerate(actions):
                             if not o.allows(before, action):
-                                unsound = (s, leaf, k, before)
+                                unsound = (s, leaf, j, before)
                                 break
-                            before = states[k]
-                    after = states[-1] if states else s
-                    known = interned.get(after)
-                    if known is not None:
-                        nexts.append(known)
+                            before = states[j]
+                    after = encode(states[-1]) if states else k
+                    if after in parent:
+                        nexts.append(after)
                         continue
                     if len(parent) >= self.max_states:
                         exhaustive = False
                         continue
-                    interned[after] = after
                     nexts.append(after)
-                    parent[after] = (s, leaf)
+                    parent[after] = (k, leaf)
                     queue.append(after)
             except OutOfWork:     # the budget ran out inside this state: what was found stands
                 exhaustive = False
                 break
         return parent, succ, order, unsound, stuck, exhaustive
 
-    def _path(self, parent, state: State) -> tuple[State, tuple[Step, ...]]:
+    def _decoded(self, test):
+        """`test` on a state, asked of its Code."""
+        decode = self.codec.decode
+        return lambda k: test(decode(k))
+
+    def _path(self, parent, state: State | Code) -> tuple[State, tuple[Step, ...]]:
+        """The run from an initial state to `state` (a State or its Code) in `parent`."""
+        k = self.codec.encode(state) if isinstance(state, frozenset) else state
         steps = []
-        while parent[state] is not None:
-            before, leaf = parent[state]
-            actions, _ = self.compressed.step(before, leaf)
+        while parent[k] is not None:
+            before, leaf = parent[k]
+            actions, _ = self.compressed.step(self.codec.decode(before), leaf)
             steps.append(Step(self.compressed.label(leaf), tuple(a for a, _ in actions)))
-            state = before
-        return state, tuple(reversed(steps))
+            k = before
+        return self.codec.decode(k), tuple(reversed(steps))
 
     def _soundness(self, unsound, parent, exhaustive: bool, explored: int) -> Verdict:
         if unsound is None:
@@ -514,42 +562,45 @@ class Verifier:
         return Verdict("soundness", False, f"the compressed tree can take {term_to_text(action[0])} where the "
                                            f"original would not (perceptual aliasing)", ce)
 
-    def _can_complete_original(self, seeds: list[State]) -> tuple[set[State], int, bool]:
+    def _can_complete_original(self, seeds: list[Code]) -> tuple[set[Code], int, bool]:
         """The states, reachable by the original from the compressed tree's states, from which
-        the original can complete."""
+        the original can complete (as Codes)."""
         o = self.original
-        succ: dict[State, list[State]] = {}
+        encode, decode = self.codec.encode, self.codec.decode
+        succ: dict[Code, list[Code]] = {}
         queue = deque(seeds)
-        seen: dict[State, State] = {s: s for s in seeds}     # one object per state (memory)
+        seen: set[Code] = set(seeds)
         budget = len(seen) + self.max_states                  # its own budget beyond the seeds
         order = []
         exhaustive = True
         while queue:
-            s = queue.popleft()
+            k = queue.popleft()
+            s = decode(k)
             try:
                 moves = [o.step(s, leaf)[1] for leaf in o.enabled(s)]
             except OutOfWork:
                 exhaustive = False
                 break
-            order.append(s)
-            nexts = succ[s] = []
+            order.append(k)
+            nexts = succ[k] = []
             for states in moves:
-                after = states[-1] if states else s
-                known = seen.get(after)
-                if known is not None:
-                    nexts.append(known)
+                after = encode(states[-1]) if states else k
+                if after in seen:
+                    nexts.append(after)
                     continue
                 if len(seen) >= budget:
                     exhaustive = False
                     continue
-                seen[after] = after
+                seen.add(after)
                 nexts.append(after)
                 queue.append(after)
-        return _backward(order, succ, o.accomplished), len(order), exhaustive
+        return _backward(order, succ, self._decoded(o.accomplished)), len(order), exhaustive
 
     def _completion(self, initial, parent, order, stuck, good_o, good_c, exhaustive) -> Verdict:
         o, c = self.original, self.compressed
-        for s in stuck:
+        decode, encode = self.codec.decode, self.codec.encode
+        for k in stuck:
+            s = decode(k)
             if o.enabled(s):
                 first, path = self._path(parent, s)
                 world = self.world
@@ -563,16 +614,16 @@ class Verifier:
             return Verdict("completion", None, "no state where only the compressed tree is stuck among the "
                                                "explored ones; the rest needs the whole graph (a limit of "
                                                "--max-states reached: not a proof)")
-        for s in order:
-            if s in good_o and s not in good_c:
-                first, path = self._path(parent, s)
-                ce = Counterexample(first, path, s, reasons=(
+        for k in order:
+            if k in good_o and k not in good_c:
+                first, path = self._path(parent, k)
+                ce = Counterexample(first, path, decode(k), reasons=(
                     "from this state the original can still complete the task, the compressed tree cannot "
                     "(every continuation loops or gets stuck)",))
                 return Verdict("completion", False, "the compressed tree reaches a state it cannot complete from, "
                                                     "where the original can", ce)
-        both = sum(1 for s in initial if s in good_o)
-        lost = [s for s in initial if (s in good_o) != (s in good_c)]
+        both = sum(1 for s in initial if encode(s) in good_o)
+        lost = [s for s in initial if (encode(s) in good_o) != (encode(s) in good_c)]
         if lost:
             return Verdict("completion", False, f"{len(lost)} initial state(s) complete with one tree only",
                            Counterexample(lost[0], (), lost[0]))
@@ -958,9 +1009,11 @@ def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], 
 
 def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
                     scene: Scene | None = None, task: Term | None = None,
-                    max_states: int = DEFAULT_MAX_STATES) -> Report | None:
+                    max_states: int = DEFAULT_MAX_STATES, method: str = "explicit",
+                    max_nodes: int = DEFAULT_MAX_NODES) -> Report | None:
     """Verify each independent part on its own and combine exactly (None if the task does not
-    split, or when more than one initial state is covered)."""
+    split, or when more than one initial state is covered). `method` "symbolic" explores each
+    part as sets of states (raising symbolic.Unsupported where that would not be exact)."""
     if len(initial) != 1:
         return None
     parts = independent_parts(original, compressed, initial)
@@ -970,10 +1023,15 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
     whole_initial = initial[0]
     facts = []
     limit = ""
+    nodes = 0
     for part in parts:
         part_world = World(part.original)
         part_world.reset(whole_initial & part.atoms)
         start = frozenset(part_world.atoms)
+        if method == "symbolic":
+            facts.append(_symbolic_part(part, part_world, start, max_states, max_nodes))
+            nodes = max(nodes, facts[-1]["nodes"])
+            continue
         v = Verifier(part.original, part.compressed, part_world, max_states)
         v.meter.limit = v.max_work
         parent, succ, order, unsound, stuck, exhaustive = v._explore_compressed([start])
@@ -981,17 +1039,19 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
         v.meter.limit = None
         if not (exhaustive and o_exhaustive):
             limit = limit or v.limit_text()
-        good_c = _backward(order, succ, v.compressed.accomplished)
-        quiet = next((q for q in order if not v.compressed.enabled(q)), None)
+        good_c = _backward(order, succ, v._decoded(v.compressed.accomplished))
+        decode, encode = v.codec.decode, v.codec.encode
+        quiet = next((decode(q) for q in order if not v.compressed.enabled(decode(q))), None)
         facts.append({
             "part": part, "verifier": v, "parent": parent, "start": start, "states": len(order),
             "o_states": o_states, "exhaustive": exhaustive and o_exhaustive,
             "soundness": v._soundness(unsound, parent, exhaustive, len(order)),
             "quiet": quiet,                                        # a reachable quiescent state
-            "stuck": next((q for q in stuck if v.original.enabled(q)), None),
-            "dead": next((q for q in order if q in good_o and q not in good_c), None),
-            "can": next((q for q in order if q in good_o), None),
-            "o_init": start in good_o, "c_init": start in good_c})
+            "stuck": next((decode(q) for q in stuck if v.original.enabled(decode(q))), None),
+            "dead": next((decode(q) for q in order if q in good_o and q not in good_c), None),
+            "can": next((decode(q) for q in order if q in good_o), None),
+            "o_init": encode(start) in good_o, "c_init": encode(start) in good_c,
+            "path": lambda state, v=v, parent=parent: v._path(parent, state)[1]})
     whole = Verifier(original, compressed, world, max_states)
     exhaustive = all(f["exhaustive"] for f in facts)
     props: dict[str, Verdict] = {}
@@ -1010,7 +1070,62 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
     props["selection"] = whole._selection(initial, scene)
     return Report(task if task is not None else compressed.label, initial, props,
                   sum(f["states"] for f in facts), sum(f["o_states"] for f in facts),
-                  time.perf_counter() - started, exhaustive, parts=len(parts), limit=limit)
+                  time.perf_counter() - started, exhaustive, parts=len(parts), limit=limit,
+                  method=method, nodes=nodes)
+
+
+def _symbolic_part(part: Part, world: World, start: State, max_states: int, max_nodes: int) -> dict:
+    """The facts verify_by_parts combines, for one part explored as sets of states."""
+    from . import symbolic
+
+    try:
+        m = symbolic.SymbolicModel(part.original, part.compressed, world, start, max_nodes)
+        found = symbolic.explore(m, [start])
+    except symbolic.OutOfNodes as blowup:
+        names = ", ".join(term_to_text(k.label) for k in part.original.children[:4])
+        more = ", ..." if len(part.original.children) > 4 else ""
+        raise symbolic.OutOfNodes(f"in the independent part of {term_to_text(part.label)} made of {names}{more} "
+                                  f"({len(part.atoms):,} atoms), {blowup.message}") from None
+    v = Verifier(part.original, part.compressed, world, max_states)
+    bdd = m.bdd
+
+    def one(u):
+        return None if u == bdd.false else m.pick(u)
+
+    def path(state: State) -> tuple[Step, ...]:
+        return _run_to(symbolic, m, v.compressed, [start], m.state(state), found.unsound)[1]
+
+    if found.unsound == bdd.false:
+        soundness = Verdict("soundness", True, "every reachable state (as sets): each step of the compressed "
+                                               "tree is a run of the original")
+    else:
+        first, steps, s = _run_to(symbolic, m, v.compressed, [start], found.unsound)
+        soundness = _first_refused(v, first, steps, s)
+    return {"part": part, "verifier": v, "start": start, "states": m.count(found.reachable), "o_states": 0,
+            "exhaustive": True, "soundness": soundness,
+            "quiet": one(found.reachable & ~m.c.any_enabled), "stuck": one(found.stuck), "dead": one(found.dead),
+            "can": one(found.reachable & found.can_o), "o_init": m.member(start, found.can_o),
+            "c_init": m.member(start, found.can_c), "path": path, "nodes": found.peak_nodes}
+
+
+def _run_to(symbolic, *args):
+    """symbolic.path_to, its steps as Steps."""
+    first, steps, last = symbolic.path_to(*args)
+    return first, tuple(Step(label, actions) for label, actions in steps), last
+
+
+def _first_refused(v: "Verifier", first: State, path: tuple[Step, ...], s: State) -> Verdict:
+    """The soundness verdict for the first leaf enabled in `s` whose step the original refuses,
+    at the first action it refuses."""
+    c, o = v.compressed, v.original
+    for leaf in c.enabled(s):
+        actions, states = c.step(s, leaf)
+        before = s
+        for j, action in enumerate(actions):
+            if not o.allows(before, action):
+                return v._unsound(first, path, s, leaf, j, before)
+            before = states[j]
+    raise AssertionError("the symbolic and the explicit model disagree on soundness")
 
 
 def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, count: int) -> Verdict:
@@ -1022,8 +1137,7 @@ def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, co
         state = set(initial)
         for k, f in enumerate(facts):
             target = chosen.get(k, f["start"])
-            _, steps = f["verifier"]._path(f["parent"], target)
-            path.extend(steps)
+            path.extend(f["path"](target))
             state = (state - f["part"].atoms) | target
         return Counterexample(initial, tuple(path), frozenset(state))
 
@@ -1066,4 +1180,128 @@ def _lift(ce: Counterexample | None, part: Part, whole: State) -> Counterexample
 
 
 __all__ = ["Verifier", "Report", "Verdict", "Counterexample", "Step", "Model", "free_atoms", "constraints",
-           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part"]
+           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part",
+           "verify_symbolic", "METHODS", "DEFAULT_MAX_NODES"]
+
+
+# ---------------------------------------------------------------------------
+# Proof by sets of states (run/symbolic.py; docs/semantics.md, "Proof by sets of states")
+
+
+def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
+                    scene: Scene | None = None, task: Term | None = None,
+                    max_nodes: int = DEFAULT_MAX_NODES, max_states: int = DEFAULT_MAX_STATES) -> Report:
+    """Soundness and completion from every covered initial state at once, with sets of states
+    as decision diagrams; counterexamples replayed with the explicit model. Raises
+    symbolic.Unsupported where the encoding would not be exact, symbolic.OutOfNodes at the
+    node limit."""
+    from . import symbolic
+
+    started = time.perf_counter()
+    extra = {a for s in initial for a in s}
+    m = symbolic.SymbolicModel(original, compressed, world, extra, max_nodes)
+    found = symbolic.explore(m, initial)
+    v = Verifier(original, compressed, world, max_states)
+    c, o = v.compressed, v.original
+    bdd = m.bdd
+    reachable = m.count(found.reachable)
+    props: dict[str, Verdict] = {}
+    if found.unsound == bdd.false:
+        props["soundness"] = Verdict("soundness", True, f"every reachable state ({reachable:,}, as sets): each "
+                                                        f"step of the compressed tree is a run of the original")
+    else:   # a shortest run to a bad state: every step before it is sound
+        first, path, s = _run_to(symbolic, m, c, initial, found.unsound)
+        props["soundness"] = _first_refused(v, first, path, s)
+    if found.stuck != bdd.false:
+        first, path, s = _run_to(symbolic, m, c, initial, found.stuck, found.unsound)
+        world.load(s)
+        blocked = blocked_reasons(c.plan, world, set(), Counter())
+        offered = ", ".join(dict.fromkeys(term_to_text(o.label(i)) for i in o.enabled(s)))
+        props["completion"] = Verdict("completion", False, "the compressed tree gets stuck where the original does "
+                                      "not", Counterexample(first, path, s, reasons=(
+                                          f"the original could still take: {offered}", *blocked)))
+    elif found.dead != bdd.false:
+        first, path, s = _run_to(symbolic, m, c, initial, found.dead, found.unsound)
+        props["completion"] = Verdict("completion", False, "the compressed tree reaches a state it cannot complete "
+                                      "from, where the original can", Counterexample(first, path, s, reasons=(
+                                          "from this state the original can still complete the task, the compressed "
+                                          "tree cannot (every continuation loops or gets stuck)",)))
+    else:
+        can_o = [m.member(s, found.can_o) for s in initial]
+        lost = [s for s, yes in zip(initial, can_o) if yes != m.member(s, found.can_c)]
+        if lost:
+            props["completion"] = Verdict("completion", False, f"{len(lost)} initial state(s) complete with one "
+                                          f"tree only", Counterexample(lost[0], (), lost[0]))
+        else:
+            props["completion"] = Verdict("completion", True, f"no dead end that the original does not share; "
+                                          f"{sum(can_o)} of {len(initial)} initial state(s) can complete, in "
+                                          f"both trees")
+    props["flexibility"] = v._flexibility(initial)
+    props["traces"] = Verdict("traces", None, "not counted: the states were explored as sets, whose traces "
+                                              "are not enumerated (--method explicit counts them)")
+    props["selection"] = v._selection(initial, scene)
+    return Report(task if task is not None else compressed.label, initial, props, reachable, 0,
+                  time.perf_counter() - started, True, method="symbolic", nodes=found.peak_nodes)
+
+
+def _leaves_of(tree: Behaviour):
+    stack = [tree]
+    while stack:
+        n = stack.pop()
+        if not n.children:
+            yield n
+        stack.extend(n.children)
+
+
+def prove(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
+          scene: Scene | None = None, task: Term | None = None, method: str = "auto",
+          max_states: int = DEFAULT_MAX_STATES, max_nodes: int = DEFAULT_MAX_NODES, split: bool = True) -> Report:
+    """Verify as `schemalog verify --method METHOD` does: symbolic by independent parts, else
+    symbolic whole, where the encoding is exact; explicit (by parts where it splits) for
+    `explicit`, or under `auto` where it is not (a merged behaviour of more than
+    LONGEST_SYMBOLIC_STEP actions, a blow-up past `max_nodes`), the report saying why. Under
+    `symbolic`, a blow-up gives a report that proves nothing."""
+    from . import symbolic
+
+    note = ""
+    longest = max((len(n.origins) for n in _leaves_of(compressed)), default=1)
+    if method == "auto" and longest > LONGEST_SYMBOLIC_STEP:
+        note = (f"explored one state at a time: a merged behaviour of {longest:,} actions (a symbolic step "
+                f"grows with the square of its actions; --method symbolic forces it)")
+    elif method != "explicit":
+        try:
+            report = None
+            if split:
+                try:
+                    report = verify_by_parts(original, compressed, world, initial, scene, task, max_states,
+                                             "symbolic", max_nodes)
+                except symbolic.Unsupported:     # a part's root (its children's posts) may not settle
+                    report = None               # monotonically while the whole does
+            return report or verify_symbolic(original, compressed, world, initial, scene, task, max_nodes,
+                                             max_states)
+        except symbolic.Unsupported as why:
+            if method == "symbolic":
+                from ..errors import UsageError      # the request, not the input, is at fault: exit 2
+                raise UsageError(f"--method symbolic cannot verify this task exactly: {why}; use "
+                                 f"--method explicit or auto") from None
+            note = f"explored one state at a time: {why}"
+        except RuntimeError as err:          # CUDD refused memory (--max-memory): out of memory
+            if "CUDD" in str(err):
+                raise MemoryError(str(err)) from None
+            raise
+        except symbolic.OutOfNodes as blowup:
+            if method == "auto":      # the explorer may still prove it: say so, and try it
+                note = f"explored one state at a time: {blowup.message}"
+            else:
+                unknown = {name: Verdict(name, None, "not decided: " + blowup.message)
+                           for name in ("soundness", "completion", "flexibility", "traces", "selection")}
+                return Report(task if task is not None else compressed.label, initial, unknown, 0, 0, 0.0,
+                              exhaustive=False, method="symbolic",
+                              limit=f"{max_nodes:,} decision-diagram nodes (--max-bdd-nodes)")
+    report = verify_by_parts(original, compressed, world, initial, scene, task, max_states) if split else None
+    report = report or Verifier(original, compressed, world, max_states).verify(initial, scene, task)
+    report.note = note
+    return report
+
+
+__all__ += ["prove"]

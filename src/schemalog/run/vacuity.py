@@ -1,0 +1,81 @@
+"""Whether a proof says anything: which covered initial states let the ORIGINAL task complete
+at all. A compressed tree proved sound and complete against a task that can never complete is
+proved vacuously; verify and compress --verify say so and exit 1 (docs/semantics.md).
+
+    Vacuity = (states, completes: tuple[bool | None], cause: lint Finding | None)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .. import defaults
+
+
+@dataclass(frozen=True)
+class Vacuity:
+    """Which covered initial states let the ORIGINAL task complete, and why not when none does.
+
+    completes[i] is True (a run completes), False (none does: every run gets stuck or loops)
+    or None (not decided within the state limit), for the report's initial state i."""
+
+    states: tuple
+    completes: tuple
+    cause: "object | None" = None        # the lint Finding that explains it, when there is one
+
+    @property
+    def vacuous(self) -> bool:
+        """No covered initial state completes: a proof about such a task says nothing."""
+        return bool(self.completes) and all(c is False for c in self.completes)
+
+    @property
+    def failing(self) -> list:
+        return [s for s, c in zip(self.states, self.completes) if c is False]
+
+
+def vacuity_of(original, world, states: list, max_states: int) -> Vacuity:
+    """Search, from each initial state, for a run of the original that completes the task (any
+    choice of enabled behaviour, bounded by --max-states); explain with lint when none does."""
+    from .lint import Facts, lint_tree, task_cannot_complete
+
+    completes = tuple(original_completes(original, world, s, max_states) for s in states)
+    cause = None
+    if completes and all(c is False for c in completes):
+        always = frozenset.intersection(*map(frozenset, states))
+        facts = Facts(always, frozenset().union(*states) - always)
+        cause = task_cannot_complete(lint_tree(original, facts))
+    return Vacuity(tuple(states), completes, cause)
+
+
+def original_completes(original, world, start, max_states: int) -> bool | None:
+    """Whether some run of the original tree from `start` accomplishes the task (depth first:
+    a completing task is found in about one run), None when the state limit stops the search."""
+    from .execute import Executive, Status
+    from .verify import Meter, Model, OutOfWork
+
+    # One winner-take-all run first: it completes a task that can in about one decision per
+    # action, where the search below would test every enabled leaf of every state it passes.
+    world.reset(start)
+    if Executive(original, world).run().status is Status.COMPLETED:
+        return True
+    model = Model(original, world, Meter(max_states * defaults.WORK_PER_STATE))
+    seen, stack = {start}, [start]
+    cut = False
+    try:
+        while stack:
+            state = stack.pop()
+            if model.accomplished(state):
+                return True
+            for leaf in reversed(model.enabled(state)):
+                after = model.step(state, leaf)[1]
+                nxt = after[-1] if after else state
+                if nxt in seen:
+                    continue
+                if len(seen) >= max_states:
+                    cut = True
+                    continue
+                seen.add(nxt)
+                stack.append(nxt)
+    except OutOfWork:
+        return None
+    return None if cut else False
