@@ -208,9 +208,10 @@ def test_an_interrupted_load_leaves_the_workspace_as_it_was(monkeypatch, tmp_pat
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory):
     """Generated tasks: 2,047 behaviours (its :run and :compress print pages), 4,095 (seconds
-    to load), and a bushy 341 (quick to load, seconds to prove)."""
+    to load), a bushy 341 (quick to load; a signal during a command) and 5,461 (a second to
+    load, seconds to prove by sets of states: a bushy 341 proves in a fraction of a second)."""
     folder = tmp_path_factory.mktemp("generated")
-    for name, depth, children in (("t11", 11, 2), ("t12", 12, 2), ("bushy", 5, 4)):
+    for name, depth, children in (("t11", 11, 2), ("t12", 12, 2), ("bushy", 5, 4), ("proof", 7, 4)):
         r = run("generate", "--depth", depth, "--children", children, "--rd", "0.5", "--seed", 1,
                 "-o", folder / f"{name}.pl")
         assert r.returncode == 0, r.stderr
@@ -266,7 +267,7 @@ def test_ctrl_c_interrupts_every_long_command_and_query_and_keeps_the_session(tm
 
 
 def test_ctrl_c_interrupts_a_long_proof(tmp_path, generated):
-    child = spawn(generated / "bushy.pl", history=tmp_path / "history", timeout=120)
+    child = spawn(generated / "proof.pl", history=tmp_path / "history", timeout=120)
     child.expect(r"\?-")
     assert interrupt(child, ":verify") == "% interrupted; :verify changed nothing"
     assert ask(child, ":limit", r"% step limit: [0-9,]+")

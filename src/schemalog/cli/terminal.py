@@ -167,7 +167,9 @@ class no_echo_between_prompts:
             fd = sys.stdin.fileno()
             self.saved = termios.tcgetattr(fd)
             attrs = termios.tcgetattr(fd)
-            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL)
+            # not canonical either: a Ctrl-D typed as an answer appears is a key kept for the
+            # next prompt (canonical mode takes it as end of file, and the prompt never sees it)
+            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL | termios.ICANON)
             termios.tcsetattr(fd, termios.TCSANOW, attrs)
         except (ImportError, OSError, ValueError):
             self.saved = None
@@ -207,7 +209,7 @@ class signals_from_keyboard:
             attrs = termios.tcgetattr(fd)
             attrs[3] |= termios.ISIG
             # no echo of keys typed while it runs, "^C" included: "% interrupted" starts its line
-            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL)
+            attrs[3] &= ~(termios.ECHO | termios.ECHOCTL | termios.ICANON)   # Ctrl-D: a key, as above
             termios.tcsetattr(fd, termios.TCSANOW, attrs)
         except (ImportError, OSError, ValueError):
             self.saved = None
