@@ -117,7 +117,7 @@ def test_every_command_that_instantiates_leaves_out_a_sub_task_no_rule_applies_t
                    'schema(say(_), []).\n')
     warning = (f"{ltm}:2:1: warning: no semantic for en(dance) (a sub-task of greet): no schema applies "
                f"to it; left out, as SEED does")
-    for args in (("check",), ("show",), ("compress",), ("run",), ("verify",),
+    for args in (("check",), ("show",), ("compress",), ("run",), ("verify",), ("query", "task(T)"),
                  ("convert", "--task", "greet", "-o", tmp_path / "o.pl"),
                  ("convert", "--to", "seed", "-o", tmp_path / "o.prolog")):
         r = run(args[0], ltm, *args[1:])
