@@ -107,3 +107,30 @@ def test_the_sources_constraints_and_helpers_survive_the_seed_file(tmp_path):
     assert "ingredient" not in r.stderr
     data = json.loads(r.stdout)
     assert (data["states"], data["sound"], data["complete"]) == (64, True, True)
+
+
+def test_every_command_that_instantiates_leaves_out_a_sub_task_no_rule_applies_to(tmp_path):
+    ltm = tmp_path / "m.prolog"
+    ltm.write_text('task(greet).\n'
+                   'schema(greet, [[en(hello), 1, ["TRUE"]], [en(dance), 2, ["TRUE"]]]).\n'
+                   'schema(en(S), [[say(S), 1, ["TRUE"]]]) :- member(S, [hello, bye]).\n'
+                   'schema(say(_), []).\n')
+    warning = (f"{ltm}:2:1: warning: no semantic for en(dance) (a sub-task of greet): no schema applies "
+               f"to it; left out, as SEED does")
+    for args in (("check",), ("show",), ("compress",), ("run",), ("verify",), ("query", "task(T)"),
+                 ("convert", "--task", "greet", "-o", tmp_path / "o.pl"),
+                 ("convert", "--to", "seed", "-o", tmp_path / "o.prolog")):
+        r = run(args[0], ltm, *args[1:])
+        assert r.returncode == 0, (args, r.stderr)
+        assert warning in r.stderr, args
+        assert "Traceback" not in r.stderr and "dance" not in r.stdout, args
+    assert shown(ltm)[0] == 3 and shown(tmp_path / "o.prolog")[0] == 3   # greet, en(hello), say(hello)
+    r = run("lint", ltm)
+    assert r.returncode == 0 and f"{warning} [no-semantic]" in r.stdout
+    # The same knowledge in schema text keeps the schema language's error.
+    pl = tmp_path / "m.pl"
+    pl.write_text('task(greet).\nschema(greet, [(en(hello), true), (en(dance), true)], greet.done).\n'
+                  'schema(en(S), [(say(S), true)], en(S).done) :- member(S, [hello, bye]).\n'
+                  'schema(say(_), [], said).\n')
+    r = run("show", pl)
+    assert r.returncode == 1 and f"{pl}:2:1: error: no schema for en(dance)" in r.stderr

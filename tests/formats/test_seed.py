@@ -258,3 +258,33 @@ def test_a_rule_calling_an_eclipse_builtin_schemalog_lacks_is_refused_naming_it(
         assert "calls sprintf/3, which neither the file nor schemalog defines" in err.message
     else:
         raise AssertionError("sprintf/3 is not a schemalog built-in")
+
+
+ECLIPSE_RULES = ('task(greet).\n'
+                 'schema(greet, [[say(hi), 1, ["TRUE"]]]).\n'
+                 'schema(say(W), [[word(S), 1, ["TRUE"]]]) :- term_string(f(W, [1, 2]), S).\n'
+                 'schema(word(_), []).\n')
+
+
+def test_seed_rules_get_eclipses_string_built_ins():
+    tree = instantiate(document_from_text(ECLIPSE_RULES, "e.prolog").to_kb(), parse_term("greet"))
+    # ECLiPSe's writeq puts a space after each comma; SWI-Prolog's term_string/2 would not
+    assert term_to_text(tree.children[0].children[0].label) == 'word("f(hi, [1, 2])")'
+    typed = ECLIPSE_RULES.replace("term_string(f(W, [1, 2]), S)", "atom_string(4, S)")
+    try:
+        instantiate(document_from_text(typed, "e.prolog").to_kb(), parse_term("greet"))
+    except SchemalogError as err:   # ECLiPSe raises where SWI-Prolog gives "4"
+        assert str(err.pos) == "e.prolog:3:1" and "type_error(atom,4)" in err.message, err.message
+    else:
+        raise AssertionError("atom_string(4, S) must raise in a SEED rule, as in ECLiPSe")
+
+
+def test_the_eclipse_built_ins_are_named_in_schema_text_and_written_back_for_seed():
+    doc = read_document(HRI)
+    assert "eclipse_atom_string(Atom,Object)" in to_pl(doc).replace(" ", "")
+    kb = doc.to_kb()
+    tree = instantiate(kb, parse_term("serve(tea)"))
+    text = seed_text(list(tree_document(tree).items) + carried_clauses(kb))
+    assert "atom_string(Atom, Object)" in text and "eclipse_" not in text
+    again = instantiate(document_from_text(text, "again.prolog").to_kb(), parse_term("serve(tea)"))
+    assert again == tree

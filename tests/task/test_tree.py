@@ -114,7 +114,7 @@ def _counting(monkeypatch):
     """Count schema look-ups and behaviours built (each built node asks for its agent)."""
     from schemalog.task.tree import Instantiator
     counts = {"lookups": 0, "built": 0}
-    lookup, agent = Instantiator.lookup, Instantiator.agent
+    lookup, agent = Instantiator._find, Instantiator.agent
 
     def counted_lookup(self, *a):
         counts["lookups"] += 1
@@ -123,7 +123,7 @@ def _counting(monkeypatch):
     def counted_agent(self, *a):
         counts["built"] += 1
         return agent(self, *a)
-    monkeypatch.setattr(Instantiator, "lookup", counted_lookup)
+    monkeypatch.setattr(Instantiator, "_find", counted_lookup)
     monkeypatch.setattr(Instantiator, "agent", counted_agent)
     return counts
 
@@ -190,3 +190,50 @@ def test_a_rule_schemas_body_runs_under_the_step_limit_with_its_place():
         instantiate(kb, Atom("t"))
     assert "while instantiating u, the schema's body exceeded the step limit of 20,000 steps" in str(stopped.value)
     assert stopped.value.pos is not None and stopped.value.pos.line == 2
+
+
+# A SEED memory whose rule schema reads only the words it knows: asked for en(dance), no
+# clause applies. SEED says "no semantic for ..." and leaves the node out; schema text errs.
+SEED_RULE = ('task(greet).\n'
+             'schema(greet, [[en(hello), 1, ["TRUE"]], [en(dance), 2, ["TRUE"]], [wave, 1, ["TRUE"]]]).\n'
+             'schema(en(S), [[say(S), 1, ["TRUE"]]]) :- member(S, [hello, bye]).\n'
+             'schema(say(_), []).\nschema(wave, []).\n')
+
+
+def seed_kb(text=SEED_RULE, file="m.prolog"):
+    from schemalog.formats.documents import document_from_text
+    return document_from_text(text, file).to_kb()
+
+
+def test_a_seed_sub_task_no_rule_applies_to_is_left_out_with_a_warning_at_its_parent():
+    from schemalog.task.tree import Instantiator
+    instantiator = Instantiator(seed_kb())
+    tree = instantiator.instantiate(parse_term("greet"))
+    assert [term_to_text(c.label) for c in tree.children] == ["en(hello)", "wave"]
+    assert [term_to_text(c.label) for c in tree.children[0].children] == ["say(hello)"]
+    assert instantiator.warnings == ["m.prolog:2:1: warning: no semantic for en(dance) (a sub-task of greet): "
+                                     "no schema applies to it; left out, as SEED does"]
+    # each instantiation says its own, once
+    instantiator.instantiate(parse_term("greet"))
+    assert len(instantiator.warnings) == 1
+    assert Instantiator(seed_kb()).instantiate(parse_term("en(bye)")).children[0].label == parse_term("say(bye)")
+
+
+def test_a_seed_task_no_rule_applies_to_is_still_an_error():
+    with pytest.raises(SchemalogError, match=r"no schema for en\(dance\)"):
+        instantiate(seed_kb(), parse_term("en(dance)"))
+
+
+def test_the_same_knowledge_as_schema_text_keeps_the_error():
+    text = ('schema(greet, [(en(hello), true), (en(dance), true)], greet.done).\n'
+            'schema(en(S), [(say(S), true)], en(S).done) :- member(S, [hello, bye]).\n'
+            'schema(say(_), [], said).\n')
+    with pytest.raises(SchemalogError, match=r"no schema for en\(dance\) \(a sub-task in the schema at t.pl:1:1\)"):
+        instantiate(kb_of(text), parse_term("greet"))
+
+
+def test_a_seed_body_that_raises_is_still_an_error():
+    text = SEED_RULE.replace("member(S, [hello, bye])", "sprintf(S, x, y)")
+    with pytest.raises(SchemalogError, match=r"while instantiating en\(hello\), the schema's body calls "
+                                             r"sprintf/3, which neither the file nor schemalog defines"):
+        instantiate(seed_kb(text), parse_term("greet"))

@@ -22,7 +22,7 @@ from ..logic.unify import Bindings
 from ..run.scene import NO_SCENE, Scene, object_name, read_scene
 from ..run.world import state_atoms
 from ..task.schema import check_schemas, knowledge_base
-from ..task.tree import Behaviour, declared_tasks, instantiate, walk
+from ..task.tree import Behaviour, Instantiator, declared_tasks, walk
 
 
 def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]:
@@ -84,7 +84,12 @@ def defines(kb: KnowledgeBase, task: Term) -> bool:
 
 
 def instantiate_task(kb: KnowledgeBase, task: Term, args: argparse.Namespace) -> Behaviour:
-    return instantiate(kb, task, max_depth=args.max_depth, max_nodes=args.max_nodes)
+    """The task's tree; the sub-tasks SEED knowledge leaves out are said on stderr."""
+    instantiator = Instantiator(kb, max_depth=args.max_depth, max_nodes=args.max_nodes)
+    tree = instantiator.instantiate(task)
+    for warning in instantiator.warnings:
+        print(warning, file=sys.stderr)
+    return tree
 
 
 # The options that name a file a command reads. (generate's --scene is written, not read:

@@ -37,7 +37,8 @@ from ..task.compress import compress, original_of, protected_labels
 from ..task.conditions import DEFAULT_SYMPY_BUDGET, Simplifier
 from ..task.facts import tree_facts
 from ..task.schema import check_schemas
-from ..task.tree import DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, count_nodes, declared_tasks, depth, instantiate
+from ..task.tree import (DEFAULT_MAX_DEPTH, DEFAULT_MAX_NODES, Behaviour, Instantiator, count_nodes,
+                          declared_tasks, depth)
 
 
 ORIGINAL, COMPRESSED = "original", "compressed"
@@ -129,7 +130,9 @@ class Workspace:
         views: list[TaskView] = []
         next_id = 0
         for task in _tasks(kb, self.notes):
-            tree = instantiate(kb, task, max_depth=self.options.max_depth, max_nodes=self.options.max_nodes)
+            instantiator = Instantiator(kb, max_depth=self.options.max_depth, max_nodes=self.options.max_nodes)
+            tree = instantiator.instantiate(task)
+            self.notes.extend(w for w in instantiator.warnings if w not in self.notes)
             original = original_of(tree)
             if original is not tree:             # a file written by `schemalog compress`
                 compressed, before, after = tree, count_nodes(original), count_nodes(tree)

@@ -63,6 +63,8 @@ class Document:
                 else:
                     kb.run_directive(item, base)
         kb.warnings.extend(self.notes)
+        if self.seed:
+            kb.seed_files.add(self.file)
         return kb
 
 

@@ -9,8 +9,10 @@ its name; a generic schema (`schema(subtask(_, _), [])`) gets one specialised co
 goal it unifies with, then keeps its generic form with the default post `Name.done`.
 Rule schemas keep their bodies; when a body calls `schema/2` or `goal/2` (SEED's rules
 ask the memory itself) the SEED clauses are kept as well, and so is every helper
-predicate a body reaches. A sub-task that no schema can name is left out with a warning,
-as SEED's "no semantic for ..." does. `schema(object(O), [])` also declares `object(O)`;
+predicate a body reaches; their bodies call ECLiPSe's term_string/2, atom_string/2 and
+split_string/4 (logic/eclipse.py), where SWI-Prolog's differ. A sub-task that no schema can
+name is left out with a warning, as SEED's "no semantic for ..." does (one that no rule
+schema's body accepts, at instantiation: task/tree.py). `schema(object(O), [])` also declares `object(O)`;
 gripper commands are declared to the gripper agent. The SEED server code
 (getSemantics/1, updateSchema/4, ...) and its directives are not task knowledge: they
 are skipped, and said so. SWI-Prolog's `listing/1` of such a memory reads the same: the
@@ -24,7 +26,8 @@ entry per disjunct (SEED releases a behaviour when any node of its instance is
 released), with an `exact_releaser(Parent, Index, Copies, Releaser)` fact that SEED
 never asks and the importer reads back (also written where the lists hold the releaser only
 up to equivalence, `x and not x` as `["FALSE"]`). Provenance, agents, objects and the initial state
-are facts SEED ignores, written with `,` `;` `-` only.
+are facts SEED ignores, written with `,` `;` `-` only; the ECLiPSe built-ins are written by
+their ECLiPSe names again.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from dataclasses import dataclass, field
 
 from ..task import conditions as cond
 from ..errors import SchemalogError, SourcePos
+from ..logic.eclipse import RENAMED
 from ..logic.parse import Clause, Directive, parse_term
 from ..task.schema import DEFAULT_AGENT, Entry, SchemaDef, read_entry, schema_term
 from ..logic.terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator,
@@ -76,7 +80,7 @@ def default_post(label: Term) -> cond.Condition:
 def import_seed(items: list[Clause | Directive]) -> SeedImport:
     """Translate parsed SEED text into schema/3 clauses."""
     out = SeedImport()
-    items = [_without_dict_calls(i) if isinstance(i, Clause) else i for i in items]
+    items = [_eclipse_clause(_without_dict_calls(i)) if isinstance(i, Clause) else i for i in items]
     clauses = [c for c in items if isinstance(c, Clause)]
     seed_clauses = [c for c in clauses if _is(c.head, "schema", 2) or _is(c.head, "goal", 2)]
     goals = [c for c in clauses if _is(c.head, "goal", 2)]
@@ -146,6 +150,42 @@ def import_seed(items: list[Clause | Directive]) -> SeedImport:
         listing = ", ".join(f"{k} (x{n})" if n > 1 else k for k, n in sorted(skipped.items()))
         out.notes.append(f"skipped what is not task knowledge: {listing}")
     return out
+
+
+# Control constructs and meta-calls, and which of their arguments are goals.
+_GOAL_ARGS = {(",", 2): (0, 1), (";", 2): (0, 1), ("->", 2): (0, 1), ("*->", 2): (0, 1), ("\\+", 1): (0,),
+              ("not", 1): (0,), ("call", 1): (0,), ("once", 1): (0,), ("ignore", 1): (0,),
+              ("forall", 2): (0, 1), ("findall", 3): (1,), ("findall", 4): (1,), ("bagof", 3): (1,),
+              ("setof", 3): (1,), ("aggregate_all", 3): (1,), ("catch", 3): (0, 2), ("^", 2): (1,)}
+
+
+def _renamed_goals(body: Term, names: dict[tuple[str, int], str]) -> Term:
+    """`body` with each goal whose predicate `names` maps called by its new name, inside
+    control constructs and meta-calls too (a goal built at run time is not seen)."""
+    def goal(g: Term) -> Term:
+        if not isinstance(g, Struct):
+            return g
+        key = (g.name, len(g.args))
+        if key in names:
+            return Struct(names[key], g.args)
+        places = _GOAL_ARGS.get(key)
+        if places is None:
+            return g
+        if key == (",", 2):   # a long conjunction is a loop, not a recursion
+            parts = [goal(c) for c in conjuncts(g)]
+            result = parts[-1]
+            for part in reversed(parts[:-1]):
+                result = Struct(",", (part, result))
+            return result
+        return Struct(g.name, tuple(goal(a) if i in places else a for i, a in enumerate(g.args)))
+    return goal(body)
+
+
+def _eclipse_clause(c: Clause) -> Clause:
+    """A SEED clause whose body calls ECLiPSe's term_string/2, atom_string/2, split_string/4."""
+    if c.body == TRUE:
+        return c
+    return Clause(c.head, _renamed_goals(c.body, RENAMED), c.pos)
 
 
 def _without_dict_calls(c: Clause) -> Clause:
@@ -472,7 +512,9 @@ def _safe_clause(c: Clause) -> Term:
         else:
             value = make_list([origin(o) for o in list_items(value)[0]])
         head = Struct(head.name, (head.args[0], value))
-    return head if c.body == TRUE else Struct(":-", (head, c.body))
+    if c.body == TRUE:
+        return head
+    return Struct(":-", (head, _renamed_goals(c.body, {(new, arity): old for (old, arity), new in RENAMED.items()})))
 
 
 def _text(t: Term, priority: int = 1199) -> str:

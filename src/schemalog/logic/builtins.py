@@ -467,6 +467,11 @@ def _split_string(e, a, b):
     padding is stripped from both ends first, and each field starts after the padding that
     follows its separator, so separators that are also padding run together as one."""
     text, seps, pad = (text_of(e, x, b) for x in a[:3])
+    return b.unify(a[3], make_list([Str(p) for p in split_text(text, seps, pad)]))
+
+
+def split_text(text: str, seps: str, pad: str) -> list[str]:
+    """The fields of split_string/4 (SWI-Prolog and ECLiPSe agree on them)."""
     start, end = 0, len(text)
     while start < end and text[start] in pad:
         start += 1
@@ -486,7 +491,7 @@ def _split_string(e, a, b):
         if stop >= end:
             break
         start = stop + 1
-    return b.unify(a[3], make_list([Str(p) for p in parts]))
+    return parts
 
 
 def _term_text(e, a, b, make):

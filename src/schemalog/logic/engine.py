@@ -27,6 +27,7 @@ from ..errors import SchemalogError
 from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin, check_body as _check_body
 from .exceptions import (PrologError, StepLimitExceeded, existence_error, instantiation_error, iso_error,
                          type_error)
+from .eclipse import ECLIPSE
 from .library import EXTRA, EXTRA_NONDET
 from .terms import TRUE, Atom, Struct, Term, Var
 from .unify import Bindings, rename
@@ -414,7 +415,7 @@ CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("no
 
 # The tables every engine starts from: a nondeterministic version replaces a one-mode one.
 NONDET_BUILTINS: dict[tuple[str, int], NondetBuiltin] = {**CORE_NONDET, **EXTRA_NONDET}
-BUILTINS: dict[tuple[str, int], Builtin] = {key: fn for key, fn in {**CORE, **EXTRA}.items()
+BUILTINS: dict[tuple[str, int], Builtin] = {key: fn for key, fn in {**CORE, **EXTRA, **ECLIPSE}.items()
                                             if key not in NONDET_BUILTINS}
 
 

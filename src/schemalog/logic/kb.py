@@ -525,6 +525,9 @@ class KnowledgeBase:
         self._sources: list[Path] = []  # whose clauses are being read: the file, or the one including it
         self.warnings: list[str] = []
         self.files: list[str] = []  # every file read, consulted ones included
+        # The files imported from SEED long-term memory: instantiation follows SEED where the
+        # schema language differs (a sub-task with no schema is left out, not an error).
+        self.seed_files: set[str] = set()
         self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
         self.max_steps = defaults.MAX_STEPS  # the step limit each directive runs under (--max-steps)
         self._consulting: list[Path] = []

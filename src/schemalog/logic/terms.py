@@ -320,24 +320,30 @@ Names = dict  # dict[Var, str]: print names for variables (see `variable_names`)
 
 
 def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = None,
-                 quoted: bool = True, spaced: bool = False, next_argument: bool = False) -> str:
+                 quoted: bool = True, spaced: bool = False, next_argument: bool = False,
+                 spaced_operators: bool = False) -> str:
     """Write `term` as SWI-Prolog's writeq would (write/1 with quoted=False).
 
     `spaced` puts spaces around word operators everywhere, `(a or b) and c`, where
     writeq writes `(a or b)and c`; both read back the same. `next_argument` puts a space
-    after each argument's comma, `f(a, [b, c])`, as SWI-Prolog's top level prints answers."""
-    return "".join(_write(term, max_priority, _Style(names or {}, quoted, spaced, next_argument)))
+    after each argument's comma, `f(a, [b, c])`, as SWI-Prolog's top level prints answers.
+    `spaced_operators` puts a space on both sides of every infix operator but the comma,
+    `a :- b, c * (1 + 2)`, as ECLiPSe's writeq does."""
+    style = _Style(names or {}, quoted, spaced, next_argument)
+    style.operators = spaced_operators
+    return "".join(_write(term, max_priority, style))
 
 
 class _Style:
     """How to write: variable print names, and whether to quote atoms and strings."""
 
-    __slots__ = ("names", "quoted", "spaced", "comma", "dots")
+    __slots__ = ("names", "quoted", "spaced", "comma", "dots", "operators")
 
     def __init__(self, names: Names, quoted: bool, spaced: bool = False, next_argument: bool = False) -> None:
         self.names = names
         self.quoted = quoted
         self.spaced = spaced
+        self.operators = False   # a space on both sides of every infix operator (ECLiPSe)
         self.comma = ", " if next_argument else ","
         # id(a '.'/2 term) -> whether it is written infix (obj.prop); the term is alive
         # for the whole write, so its id is stable. See _dot_infix.
@@ -396,6 +402,8 @@ class _InfixOp:
         name = self.name
         if name == ",":
             return style.comma
+        if style.operators:
+            return f" {name} "
         last = next((chunk[-1] for chunk in reversed(out) if chunk), "")
         if name[0].isalpha():  # a word operator: apart from names, not after a bracket
             return f"{'' if last in ')]}' and not style.spaced else ' '}{name} "

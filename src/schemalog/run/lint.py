@@ -29,7 +29,7 @@ from ..logic.unify import Bindings, rename, variant
 from ..task import conditions as cond
 from ..task.compress import original_of
 from ..task.schema import schema_clauses
-from ..task.tree import Behaviour, instantiate
+from ..task.tree import Behaviour, Instantiator, left_out_message
 
 ERROR = "error"
 WARNING = "warning"
@@ -82,7 +82,12 @@ def lint_kb(kb: KnowledgeBase, max_depth: int, max_nodes: int,
     for task, pos in task_declarations(kb) if tasks is None else tasks:
         try:
             # A compressed file runs against its original's world: the original is what can work.
-            trees.append(original_of(instantiate(kb, task, max_depth, max_nodes)))
+            instantiator = Instantiator(kb, max_depth, max_nodes)
+            trees.append(original_of(instantiator.instantiate(task)))
+            findings.extend(Finding(pos, WARNING, "no-semantic", left_out_message(parent, sub),
+                                    f"define a schema for {term_to_text(sub)}, or remove it from "
+                                    f"{term_to_text(parent)}'s schema")
+                            for pos, parent, sub in instantiator.left_out)
         except SchemalogError as err:
             findings.append(Finding(err.pos or pos, ERROR, "load", f"task {term_to_text(task)}: {err.message}",
                                     "correct the schema the message names"))

@@ -10,6 +10,10 @@ work), then each sub-task in turn. Two uses of the same sub-task (add(water) und
 coffee and under tea) become two distinct nodes. The walk is iterative with
 explicit depth and size limits, measured before anything is built (each distinct sub-task
 counted once); a schema that reaches itself is a cycle error.
+
+A sub-task no schema applies to is an error, except under a schema imported from SEED
+(`kb.seed_files`): SEED says "no semantic for ..." and leaves the node out, and so does
+the walk, with a warning at the parent schema's clause (`Instantiator.warnings`).
 """
 
 from __future__ import annotations
@@ -172,10 +176,19 @@ class Instantiator:
         self._origins_cache: dict[Term, list[tuple[Origin, ...]]] = {}
         self._agent_cache: dict[Term, str] = {}
         self._objects_cache: dict[Term, tuple[Term, ...]] = {}
+        # The sub-tasks the last instantiation left out, as SEED does: (parent's clause, parent, sub-task).
+        self.left_out: list[tuple[SourcePos, Term, Term]] = []
 
     # -- look-ups -------------------------------------------------------------
     def lookup(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef]:
         """Find the schema of `label`; return the (possibly more bound) label and the schema."""
+        found = self._find(label, used_at)
+        if found is None:
+            raise _no_schema(label, used_at)
+        return found
+
+    def _find(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
+        """The schema of `label`, or None when no clause applies (a body that raises is an error)."""
         goal_list, goal_post = Var("L"), Var("P")
         for clause in self.kb.candidates("schema", 3, label) or []:
             if clause.library:
@@ -205,11 +218,7 @@ class Instantiator:
         if self._has["behaviour"] and self._succeeds(Struct("behaviour", (label,))):
             post = cond.Lit(Struct(".", (label, Atom("done"))))
             return label, SchemaDef(label, (), post, pos=used_at)
-        where = f" (a sub-task in the schema at {used_at})" if used_at else ""
-        raise SchemalogError(
-            f"no schema for {term_to_text(label)}{where}; define schema({term_to_text(label)}, Subtasks, Post), "
-            f"or declare a primitive behaviour with schema({term_to_text(label)}, [], Post) or "
-            f"behaviour({term_to_text(label)})", used_at)
+        return None
 
     def _first(self, goal: Term, shown: str | None = None) -> Bindings | None:
         """The first answer of a look-up (agent/2, objects/2, object/1, origins/2), or an error
@@ -296,12 +305,31 @@ class Instantiator:
             raise SchemalogError(f"malformed provenance in {term_to_text(goal.args[0])}: {err}", pos) from None
 
     # -- the walk -------------------------------------------------------------
-    def _lookup_once(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef]:
-        """`lookup`, once per distinct sub-task of one instantiation (a rule's body runs once)."""
-        found = self._lookups.get(label)
-        if found is None:
-            found = self._lookups[label] = self.lookup(label, used_at)
-        return found
+    def _lookup_once(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
+        """`_find`, once per distinct sub-task of one instantiation (a rule's body runs once)."""
+        if label not in self._lookups:
+            self._lookups[label] = self._find(label, used_at)
+        return self._lookups[label]
+
+    def _sub_schema(self, parent: Term, schema: SchemaDef, entry: Entry) -> tuple[Term, SchemaDef] | None:
+        """The schema of one sub-task of `parent`; None for one SEED leaves out (a warning says so)."""
+        found = self._lookup_once(entry.behaviour, schema.pos)
+        if found is not None:
+            return found
+        if schema.pos is None or schema.pos.file not in self.kb.seed_files:
+            raise _no_schema(entry.behaviour, schema.pos)   # schema text promises every sub-task a schema
+        if (schema.pos, parent, entry.behaviour) not in self.left_out:
+            self.left_out.append((schema.pos, parent, entry.behaviour))
+        return None
+
+    @property
+    def warnings(self) -> list[str]:
+        """What the last instantiation left out, as SEED says it, at the parent schema's clause."""
+        return [f"{pos}: warning: {left_out_message(parent, sub)}" for pos, parent, sub in self.left_out]
+
+    def _present(self, parent: Term, schema: SchemaDef) -> list[Entry]:
+        """The entries of `parent`'s schema that are built: those with a schema."""
+        return [e for e in schema.entries if self._sub_schema(parent, schema, e) is not None]
 
     def _measure(self, label: Term, schema: SchemaDef) -> int:
         """Count the behaviours and levels the tree will have before building it, by a walk over
@@ -330,7 +358,10 @@ class Instantiator:
                     raise SchemalogError(
                         f"the sub-task {term_to_text(entry.behaviour)} of {term_to_text(here)} has "
                         f"variables the schema does not bind", here_schema.pos)
-                sub, sub_schema = self._lookup_once(entry.behaviour, here_schema.pos)
+                found = self._sub_schema(here, here_schema, entry)
+                if found is None:
+                    continue
+                sub, sub_schema = found
                 if sub in on_path:
                     cycle = [f[0] for f in stack] + [sub]
                     raise SchemalogError(f"recursive schema: {' -> '.join(term_to_text(p) for p in cycle)}",
@@ -371,10 +402,11 @@ class Instantiator:
         if not is_ground(label):
             raise SchemalogError(f"the task {term_to_text(label)} has variables: name a ground task "
                                  f"(its objects filled in, e.g. add(water) rather than add(X))")
-        self._lookups: dict[Term, tuple[Term, SchemaDef]] = {}
+        self._lookups: dict[Term, tuple[Term, SchemaDef] | None] = {}
+        self.left_out = []
         label, schema = self.lookup(label, None)
         self._measure(label, schema)   # within the limits and acyclic: the build below cannot fail on them
-        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, list(schema.entries),
+        root = _Frame(label, cond.TRUE, DEFAULT_IMPORTANCE, schema, 1, self._present(label, schema),
                       self.root_origins(label))
         stack = [root]
         while True:
@@ -385,7 +417,7 @@ class Instantiator:
                 # The sibling being built now is entry number len(frame.built).
                 origins = self.child_origins(frame.label, len(frame.built), frame.schema.pos)
                 stack.append(_Frame(sub, entry.releaser, entry.importance, sub_schema, frame.level + 1,
-                                    list(sub_schema.entries), origins))
+                                    self._present(sub, sub_schema), origins))
                 continue
             stack.pop()
             node = Behaviour(
@@ -395,6 +427,20 @@ class Instantiator:
             if not stack:
                 return node
             stack[-1].built.append(node)
+
+
+def left_out_message(parent: Term, sub: Term) -> str:
+    """SEED's word for a sub-task no schema applies to."""
+    return (f"no semantic for {term_to_text(sub)} (a sub-task of {term_to_text(parent)}): "
+            f"no schema applies to it; left out, as SEED does")
+
+
+def _no_schema(label: Term, used_at: SourcePos | None) -> SchemalogError:
+    where = f" (a sub-task in the schema at {used_at})" if used_at else ""
+    return SchemalogError(
+        f"no schema for {term_to_text(label)}{where}; define schema({term_to_text(label)}, Subtasks, Post), "
+        f"or declare a primitive behaviour with schema({term_to_text(label)}, [], Post) or "
+        f"behaviour({term_to_text(label)})", used_at)
 
 
 def _missing_procedure(ball: Term) -> str | None:
@@ -431,4 +477,4 @@ def declared_tasks(kb: KnowledgeBase) -> list[Term]:
 
 
 __all__ = ["Behaviour", "Origin", "TaskTree", "instantiate", "declared_tasks", "walk", "walk_with_depth",
-           "count_nodes", "depth", "Instantiator"]
+           "count_nodes", "depth", "Instantiator", "left_out_message"]
