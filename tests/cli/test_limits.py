@@ -144,6 +144,33 @@ def test_memory_running_out_outside_the_engine_names_the_ceiling(tmp_path):
     assert r.returncode == 1 and "the 200 MiB ceiling was reached" in r.stderr, r.stderr
 
 
+# Memory that ran out leaves the handler none either: at a ceiling just past what the command
+# needs (130-150M for `generate --depth 8`), about one run in three printed 70 lines of chained
+# MemoryErrors raised while the message was being made. Here that is made certain: the command
+# raises MemoryError and, from then on, so does any attempt to make the message.
+NO_MEMORY_LEFT = """
+import sys
+import schemalog.cli.check as check
+import schemalog.cli.limits as limits
+import schemalog.cli.main as m
+made = limits.out_of_memory_text
+def exhausted(args):
+    def refuse(*a, **k):
+        raise MemoryError
+    m.out_of_memory_text = limits.out_of_memory_text = limits.size_text = refuse
+    raise MemoryError
+check.run = exhausted
+sys.exit(m.main(sys.argv[1:]))
+"""
+
+
+def test_running_out_of_memory_says_its_one_line_even_when_no_memory_is_left_to_make_it():
+    r = python(NO_MEMORY_LEFT, "check", MIX, "--max-memory", "1G")
+    assert r.returncode == 1 and clean(r), r.stderr
+    assert r.stderr == ("error: out of memory: the 1.0 GiB ceiling was reached (raise it with "
+                        "--max-memory or SCHEMALOG_MAX_MEMORY, or set it to off)\n")
+
+
 def test_sympy_numpy_and_the_verifier_work_under_a_modest_ceiling(tmp_path):
     # RLIMIT_DATA, not RLIMIT_AS: thread pools' reserved address space does not count
     assert run("compress", COFFEE, "--max-memory", "400M").returncode == 0        # sympy

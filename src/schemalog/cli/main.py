@@ -110,8 +110,11 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     from ..logic.exceptions import PrologError
 
     ceiling = None
+    said = (out_of_memory_text(None) + "\n").encode()
     try:
         ceiling = apply_memory_ceiling(memory_ceiling(getattr(args, "max_memory", None), os.environ))
+        # Made now: when memory has run out, even this message may find none to be made in.
+        said = (out_of_memory_text(ceiling) + "\n").encode()
         # The timer is disarmed as the command returns, before any handler below prints.
         with time_limit(getattr(args, "timeout", None)):
             return args.run(args)
@@ -129,8 +132,7 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
         print("error: the input nests too deeply to process", file=sys.stderr)
         return 1
     except MemoryError:     # not bound: the frames holding the memory go with the traceback
-        print(out_of_memory_text(ceiling), file=sys.stderr)
-        return 1
+        return _out_of_memory(said)
     except OverflowError as err:
         print(f"error: a number is too large to process ({err})", file=sys.stderr)
         return 1
@@ -141,8 +143,7 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     except Exception as err:  # an internal error must still not dump a traceback on users
         cause = _wrapped_stop(err)
         if isinstance(cause, MemoryError):
-            print(out_of_memory_text(ceiling), file=sys.stderr)
-            return 1
+            return _out_of_memory(said)
         if cause is not None:
             return _stopped(cause)
         if os.environ.get("SCHEMALOG_DEBUG"):
@@ -196,6 +197,28 @@ def _leave_on_signals() -> None:
         number = getattr(signal, name, None)
         if number is not None and signal.getsignal(number) is not signal.SIG_IGN:
             signal.signal(number, _leave)
+
+
+def _out_of_memory(said: bytes) -> int:
+    """Say that memory ran out, with the words set aside for it: the handler may have no memory
+    left to make a string in (a MemoryError raised here printed a traceback). The ceiling is
+    lifted first, so that what follows (flushing, leaving) can allocate; main() restores it."""
+    try:
+        import resource
+
+        _, hard = resource.getrlimit(resource.RLIMIT_DATA)
+        resource.setrlimit(resource.RLIMIT_DATA, (hard, hard))
+    except (ImportError, ValueError, OSError, MemoryError):
+        pass
+    try:
+        sys.stderr.flush()
+    except (OSError, ValueError, MemoryError):
+        pass
+    try:
+        os.write(2, said)
+    except OSError:
+        pass
+    return 1
 
 
 def run() -> None:
