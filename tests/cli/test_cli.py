@@ -484,8 +484,8 @@ def test_generate_writes_a_task_that_compresses_runs_and_verifies(tmp_path):
     task, scene = tmp_path / "t.pl", tmp_path / "s.yaml"
     done = run("generate", "--depth", 4, "--children", 2, "--rd", 0.5, "--seed", 1, "-o", task, "--scene", scene)
     assert done.returncode == 0, done.stderr
-    assert "Bi = 15, D = 4; compressed: Bm = 9, RD = 0.55 (asked 0.50)" in done.stdout
-    assert "note:" not in done.stdout + done.stderr
+    assert done.stderr.startswith(f"wrote {task}: task b1, Bi = 15, D = 4; compressed: Bm = 9, RD = 0.55 (asked 0.50)")
+    assert "note:" not in done.stdout + done.stderr and done.stdout == ""
     compressed = json.loads(run("compress", task, "--json").stdout)
     assert (compressed["nodes_before"], compressed["nodes_after"]) == (15, 9)
     ran = run("run", task, "--scene", scene, "--compressed")
@@ -497,12 +497,12 @@ def test_generate_writes_a_task_that_compresses_runs_and_verifies(tmp_path):
 @pytest.mark.parametrize("d, b", [(4, 2), (5, 3), (6, 2)])
 def test_generate_hits_rd_07_where_sibling_links_alone_cannot(d, b, tmp_path):
     done = run("generate", "--depth", d, "--children", b, "--rd", 0.7, "-o", tmp_path / "t.pl")
-    got = float(done.stdout.split("RD = ")[1].split()[0])
+    got = float(done.stderr.split("RD = ")[1].split()[0])
     assert done.returncode == 0 and abs(got - 0.7) <= 0.05
     strict = run("generate", "--depth", d, "--children", b, "--rd", 0.7, "--siblings-only", "-o", tmp_path / "s.pl")
     assert strict.returncode == 0
     if b == 2:   # binary trees: at most about 0.53-0.55 with sibling links, and the note says why
-        assert "note: RD 0.5" in strict.stdout and "allows RD at most" in strict.stdout
+        assert "note: RD 0.5" in strict.stderr and "allows RD at most" in strict.stderr
 
 
 def test_generate_to_stdout_yaml_and_bad_requests(tmp_path):
@@ -829,6 +829,11 @@ def test_the_top_level_help_states_each_exit_status_the_commands_return(tmp_path
     (("verify", MIX, "-o", "{out}/v.txt"), "wrote {out}/v.txt: the verification of use(spoon): sound and complete (text)"),
     (("generate", "--depth", "3", "--children", "2", "--seed", "1", "-o", "{out}/g.pl", "--scene", "{out}/g.yaml"),
      "wrote {out}/g.yaml: the scene of b1: 2 objects"),
+    (("generate", "--depth", "3", "--children", "2", "--seed", "1", "-o", "{out}/g.pl"),
+     "wrote {out}/g.pl: task b1, Bi = 7, D = 3; compressed: "),
+    (("export", MIX, "-o", "{out}/t.xml"), "wrote {out}/t.xml: use(spoon), original tree of 12 behaviours (BehaviorTree.CPP v4 XML)"),
+    (("export", MIX, "--to", "py_trees", "-o", "{out}/t.py"), "wrote {out}/t.py: use(spoon), original tree of 12 behaviours (a py_trees module)"),
+    (("simulate-demo", MIX, "--scene", FIG2_SCENE, "-o", "{out}/d.csv"), "wrote {out}/d.csv: simulated use(spoon) in "),
 ])
 def test_a_command_writing_a_file_says_on_stderr_what_it_wrote(tmp_path, args, said):
     r = run(*(str(a).format(out=tmp_path) for a in args))

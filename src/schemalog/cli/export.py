@@ -68,7 +68,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         from ..formats.pytrees import export_pytrees
         text = export_pytrees(tree, atoms, title)
-    emit(text, args.output, inputs_of(args, kb.files))
+    what = "BehaviorTree.CPP v4 XML" if target == "btcpp" else "a py_trees module"
+    emit(text, args.output, inputs_of(args, kb.files),
+         f"{term_to_text(tree.label)}, {kind} tree of {count_nodes(tree)} behaviours ({what})")
     return 0
 
 
@@ -106,5 +108,8 @@ def convert_xml(args: argparse.Namespace) -> int:
     yaml = args.to == "yaml" or (args.to is None and args.output and args.output.endswith(YAML_SUFFIXES))
     out = to_yaml(doc) if yaml else to_pl(doc, header=f"Converted by schemalog from the BehaviorTree.CPP "
                                                       f"document {args.input}.")
-    emit(out, args.output, inputs_of(args))
+    from ..task.tree import count_nodes
+    emit(out, args.output, inputs_of(args),
+         f"{term_to_text(imported.tree.label)}: {count_nodes(imported.tree)} behaviours as "
+         f"{'YAML' if yaml else 'schema text'}")
     return 0

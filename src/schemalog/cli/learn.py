@@ -44,6 +44,8 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Segment a demonstration, teach it to a task structure, and write the learned knowledge."""
     from ..formats.documents import read_document
+    from ..logic.terms import term_to_text
+    from ..task.tree import count_nodes
     from .common import check_output, inputs_of, task_term
 
     from ..learn.learn import learn, lesson_lines, motions_json
@@ -82,7 +84,6 @@ def run(args: argparse.Namespace) -> int:
         if not to_stdout:
             Path(_stage(args.output, staged)).write_text(lesson.text, encoding="utf-8")
         _commit(staged)
-        report.extend(f"wrote {target}" for _, target in staged)
     except OSError as err:
         temporaries = {t: target for t, target in staged}
         name = temporaries.get(err.filename, err.filename) if err.filename else (staged[-1][1] if staged else "")
@@ -92,6 +93,12 @@ def run(args: argparse.Namespace) -> int:
             if os.path.exists(temporary):
                 os.unlink(temporary)
     print("\n".join(report), file=sys.stderr if to_stdout else sys.stdout)
+    said = {args.output: f"{term_to_text(lesson.tree.label)}, {count_nodes(lesson.tree)} behaviours learned "
+                         f"from {args.demo} (schema text)",
+            args.plot: "the demonstration and its segments (a picture)",
+            args.motions: "the motion primitives (JSON)"}
+    for _, target in staged:                          # what was written, as every writer says it
+        print(f"wrote {target}: {said.get(target, '')}", file=sys.stderr)
     if to_stdout:
         sys.stdout.write(lesson.text)
     return 0

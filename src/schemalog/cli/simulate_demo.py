@@ -78,8 +78,7 @@ def run(args: argparse.Namespace) -> int:
     summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
                f"{commands} gripper commands")
     if args.output and args.output != "-":
-        emit(text, args.output, inputs, None)
-        print(f"{summary}; wrote {args.output}")
+        emit(text, args.output, inputs, f"{summary} ({'JSON' if json_out else 'CSV'})")
     else:
         sys.stdout.write(text)
         print(summary, file=sys.stderr)
