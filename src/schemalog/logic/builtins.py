@@ -223,6 +223,18 @@ def _copy_term(e: Machine, a: tuple, b: Bindings) -> bool:
     return b.unify(a[1], b.copy(a[0]))
 
 
+def proper_items(b: Bindings, t: Term) -> list[Term]:
+    """The items of the proper list `t`, resolved: instantiation_error for a partial list,
+    type_error(list, T) for anything else."""
+    whole = resolve_list(b, t)
+    items, tail = list_items(whole)
+    if isinstance(tail, Var):
+        raise instantiation_error()
+    if tail != NIL:
+        raise type_error("list", whole)
+    return items
+
+
 def resolve_list(b: Bindings, t: Term) -> Term:
     """`b.resolve(t)`, where a cyclic term is type_error(list, T), as SWI-Prolog says of a
     cyclic list (X = [a|X])."""
@@ -411,13 +423,8 @@ def text_list(e: Machine, t: Term, b: Bindings) -> str:
         return t.value
     if isinstance(t, Var):
         raise instantiation_error()
-    whole = resolve_list(b, t)
-    items, tail = list_items(whole)
+    items = proper_items(b, t)
     e.charge(len(items))
-    if isinstance(tail, Var):
-        raise instantiation_error()
-    if tail != NIL:
-        raise type_error("list", whole)
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()

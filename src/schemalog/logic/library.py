@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Iterator
 
 from .arith import evaluate
-from .builtins import (Machine, _read_number, atomic_text, _text_of, _variables, code_char, compare_terms, resolve_list,
+from .builtins import (Machine, _read_number, atomic_text, _text_of, _variables, code_char, compare_terms, proper_items, resolve_list,
                        standard_order_key, text_of)
 from .exceptions import PrologError, instantiation_error, iso_error, type_error
 from .terms import NIL, is_ground, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
@@ -131,11 +131,7 @@ def _concat_string(e: Machine, a: tuple, b: Bindings) -> bool:
     whole = b.walk(a[0])
     if isinstance(whole, Var):
         raise instantiation_error()
-    items, tail = list_items(resolve_list(b, whole))
-    if isinstance(tail, Var):
-        raise instantiation_error()
-    if tail != NIL:
-        raise type_error("list", whole)
+    items = proper_items(b, whole)
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()
@@ -318,12 +314,7 @@ def _term_variables(e: Machine, a: tuple, b: Bindings) -> bool:
 
 
 def _keysort(e: Machine, a: tuple, b: Bindings) -> bool:
-    whole = resolve_list(b, a[0])
-    items, tail = list_items(whole)
-    if isinstance(tail, Var):
-        raise instantiation_error()
-    if tail != NIL:
-        raise type_error("list", whole)
+    items = proper_items(b, a[0])
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()
@@ -343,12 +334,7 @@ def _sort4(e: Machine, a: tuple, b: Bindings) -> bool:
         raise instantiation_error()
     if not (isinstance(order, Atom) and order.name in ("@<", "@=<", "@>", "@>=")):
         raise _domain_error("order", order)
-    whole = resolve_list(b, a[2])
-    items, tail = list_items(whole)
-    if isinstance(tail, Var):
-        raise instantiation_error()
-    if tail != NIL:
-        raise type_error("list", whole)
+    items = proper_items(b, a[2])
 
     def key_of(t: Term) -> Term:
         if key == 0:
@@ -677,11 +663,7 @@ def _op(e: Machine, a: tuple, b: Bindings) -> bool:
     if isinstance(names, Atom) and names != NIL:
         items = [names]
     else:
-        items, tail = list_items(resolve_list(b, names))
-        if isinstance(tail, Var):
-            raise instantiation_error()
-        if tail != NIL:
-            raise type_error("list", names)
+        items = proper_items(b, names)
     for item in items:
         if isinstance(item, Var):
             raise instantiation_error()
