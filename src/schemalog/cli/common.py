@@ -92,6 +92,25 @@ def instantiate_task(kb: KnowledgeBase, task: Term, args: argparse.Namespace) ->
     return tree
 
 
+def trees_to_use(kb: KnowledgeBase, args: argparse.Namespace) -> tuple[Behaviour, Behaviour, str]:
+    """The task's original tree, the tree to use and what kind it is (run, export): the file's
+    own (a compressed file's, or the original), or with --compressed the original compressed
+    (--propagate, its notes on stderr)."""
+    from ..task.compress import compress, original_of, protected_labels
+    from ..task.conditions import Simplifier
+
+    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
+    original = original_of(tree)
+    kind = "compressed" if original is not tree else "original"
+    if args.compressed:
+        result = compress(original, args.propagate, protected_labels(kb, original),
+                          Simplifier(sympy_budget=args.sympy_budget))
+        for note in result.notes:
+            print(f"note: {note}", file=sys.stderr)
+        tree, kind = result.tree, f"compressed (propagate {args.propagate})"
+    return original, tree, kind
+
+
 # The options that name a file a command reads. (generate's --scene is written, not read:
 # generate reads nothing and passes no inputs.)
 INPUT_OPTIONS = ("files", "input", "demo", "structure", "scene")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
 from .. import defaults
 from .options import TOGETHER, Parents, budget
@@ -34,10 +33,8 @@ def run(args: argparse.Namespace) -> int:
     from ..errors import UsageError
     from ..logic.terms import term_to_text
     from ..run.world import World, initial_state
-    from ..task.compress import compress, original_of, protected_labels
-    from ..task.conditions import Simplifier
     from ..task.tree import count_nodes
-    from .common import atoms_option, choose_tasks, emit, inputs_of, instantiate_task, load_files
+    from .common import atoms_option, emit, inputs_of, load_files, trees_to_use
 
     target = args.to
     if target is None:
@@ -46,15 +43,7 @@ def run(args: argparse.Namespace) -> int:
         if target is None:
             raise UsageError("name the runtime with --to btcpp or --to py_trees (or give -o a .xml or .py name)")
     kb, _ = load_files(args)
-    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
-    original = original_of(tree)
-    kind = "compressed" if original is not tree else "original"
-    if args.compressed:
-        result = compress(original, args.propagate, protected_labels(kb, original),
-                          Simplifier(sympy_budget=args.sympy_budget))
-        for note in result.notes:
-            print(f"note: {note}", file=sys.stderr)
-        tree, kind = result.tree, f"compressed (propagate {args.propagate})"
+    original, tree, kind = trees_to_use(kb, args)
     initial = atoms_option(args.state, "--state") if args.state is not None else initial_state(kb)
     # The world settles the initial state (a composite whose parts hold is accomplished), and
     # the runtime starts from what the world starts from.

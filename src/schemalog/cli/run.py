@@ -62,25 +62,15 @@ def run(args: argparse.Namespace) -> int:
     from ..run.execute import Executive, RobotManager
     from ..run.scene import NO_SCENE
     from ..run.world import World, initial_state
-    from ..task.compress import compress, original_of, protected_labels
-    from ..task.conditions import Simplifier
     from ..task.tree import count_nodes, walk
-    from .common import atoms_option, check_output, choose_tasks, emit, inputs_of, instantiate_task, load_files, scene_of
+    from .common import atoms_option, check_output, emit, inputs_of, load_files, scene_of, trees_to_use
 
     kb, _ = load_files(args)
-    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
-    task = tree.label
-    original = original_of(tree)
-    kind = "compressed" if original is not tree else "original"
     if args.propagate is not None and not args.compressed:
         print("note: --propagate applies with --compressed; this run compresses nothing", file=sys.stderr)
     args.propagate = args.propagate or "full"
-    if args.compressed:
-        result = compress(original, args.propagate, protected_labels(kb, original),
-                          Simplifier(sympy_budget=args.sympy_budget))
-        for note in result.notes:
-            print(f"note: {note}", file=sys.stderr)
-        tree, kind = result.tree, f"compressed (propagate {args.propagate})"
+    original, tree, kind = trees_to_use(kb, args)
+    task = tree.label
     scene = scene_of(args, original)
     world = World(original)
     if args.state is not None:
