@@ -1,10 +1,13 @@
-"""The Prolog engine beside SWI-Prolog, in one run: naive reverse, and a join over a task tree.
+"""The Prolog engine beside SWI-Prolog, in one run: four classic programs, and a join over a task tree.
 
     python benchmarks/bench_engine.py [--repeat 3] [--sizes 2000 8000 32000 100000]
 
 1. Naive reverse of a 30-element list (496 logical inferences each), repeated; logical
-   inferences per second (LIPS) for schemalog's engine and for `swipl` on the same program,
+   inferences per second (LIPS) for schemalog's engine and for `swipl -O` on the same program,
    and the ratio. swipl (Debian: swi-prolog-nox) must be on PATH.
+   Then queens (all 92 solutions of 8 queens), tak(18, 12, 6) and a zebra puzzle (its whole
+   search), the same text in both systems: seconds per run and the ratio (target: within 75x
+   of `swipl -O`, issue 19).
 2. `sequential(X, Y)` (kb/compression.pl, Definition 1 as a rule) over the facts of a
    generated tree (RD 0.5), answered by both engines from the same facts: how the cost of a
    join grows with the tree. The rule joins `parent(B1, P), parent(B2, P)` on the second
@@ -42,6 +45,86 @@ bench(0, _) :- !.
 bench(K, L) :- nrev(L, _), K1 is K - 1, bench(K1, L).
 """
 INFERENCES = 496   # per naive reverse of 30 elements: 31 nrev calls + 465 app calls
+
+QUEENS = """
+queens(N, Qs) :- range(1, N, Ns), queens(Ns, [], Qs).
+queens([], Qs, Qs).
+queens(Unplaced, Safe, Qs) :- sel(Q, Unplaced, Rest), \\+ attack(Q, Safe), queens(Rest, [Q|Safe], Qs).
+attack(X, Xs) :- attack(X, 1, Xs).
+attack(X, N, [Y|_]) :- X is Y + N ; X is Y - N.
+attack(X, N, [_|Ys]) :- N1 is N + 1, attack(X, N1, Ys).
+sel(X, [X|Xs], Xs).
+sel(X, [Y|Ys], [Y|Zs]) :- sel(X, Ys, Zs).
+range(N, N, [N]) :- !.
+range(I, N, [I|T]) :- I < N, I1 is I + 1, range(I1, N, T).
+"""
+TAK = """
+tak(X, Y, Z, A) :- X =< Y, !, Z = A.
+tak(X, Y, Z, A) :-
+    X1 is X - 1, Y1 is Y - 1, Z1 is Z - 1,
+    tak(X1, Y, Z, A1), tak(Y1, Z, X, A2), tak(Z1, X, Y, A3), tak(A1, A2, A3, A).
+"""
+ZEBRA = """
+houses([house(_, _, _, _, _), house(_, _, _, _, _), house(_, _, _, _, _),
+        house(_, _, _, _, _), house(_, _, _, _, _)]).
+right_of(A, B, [B, A|_]).
+right_of(A, B, [_|Y]) :- right_of(A, B, Y).
+next_to(A, B, [A, B|_]).
+next_to(A, B, [B, A|_]).
+next_to(A, B, [_|Y]) :- next_to(A, B, Y).
+member_(X, [X|_]).
+member_(X, [_|Y]) :- member_(X, Y).
+zebra(Houses) :-
+    houses(Houses),
+    member_(house(red, english, _, _, _), Houses),
+    member_(house(_, spanish, dog, _, _), Houses),
+    member_(house(green, _, _, coffee, _), Houses),
+    member_(house(_, ukrainian, _, tea, _), Houses),
+    right_of(house(green, _, _, _, _), house(ivory, _, _, _, _), Houses),
+    member_(house(_, _, snails, _, winstons), Houses),
+    member_(house(yellow, _, _, _, kools), Houses),
+    Houses = [_, _, house(_, _, _, milk, _), _, _],
+    Houses = [house(_, norwegian, _, _, _)|_],
+    next_to(house(_, _, _, _, chesterfields), house(_, _, fox, _, _), Houses),
+    next_to(house(_, _, _, _, kools), house(_, _, horse, _, _), Houses),
+    member_(house(_, _, _, orange_juice, luckies), Houses),
+    member_(house(_, japanese, _, _, parliaments), Houses),
+    next_to(house(_, norwegian, _, _, _), house(blue, _, _, _, _), Houses),
+    member_(house(_, _, zebra, _, _), Houses),
+    member_(house(_, _, _, water, _), Houses).
+"""
+
+# (name, program, goal run once per timing, swipl runs per timing); each goal fails if its
+# answer is wrong, so a fast wrong engine is not timed.
+PROGRAMS = [("queens 8, all solutions", QUEENS, "findall(Q, queens(8, Q), L), length(L, 92)", 100),
+            ("tak(18, 12, 6)", TAK, "tak(18, 12, 6, A), A == 7", 100),
+            ("zebra, whole search", ZEBRA, "findall(H, zebra(H), [_])", 300)]
+TARGET = 75   # times slower than swipl -O, at most (issue 19)
+
+
+def ours_program(program: str, goal: str, repeat: int) -> float:
+    kb = document_from_text(program, "program.pl").to_kb()
+    best = float("inf")
+    for _ in range(repeat):
+        engine = Engine(kb, max_steps=10**10)
+        started = time.perf_counter()
+        if engine.first(parse_term(goal)) is None:
+            raise SystemExit(f"schemalog's answer to {goal} is wrong")
+        best = min(best, time.perf_counter() - started)
+    return best
+
+
+def swipl_program(swipl: str, program: str, goal: str, repeat: int, times: int) -> float:
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "program.pl"
+        path.write_text(program)
+        timing = (f"findall(T, (between(1, {repeat}, _), statistics(cputime, T0), "
+                  f"forall(between(1, {times}, _), ({goal})), statistics(cputime, T1), "
+                  f"T is (T1 - T0) / {times}), Ts), min_list(Ts, B), format('~w~n', [B]), halt")
+        check = f"(\\+ ({goal}) -> halt(1) ; true)"
+        out = subprocess.run([swipl, "-q", "-O", "-g", check, "-g", timing, str(path)], capture_output=True,
+                             text=True, check=True, timeout=600)
+    return max(float(out.stdout.strip()), 1e-9)
 
 
 def ours_nrev(repeat: int, times: int) -> float:
@@ -113,6 +196,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--times", type=int, default=300, help="naive reverses per timing (ours)")
     parser.add_argument("--sizes", type=int, nargs="+", default=[2000, 8000, 32000, 100000])
+    parser.add_argument("--programs-only", action="store_true", help="skip the join over task trees")
     args = parser.parse_args()
     swipl = shutil.which("swipl")
     if swipl is None:
@@ -127,6 +211,21 @@ def main() -> None:
     print("| engine | LIPS | ratio |\n|---|---:|---:|")
     print(f"| schemalog | {ours:,.0f} | {theirs / ours:,.0f}x slower |")
     print(f"| swipl -O | {theirs:,.0f} | 1 |\n")
+    print(f"## Classic programs, seconds per run, best of {args.repeat} (target: within {TARGET}x of swipl -O)\n")
+    print("| program | schemalog s | swipl -O s | ratio | target |\n|---|---:|---:|---:|---|")
+    ratios = [("naive reverse", theirs / ours)]
+    for name, program, goal, times in PROGRAMS:
+        t_ours = ours_program(program, goal, args.repeat)
+        t_swipl = swipl_program(swipl, program, goal, args.repeat, times)
+        ratios.append((name, t_ours / t_swipl))
+        print(f"| {name} | {t_ours:.4f} | {t_swipl:.5f} | {t_ours / t_swipl:,.0f}x | "
+              f"{'met' if t_ours / t_swipl <= TARGET else 'MISSED'} |")
+        sys.stdout.flush()
+    missed = [name for name, ratio in ratios if ratio > TARGET]
+    print(f"\nWithin {TARGET}x of swipl -O: {len(ratios) - len(missed)} of {len(ratios)} programs"
+          + (f" (missed: {', '.join(missed)})" if missed else "") + "\n")
+    if args.programs_only:
+        return
     print("## sequential(X, Y) over a generated tree's facts (kb/compression.pl)\n")
     print("| behaviours | answers | schemalog s | swipl s | ratio | schemalog growth |")
     print("|---:|---:|---:|---:|---:|---:|")

@@ -77,18 +77,20 @@ GOAL_VARS = [Var("A"), Var("B"), Var("C")]
 @given(head=st.lists(_terms(HEAD_VARS), min_size=1, max_size=3), body=_terms(HEAD_VARS + [Var("W")]),
        goal=st.lists(_terms(GOAL_VARS), min_size=3, max_size=3))
 def test_compiled_head_unification_equals_copy_and_unify(head, body, goal):
-    from schemalog.logic.kb import StoredClause, _match_by_copy, compile_match
+    from schemalog.logic.compile import activate_by_copy, compile_clause
 
     goal = goal[:len(head)]
-    clause = StoredClause(Struct("p", tuple(head)), Struct("q", (body,)))
+    clause = (Struct("p", tuple(head)), Struct("q", (body,)))
     call = Struct("p", tuple(goal))
     results = []
-    for make in (compile_match, _match_by_copy):
+    for make in (compile_clause, activate_by_copy):
         b = Bindings()
-        got = make(clause)(call, b)
-        if got is None:
+        goals = make(*clause)(call, b, 0, None)
+        if goals is False:
             results.append(None)
             continue
+        got, height, rest = goals
+        assert (height, rest) == (0, None)
         answer = b.resolve_finite(Struct("r", (call, got)))
         # A cyclic answer (A = [a|A]) is cut at different places by the two orders: compare
         # only that both are cyclic.

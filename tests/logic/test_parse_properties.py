@@ -660,7 +660,7 @@ def test_a_full_stop_before_a_block_comment_ends_the_clause():
 @given(terms, st.sampled_from([2_000, 3]))
 def test_a_compiled_copy_is_a_variant_with_fresh_variables(term, max_nodes):
     """kb.compile_copy (and its fallback to rename beyond max_nodes): same shape, new variables."""
-    from schemalog.logic.kb import compile_copy
+    from schemalog.logic.compile import compile_copy
     from schemalog.logic.terms import iter_vars
     from schemalog.logic.unify import variant
 

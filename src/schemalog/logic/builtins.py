@@ -609,7 +609,7 @@ def _assert(front: bool) -> Builtin:
         if not isinstance(head, (Atom, Struct)):
             raise type_error("callable", head)
         check_body(body, b)   # (foo :- X, 4): type_error(callable, (X, 4)), as SWI says
-        body = _body_calls(body)
+        body = body_calls(body)
         key = (head.name, len(head.args) if isinstance(head, Struct) else 0)
         # Adding a clause copies the predicate's clause list when a call in progress holds it
         # (the logical update view) or for asserta: 64 pointers copied cost about one step.
@@ -636,14 +636,23 @@ def _modify_static(key: tuple[str, int]) -> PrologError:
                                                  Struct("/", (Atom(key[0]), Int(key[1]))))))
 
 
-def _body_calls(body: Term) -> Term:
+def body_calls(body: Term) -> Term:
     """A clause body with each variable goal G written call(G), as assert stores it (ISO
-    7.6.2): clause(foo(X), B) after assertz((foo(X) :- X)) gives B = call(X)."""
+    7.6.2): clause(foo(X), B) after assertz((foo(X) :- X)) gives B = call(X). A conjunction's
+    right spine is walked in a loop: a body of 100,000 goals is no deeper than one of two."""
+    spine: list[Term] = []
+    while isinstance(body, Struct) and body.name == "," and len(body.args) == 2:
+        spine.append(body.args[0])
+        body = body.args[1]
     if isinstance(body, Var):
-        return Struct("call", (body,))
-    if isinstance(body, Struct) and (body.name, len(body.args)) in _CONTROL_ARGS:
-        return Struct(body.name, tuple(_body_calls(arg) for arg in body.args))
-    return body
+        result: Term = Struct("call", (body,))
+    elif isinstance(body, Struct) and (body.name, len(body.args)) in _CONTROL_ARGS:
+        result = Struct(body.name, tuple(body_calls(arg) for arg in body.args))
+    else:
+        result = body
+    for left in reversed(spine):
+        result = Struct(",", (body_calls(left), result))
+    return result
 
 
 def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:

@@ -1,11 +1,12 @@
 """SLD resolution: depth-first, backtracking, iterative, with a step limit.
 
-    Goals       = (goal: Term | Marker, cut_barrier: int, rest: Goals) | None   (a linked list)
-    ChoicePoint = (kind, trail_mark, ...)                                        (a stack)
+    Goals       = (goal: Term | Call | Marker, cut_barrier: int, rest: Goals) | None   (a linked list)
+    Call        = (Builtin, args)                     a built-in a compiled clause found (compile.py)
+    ChoicePoint = (kind, trail_mark, ...)                                               (a stack)
 
 The machine pops a goal, rewrites control constructs into goals and choicepoints,
 resolves user predicates against the knowledge base's argument indexes, and
-calls builtins. Prolog recursion therefore never becomes Python recursion. A cut
+calls builtins. Calling a clause pushes its body's goals, flattened (compile.py). Prolog recursion therefore never becomes Python recursion. A cut
 removes the choicepoints above its barrier (the height when its clause was
 called); `catch/3` leaves a choicepoint that an exception unwinds to.
 
@@ -29,7 +30,7 @@ from .exceptions import (PrologError, StepLimitExceeded, existence_error, instan
                          type_error)
 from .eclipse import ECLIPSE
 from .library import EXTRA, EXTRA_NONDET
-from .terms import TRUE, Atom, Struct, Term, Var
+from .terms import Atom, Struct, Term, Var
 from .unify import Bindings, rename
 
 DEFAULT_MAX_STEPS = defaults.MAX_STEPS
@@ -165,7 +166,38 @@ class Engine:
                 if self.interrupted:
                     self.interrupted = False
                     raise SchemalogError("interrupted")
-                if not isinstance(term, (Atom, Struct, Var)):
+                kind = type(term)
+                if kind is tuple:  # a Call: a built-in a compiled clause body found (compile.py)
+                    mark = len(b.trail)
+                    if term[0](self, term[1], b):
+                        if b.work:
+                            self._charge_work(b)
+                        goals = rest
+                    else:
+                        if b.work:
+                            self._charge_work(b)
+                        b.undo(mark)
+                        goals = self._backtrack(cps, b)
+                        if goals is False:
+                            return
+                    continue
+                if kind is Struct:
+                    name, args = term.name, term.args
+                elif kind is Atom:
+                    name, args = term.name, ()
+                elif kind is Var:  # `G` as a goal means call(G): its cut is local
+                    term = b.walk(term)
+                    if isinstance(term, Var):
+                        raise instantiation_error()
+                    _check_body(term, b)
+                    cutb = len(cps)
+                    if isinstance(term, Atom):
+                        name, args = term.name, ()
+                    elif isinstance(term, Struct):
+                        name, args = term.name, term.args
+                    else:
+                        raise type_error("callable", term)
+                else:
                     if isinstance(term, _CutTo):
                         del cps[term.height:]
                         if isinstance(term, _FailAfterCut):
@@ -185,18 +217,6 @@ class Engine:
                             cps[term.height] = (_CATCH, cp[1], None, cp[3], cp[4], cp[5])
                         goals = rest
                         continue
-                    raise type_error("callable", term)
-                if isinstance(term, Var):  # `G` as a goal means call(G): its cut is local
-                    term = b.walk(term)
-                    if isinstance(term, Var):
-                        raise instantiation_error()
-                    _check_body(term, b)
-                    cutb = len(cps)
-                if isinstance(term, Atom):
-                    name, args = term.name, ()
-                elif isinstance(term, Struct):
-                    name, args = term.name, term.args
-                else:
                     raise type_error("callable", term)
                 arity = len(args)
 
@@ -296,16 +316,15 @@ class Engine:
                 candidates = pred.select(args, b)
                 if len(candidates) == 1:  # one clause to try: no choicepoint to leave
                     clause = candidates[0]
-                    mark = b.mark()
-                    match = clause._matcher
-                    body = match(term, b) if match is not None else clause.match(term, b)
-                    if body is None:
+                    mark = len(b.trail)
+                    activation = clause._activation
+                    goals = (activation(term, b, len(cps), rest) if activation is not None
+                             else clause.activate(term, b, len(cps), rest))
+                    if goals is False:
                         b.undo(mark)
                         goals = self._backtrack(cps, b)
                         if goals is False:
                             return
-                    else:
-                        goals = rest if body is TRUE else (body, len(cps), rest)
                     continue
                 height = len(cps)
                 cps.append((_CLAUSES, b.mark(), term, candidates, 0, rest, height))
@@ -330,13 +349,15 @@ class Engine:
                 while index < len(candidates):
                     clause = candidates[index]
                     index += 1
-                    body = clause.match(term, b)
-                    if body is not None:
+                    activation = clause._activation
+                    goals = (activation(term, b, height, rest) if activation is not None
+                             else clause.activate(term, b, height, rest))
+                    if goals is not False:
                         if index < len(candidates):
                             cps[-1] = (_CLAUSES, mark, term, candidates, index, rest, height)
                         else:
                             cps.pop()
-                        return rest if body is TRUE else (body, height, rest)
+                        return goals
                     b.undo(mark)
                 cps.pop()
                 continue

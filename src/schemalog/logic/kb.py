@@ -34,10 +34,12 @@ from pathlib import Path
 from .. import defaults
 from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
+from .builtins import body_calls
+from .compile import COMPILE_AFTER, activate_ground, body_goals, compile_clause, compile_copy, push_goals
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
 from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
-from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, iter_vars, list_items, quote_atom, term_to_text, variable_names
+from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, list_items, quote_atom, term_to_text, variable_names
 from .unify import Bindings, rename
 
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
@@ -67,7 +69,7 @@ class StoredClause:
     source: Path | None = None
     key: Key | None = field(init=False)
     _copier: object = field(default=None, init=False, repr=False, compare=False)
-    _matcher: object = field(default=None, init=False, repr=False, compare=False)
+    _activation: object = field(default=None, init=False, repr=False, compare=False)
     _calls: int = field(default=0, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -81,185 +83,29 @@ class StoredClause:
         pair = copy()
         return pair.args[0], pair.args[1]
 
-    def match(self, goal: Term, b) -> Term | None:
-        """Unify a fresh copy of the head with `goal`; return the body's copy, or None
-        (the caller undoes a failed match's bindings)."""
-        match = self._matcher
-        if match is None:
-            # A ground clause (a fact of a task tree) needs no copy: unify it as it is.
-            # Compiling costs an exec, worth it only for a clause called again and again,
-            # so the first calls copy and unify.
+    def activate(self, goal: Term, b, height: int, rest):
+        """Unify a fresh copy of the head with `goal` and return the goal list with the body's
+        goals in front of `rest`, each cutting to `height`; False when the head does not match
+        (the caller undoes the bindings). See compile.py."""
+        activation = self._activation
+        if activation is None:
             if is_ground(self.head) and is_ground(self.body):
-                match = self._matcher = _match_ground(self)
+                activation = self._activation = activate_ground(self.head, self.body)
             else:
                 self._calls += 1
                 if self._calls <= COMPILE_AFTER:
                     head, body = self.renamed()
-                    return body if b.unify(head, goal) else None
-                match = self._matcher = compile_match(self)
-        return match(goal, b)
+                    if not b.unify(head, goal):
+                        return False
+                    return push_goals(body_goals(body_calls(body)), height, rest)
+                activation = self._activation = compile_clause(self.head, self.body)
+        return activation(goal, b, height, rest)
 
     def text(self) -> str:
         """The clause as Prolog text."""
         if self.body is TRUE:
             return term_to_text(self.head) + "."
         return term_to_text(Struct(":-", (self.head, self.body))) + "."
-
-
-def compile_copy(term: Term, max_nodes: int = 2_000, max_depth: int = 60):
-    """A function returning a copy of `term` with fresh variables, compiled to one Python
-    expression: `rename` walks the term on every call, this builds it directly, sharing
-    ground sub-terms. Very large or deep terms fall back to `rename`."""
-    variables: dict[Var, str] = {}
-    constants: list[Term] = []
-    nodes = 0
-
-    def expr(t: Term, depth: int) -> str:
-        nonlocal nodes
-        nodes += 1
-        if nodes > max_nodes or depth > max_depth:
-            raise OverflowError
-        if isinstance(t, Var):
-            name = variables.get(t)
-            if name is None:
-                name = variables[t] = f"v{len(variables)}"
-            return name
-        if isinstance(t, Struct) and not is_ground(t):
-            args = ", ".join(expr(a, depth + 1) for a in t.args)
-            constants.append(t.name)
-            return f"S(c[{len(constants) - 1}], ({args},))"
-        constants.append(t)
-        return f"c[{len(constants) - 1}]"
-
-    try:
-        body = expr(term, 0)
-    except OverflowError:
-        return lambda: rename(term)
-    fresh = "".join(f"    {name} = V('_')\n" for name in variables.values())
-    source = f"def copy():\n{fresh}    return {body}\n"
-    scope = {"S": Struct, "V": Var, "c": tuple(constants)}
-    exec(source, scope)
-    return scope["copy"]
-
-
-def compile_match(clause: StoredClause, max_nodes: int = 300, max_depth: int = 12):
-    """A function `match(goal, bindings)` that unifies the clause's head with `goal` and
-    returns the body's instance, compiled to Python (the WAM's get instructions, in effect).
-
-    No head is built: a head variable's first occurrence simply names the goal's argument,
-    a constant is compared or bound, a compound is taken apart when the goal has one there
-    and built only when the goal has an unbound variable there. Large or deep heads fall
-    back to copying the clause and unifying."""
-    head, body = clause.head, clause.body
-    if not isinstance(head, Struct):
-        copy = compile_copy(body) if body is not TRUE else None
-        return (lambda goal, b: copy()) if copy else (lambda goal, b: TRUE)
-    names: dict[Var, str] = {}          # every variable of the clause, named up front
-    for v in (*iter_vars(head), *iter_vars(body)):
-        names.setdefault(v, f"v{len(names)}")
-    seen: set[Var] = set()              # the variables the code so far has given a value
-    constants: list = []
-    lines: list[str] = []
-    counter = iter(range(1 << 30))
-    nodes = 0
-
-    def const(t) -> str:
-        constants.append(t)
-        return f"c[{len(constants) - 1}]"
-
-    def build(t: Term) -> str:
-        """An expression building `t` from the named variables."""
-        if isinstance(t, Var):
-            return names[t]
-        if isinstance(t, Struct) and not is_ground(t):
-            return f"S({const(t.name)}, ({', '.join(build(a) for a in t.args)},))"
-        return const(t)
-
-    def create(t: Term, pad: str, known: set[Var]) -> None:
-        """Fresh variables for those of `t` with no value yet."""
-        for v in dict.fromkeys(iter_vars(t)):
-            if v not in known:
-                known.add(v)
-                lines.append(f"{pad}{names[v]} = V('_')")
-
-    def walk(x: str, pad: str) -> None:
-        lines.append(f"{pad}while type({x}) is V:")
-        lines.append(f"{pad}    y = get({x})")
-        lines.append(f"{pad}    if y is None: break")
-        lines.append(f"{pad}    {x} = y")
-
-    def unify_with(p: Term, x: str, pad: str, depth: int) -> None:
-        """Code unifying the head pattern `p` with the term named `x` (walked unless `p` is
-        a variable's first occurrence, which just names it)."""
-        nonlocal nodes
-        nodes += 1
-        if nodes > max_nodes or depth > max_depth:
-            raise OverflowError
-        if isinstance(p, Var):
-            if p in seen:
-                lines.append(f"{pad}if not unify({names[p]}, {x}): return None")
-            else:
-                seen.add(p)
-                lines.append(f"{pad}{names[p]} = {x}")
-            return
-        walk(x, pad)
-        if not isinstance(p, Struct) or is_ground(p):
-            c = const(p)
-            lines.append(f"{pad}if type({x}) is V: values[{x}] = {c}; trail.append({x})")
-            test = f"not unify({x}, {c})" if isinstance(p, Struct) else f"type({x}) is not type({c}) or {x} != {c}"
-            lines.append(f"{pad}elif {test}: return None")
-            return
-        # A compound with variables: built for an unbound goal variable, else taken apart;
-        # both branches leave the same variables named.
-        lines.append(f"{pad}if type({x}) is V:")
-        create(p, pad + "    ", set(seen))
-        lines.append(f"{pad}    values[{x}] = {build(p)}; trail.append({x})")
-        lines.append(f"{pad}elif type({x}) is S and {x}.name == {const(p.name)} and len({x}.args) == {len(p.args)}:")
-        args = f"a{next(counter)}"
-        lines.append(f"{pad}    {args} = {x}.args")
-        for i, sub in enumerate(p.args):
-            item = f"x{next(counter)}"
-            lines.append(f"{pad}    {item} = {args}[{i}]")
-            unify_with(sub, item, pad + "    ", depth + 1)
-        lines.append(f"{pad}else: return None")
-        seen.update(iter_vars(p))
-
-    try:
-        lines.append("    goal_args = goal.args")
-        for i, p in enumerate(head.args):
-            x = f"x{next(counter)}"
-            lines.append(f"    {x} = goal_args[{i}]")
-            unify_with(p, x, "    ", 0)
-        if body is TRUE:
-            result = "T"
-        else:
-            create(body, "    ", seen)
-            result = build(body)
-    except (OverflowError, RecursionError):
-        return _match_by_copy(clause)
-    source = ("def match(goal, b):\n    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
-              + "\n".join(lines) + f"\n    return {result}\n")
-    scope = {"S": Struct, "V": Var, "T": TRUE, "c": tuple(constants)}
-    exec(source, scope)
-    return scope["match"]
-
-
-COMPILE_AFTER = 2   # calls of a clause before its head unification is compiled
-
-
-def _match_ground(clause: StoredClause):
-    head, body = clause.head, clause.body
-
-    def match(goal: Term, b) -> Term | None:
-        return body if b.unify(head, goal) else None
-    return match
-
-
-def _match_by_copy(clause: StoredClause):
-    def match(goal: Term, b) -> Term | None:
-        head, body = clause.renamed()
-        return body if b.unify(head, goal) else None
-    return match
 
 
 class Predicate:

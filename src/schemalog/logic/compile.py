@@ -1,0 +1,318 @@
+"""Clauses compiled to Python: the head's unification and the body's goals, in one function.
+
+    activate(goal, b, height, rest) -> Goals | False     False: the head does not match
+    Goals = (Goal, cut_barrier, rest) | None               the engine's goal list (engine.py)
+    Goal  = Term | Call
+    Call  = (Builtin, args)                                a deterministic built-in, found when
+                                                           the clause was compiled
+
+Calling a clause unifies its head with the goal and pushes its body's goals. Compiled, that is
+one Python function per clause (the WAM's get and put instructions, in effect):
+
+- a head variable's first occurrence names the goal's argument; a constant is compared or
+  bound; a compound is taken apart where the goal has one, built where the goal has an unbound
+  variable; nothing of the head is copied;
+- the body's conjunction is flattened into the goal list, so `(A, B, C)` costs three goals,
+  not five; a variable goal G is call(G), as ISO converts a clause body (its cut is local);
+- a built-in that is not a control construct is resolved now, into a `Call`, so the engine
+  calls it without looking it up; `X is Y - 1` and the comparisons of integer sums,
+  differences and products are computed in Python, falling back to the general `is` (with its
+  errors, floats and big numbers) for anything else.
+
+Heads and bodies past a size bound, and a clause's first calls (`COMPILE_AFTER`: compiling
+costs an `exec`, worth it only for a clause called again and again), copy the clause and unify.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from .builtins import body_calls
+from .engine import BUILTINS, CONTROL
+from .terms import TRUE, Int, Struct, Term, Var, iter_vars, is_ground
+from .unify import rename
+
+Activation = Callable  # (goal, bindings, height, rest) -> Goals | False
+
+COMPILE_AFTER = 2   # calls of a clause before it is compiled
+
+
+def compile_copy(term: Term, max_nodes: int = 2_000, max_depth: int = 60):
+    """A function returning a copy of `term` with fresh variables, compiled to one Python
+    expression: `rename` walks the term on every call, this builds it directly, sharing
+    ground sub-terms. Very large or deep terms fall back to `rename`."""
+    variables: dict[Var, str] = {}
+    constants: list[Term] = []
+    nodes = 0
+
+    def expr(t: Term, depth: int) -> str:
+        nonlocal nodes
+        nodes += 1
+        if nodes > max_nodes or depth > max_depth:
+            raise OverflowError
+        if isinstance(t, Var):
+            name = variables.get(t)
+            if name is None:
+                name = variables[t] = f"v{len(variables)}"
+            return name
+        if isinstance(t, Struct) and not is_ground(t):
+            args = ", ".join(expr(a, depth + 1) for a in t.args)
+            constants.append(t.name)
+            return f"S(c[{len(constants) - 1}], ({args},))"
+        constants.append(t)
+        return f"c[{len(constants) - 1}]"
+
+    try:
+        body = expr(term, 0)
+    except OverflowError:
+        return lambda: rename(term)
+    fresh = "".join(f"    {name} = V('_')\n" for name in variables.values())
+    source = f"def copy():\n{fresh}    return {body}\n"
+    scope = {"S": Struct, "V": Var, "c": tuple(constants)}
+    exec(source, scope)
+    return scope["copy"]
+
+
+def body_goals(body: Term) -> list[Term]:
+    """The goals of a clause body's conjunction, nested conjunctions flattened, in order;
+    `true` alone is none. The body has its variable goals written call(G) already."""
+    out: list[Term] = []
+    stack = [body]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Struct) and t.name == "," and len(t.args) == 2:
+            stack.append(t.args[1])
+            stack.append(t.args[0])
+        else:
+            out.append(t)
+    return [] if out == [TRUE] else out
+
+
+def push_goals(goals: list[Term], height: int, rest):
+    """The goal list with `goals` in front of `rest`, each cutting to `height`."""
+    for goal in reversed(goals):
+        rest = (goal, height, rest)
+    return rest
+
+
+def activate_by_copy(head: Term, body: Term) -> Activation:
+    """An activation that copies the clause and unifies (no exec): a clause's first calls,
+    and clauses too large to compile."""
+    clause = Struct(":-", (head, body_calls(body)))
+    copy = compile_copy(clause)
+
+    def activate(goal: Term, b, height: int, rest):
+        fresh_head, fresh_body = copy().args
+        if not b.unify(fresh_head, goal):
+            return False
+        return push_goals(body_goals(fresh_body), height, rest)
+    return activate
+
+
+def activate_ground(head: Term, body: Term) -> Activation:
+    """A clause without variables (a fact of a task tree) needs no copy: unify it as it is."""
+    goals = body_goals(body)
+
+    def activate(goal: Term, b, height: int, rest):
+        if not b.unify(head, goal):
+            return False
+        return push_goals(goals, height, rest)
+    return activate
+
+
+# Integer arithmetic computed inline: a binary or unary operator over integers, whose result
+# (within _SMALL) needs neither the big-number limit nor a float.
+_INLINE_BINARY = {"+": "+", "-": "-", "*": "*"}
+_COMPARISONS = {"<": "<", ">": ">", "=<": "<=", ">=": ">=", "=:=": "==", "=\\=": "!="}
+_SMALL = 1 << 62
+
+
+def _inline_expression(t: Term, depth: int = 0) -> bool:
+    """Whether `t` is an integer expression the compiler computes inline."""
+    if depth > 8:
+        return False
+    if isinstance(t, (Var, Int)):
+        return True
+    if isinstance(t, Struct) and len(t.args) == 2 and t.name in _INLINE_BINARY:
+        return all(_inline_expression(a, depth + 1) for a in t.args)
+    if isinstance(t, Struct) and len(t.args) == 1 and t.name == "-":
+        return _inline_expression(t.args[0], depth + 1)
+    return False
+
+
+def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int = 12,
+                   max_goals: int = 200) -> Activation:
+    """Compile `head :- body` into an activation (see the module's docstring)."""
+    body = body_calls(body)
+    names: dict[Var, str] = {}          # every variable of the clause, named up front
+    for v in (*iter_vars(head), *iter_vars(body)):
+        names.setdefault(v, f"v{len(names)}")
+    seen: set[Var] = set()              # the variables the code so far has given a value
+    constants: list = []
+    lines: list[str] = []
+    helpers: list[str] = []             # module-level functions: the inline arithmetic
+    counter = iter(range(1 << 30))
+    nodes = 0
+
+    def const(t) -> str:
+        constants.append(t)
+        return f"c[{len(constants) - 1}]"
+
+    def build(t: Term, var=None) -> str:
+        """An expression building `t` from the named variables (or `var(v)` for a variable)."""
+        if isinstance(t, Var):
+            return var(t) if var else names[t]
+        if isinstance(t, Struct) and not is_ground(t):
+            return f"S({const(t.name)}, ({', '.join(build(a, var) for a in t.args)},))"
+        return const(t)
+
+    def create(t: Term, pad: str, known: set[Var]) -> None:
+        """Fresh variables for those of `t` with no value yet."""
+        for v in dict.fromkeys(iter_vars(t)):
+            if v not in known:
+                known.add(v)
+                lines.append(f"{pad}{names[v]} = V('_')")
+
+    def walk(x: str, pad: str, out: list[str]) -> None:
+        out.append(f"{pad}while type({x}) is V:")
+        out.append(f"{pad}    y = get({x})")
+        out.append(f"{pad}    if y is None: break")
+        out.append(f"{pad}    {x} = y")
+
+    def unify_with(p: Term, x: str, pad: str, depth: int) -> None:
+        """Code unifying the head pattern `p` with the term named `x` (walked unless `p` is
+        a variable's first occurrence, which just names it)."""
+        nonlocal nodes
+        nodes += 1
+        if nodes > max_nodes or depth > max_depth:
+            raise OverflowError
+        if isinstance(p, Var):
+            if p in seen:
+                lines.append(f"{pad}if not unify({names[p]}, {x}): return False")
+            else:
+                seen.add(p)
+                lines.append(f"{pad}{names[p]} = {x}")
+            return
+        walk(x, pad, lines)
+        if not isinstance(p, Struct) or is_ground(p):
+            c = const(p)
+            lines.append(f"{pad}if type({x}) is V: values[{x}] = {c}; trail.append({x})")
+            test = f"not unify({x}, {c})" if isinstance(p, Struct) else f"type({x}) is not type({c}) or {x} != {c}"
+            lines.append(f"{pad}elif {test}: return False")
+            return
+        # A compound with variables: built for an unbound goal variable, else taken apart;
+        # both branches leave the same variables named.
+        lines.append(f"{pad}if type({x}) is V:")
+        create(p, pad + "    ", set(seen))
+        lines.append(f"{pad}    values[{x}] = {build(p)}; trail.append({x})")
+        lines.append(f"{pad}elif type({x}) is S and {x}.name == {const(p.name)} and len({x}.args) == {len(p.args)}:")
+        args = f"a{next(counter)}"
+        lines.append(f"{pad}    {args} = {x}.args")
+        for i, sub in enumerate(p.args):
+            item = f"x{next(counter)}"
+            lines.append(f"{pad}    {item} = {args}[{i}]")
+            unify_with(sub, item, pad + "    ", depth + 1)
+        lines.append(f"{pad}else: return False")
+        seen.update(iter_vars(p))
+
+    def arithmetic(goal: Struct) -> str | None:
+        """A `Call` computing `goal` (is/2 or a comparison) inline, or None."""
+        name = goal.name
+        if name == "is":
+            if not _inline_expression(goal.args[1]) or isinstance(goal.args[1], (Var, Int)):
+                return None
+            exprs = [goal.args[1]]
+        elif name in _COMPARISONS:
+            if not all(_inline_expression(a) for a in goal.args):
+                return None
+            exprs = list(goal.args)
+        else:
+            return None
+        if name == "is" and not isinstance(goal.args[0], Var):
+            return None   # `3 is X + 1`: rare; the general built-in
+        operands = list(dict.fromkeys(v for e in exprs for v in iter_vars(e)))
+        slot = {v: f"a[{i + (name == 'is')}]" for i, v in enumerate(operands)}
+        fn = f"f{next(counter)}"
+        out = [f"def {fn}(e, a, b):", "    get = b.values.get"]
+        local = {}
+        for v in operands:
+            x = local[v] = f"x{next(counter)}"
+            out.append(f"    {x} = {slot[v]}")
+            walk(x, "    ", out)
+        test = " and ".join(f"type({x}) is I" for x in local.values()) or "True"
+
+        def value(t: Term) -> str:
+            if isinstance(t, Var):
+                return f"{local[t]}.value"
+            if isinstance(t, Int):
+                return repr(t.value)
+            if len(t.args) == 1:
+                return f"(-{value(t.args[0])})"
+            return f"({value(t.args[0])} {_INLINE_BINARY[t.name]} {value(t.args[1])})"
+
+        general = build(goal, var=lambda v: slot[v] if v in slot else "a[0]")
+        builtin = const(BUILTINS[(name, 2)])
+        out.append(f"    if {test}:")
+        if name == "is":
+            out.append(f"        r = {value(exprs[0])}")
+            out.append(f"        if -{_SMALL} < r < {_SMALL}:")
+            out.append("            t = a[0]")
+            out.append("            while type(t) is V:")
+            out.append("                y = get(t)")
+            out.append("                if y is None:")
+            out.append("                    b.values[t] = I(r); b.trail.append(t); return True")
+            out.append("                t = y")
+            out.append("            return type(t) is I and t.value == r")
+        else:
+            out.append(f"        return {value(exprs[0])} {_COMPARISONS[name]} {value(exprs[1])}")
+        # anything else (a float, an unbound variable, a big result): the general built-in
+        out.append(f"    return {builtin}(e, {general}.args, b)")
+        helpers.append("\n".join(out))
+        target = [names[goal.args[0]]] if name == "is" else []
+        return f"({fn}, ({', '.join(target + [names[v] for v in operands])},))"
+
+    def goal_code(goal: Term) -> str:
+        """The goal list entry of one body goal: a Call, or the goal's instance."""
+        if isinstance(goal, Struct):
+            key = (goal.name, len(goal.args))
+            fn = BUILTINS.get(key)
+            if fn is not None and key not in CONTROL:
+                inline = arithmetic(goal)
+                if inline is not None:
+                    return inline
+                return f"({const(fn)}, ({', '.join(build(a) for a in goal.args)},))"
+        return build(goal)
+
+    try:
+        if isinstance(head, Struct):   # an atom head (`go :- ...`) has nothing to unify
+            lines.append("    goal_args = goal.args")
+        for i, p in enumerate(head.args if isinstance(head, Struct) else ()):
+            x = f"x{next(counter)}"
+            lines.append(f"    {x} = goal_args[{i}]")
+            unify_with(p, x, "    ", 0)
+        goals = body_goals(body)
+        if len(goals) > max_goals:
+            raise OverflowError
+        for goal in goals:
+            create(goal, "    ", seen)
+        # The goal list is built last goal first, one statement each: Python's parser
+        # refuses more than 200 nested parentheses.
+        lines.append("    r = rest")
+        for goal in reversed(goals):
+            lines.append(f"    r = ({goal_code(goal)}, height, r)")
+    except (OverflowError, RecursionError):
+        return activate_by_copy(head, body)
+    source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
+        "def activate(goal, b, height, rest):\n"
+        "    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
+        + "\n".join(lines) + "\n    return r\n")
+    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "c": tuple(constants)}
+    try:
+        exec(source, scope)
+    except (SyntaxError, RecursionError, MemoryError):   # a body term too deep for Python's parser
+        return activate_by_copy(head, body)
+    return scope["activate"]
+
+
+__all__ = ["COMPILE_AFTER", "activate_by_copy", "activate_ground", "body_goals", "compile_clause",
+           "compile_copy", "push_goals"]

@@ -1,0 +1,103 @@
+"""Compiled clauses (logic/compile.py) answer as the clause copied and unified does."""
+
+from __future__ import annotations
+
+import re
+
+from hypothesis import given, settings, strategies as st
+
+from schemalog.formats.documents import document_from_text
+from schemalog.logic.compile import COMPILE_AFTER, activate_by_copy, body_goals, compile_clause
+from schemalog.logic.engine import Engine
+from schemalog.logic.exceptions import PrologError
+from schemalog.logic.parse import parse_term
+from schemalog.logic.terms import Float, term_to_text
+from schemalog.logic.unify import Bindings
+
+
+def answers(program: str, goal: str, times: int = 1) -> list[list[str]]:
+    """The answers to `goal`, asked `times` times of one knowledge base (so that the later
+    asks run the compiled clauses)."""
+    kb = document_from_text(program, "t.pl").to_kb()
+    return [[term_to_text(t) for t in Engine(kb).answers(parse_term(goal))] for _ in range(times)]
+
+
+def test_a_variable_goal_bound_to_a_cut_cuts_only_itself_once_compiled():
+    # `p(G) :- G, fail.` with G = ! is call(!), local: the second clause still runs (swipl:
+    # true). The compiled head used to name the goal's `!` in the body, cutting p itself.
+    program = "p(G) :- G, fail.\np(_).\nq(G) :- (G ; true), fail.\nq(_).\n"
+    assert answers(program, "p(!)", times=COMPILE_AFTER + 3) == [["p(!)"]] * (COMPILE_AFTER + 3)
+    assert answers(program, "q(!)", times=COMPILE_AFTER + 3) == [["q(!)"]] * (COMPILE_AFTER + 3)
+
+
+def test_a_body_of_100000_goals_is_called():
+    body = ", ".join(["true"] * 100_000)
+    program = f"p(X) :- {body}, X = done.\n"
+    assert answers(program, "p(X)", times=COMPILE_AFTER + 2)[-1] == ["p(done)"]
+
+
+def test_nested_conjunctions_are_flattened_in_order():
+    goals = body_goals(parse_term("((a, b), (c, (d, e)))"))
+    assert [term_to_text(g) for g in goals] == ["a", "b", "c", "d", "e"]
+    assert body_goals(parse_term("true")) == []
+
+
+# Arithmetic the compiler computes inline must agree with the general built-in on every
+# operand: small and big integers, floats, unbound variables, atoms. A clause's first calls
+# copy and unify (the general built-in); the later ones run the compiled clause.
+OPERANDS = st.one_of(st.integers(-5, 5), st.integers(-(1 << 70), 1 << 70), st.sampled_from([1 << 62, -(1 << 62)]),
+                     st.floats(allow_nan=False, allow_infinity=False, width=32), st.just("_"),
+                     st.just("foo"))
+GOALS = ["R is X + Y", "R is X - Y", "R is X * Y", "R is -(X) + Y * 2", "R is X - 1",
+         "X < Y", "X =< Y", "X > Y + 1", "X >= Y", "X =:= Y - 0", "X =\\= Y", "R is X + Y, R > 0"]
+
+
+def _text(x) -> str:
+    return term_to_text(Float(x)) if isinstance(x, float) else str(x)
+
+
+def _ask_repeatedly(goal: str, x, y, target) -> list[str]:
+    kb = document_from_text(f"t(X, Y, R) :- {goal}.\n", "t.pl").to_kb()
+    call = parse_term(f"t({_text(x)}, {_text(y)}, {_text(target)})")
+    out = []
+    for _ in range(COMPILE_AFTER + 2):
+        try:
+            out.append(",".join(term_to_text(t) for t in Engine(kb).answers(call)) or "fail")
+        except PrologError as err:
+            out.append(f"error {term_to_text(err.ball)}")
+    return [re.sub(r"_G[0-9]+", "_", answer) for answer in out]
+
+
+@settings(max_examples=500, deadline=None)
+@given(goal=st.sampled_from(GOALS), x=OPERANDS, y=OPERANDS, target=st.sampled_from(["_", 0, 3, "foo"]))
+def test_inline_arithmetic_answers_as_the_general_builtin(goal, x, y, target):
+    first, *compiled = _ask_repeatedly(goal, x, y, target)
+    assert compiled == [first] * len(compiled)
+
+
+def test_the_compiled_clause_is_the_one_that_answers_after_its_first_calls():
+    # So the test above compares two paths, not one path with itself.
+    kb = document_from_text("t(X, R) :- R is X + 1.\n", "t.pl").to_kb()
+    engine = Engine(kb)
+    for _ in range(COMPILE_AFTER + 1):
+        engine.first(parse_term("t(1, R)"))
+    (clause,) = kb.clauses("t", 2)
+    assert clause._activation is not None
+
+
+def test_compiled_and_copied_activations_give_the_same_goal_list():
+    head, body = parse_term("(t(X, [Y|Z]) :- (q(X), R is Y + 1), r(Z))").args
+    goal = parse_term("t(a, [1, 2])")
+    lists = []
+    for make in (activate_by_copy, compile_clause):
+        b = Bindings()
+        goals, entries = make(head, body)(goal, b, 7, None), []
+        while goals is not None:
+            entry, height, goals = goals
+            assert height == 7
+            entries.append(entry if isinstance(entry, tuple) else term_to_text(b.resolve(entry)))
+        lists.append(entries)
+    by_copy, compiled = lists
+    assert by_copy[0::2] == compiled[0::2] == ["q(a)", "r([2])"]
+    assert re.fullmatch(r"_G[0-9]+ is 1\+1", by_copy[1])                    # the goal, as a term
+    assert isinstance(compiled[1], tuple)                                 # a Call, found when compiled
