@@ -128,26 +128,11 @@ def swipl_program(swipl: str, program: str, goal: str, repeat: int, times: int) 
 
 
 def ours_nrev(repeat: int, times: int) -> float:
-    kb = document_from_text(NREV, "nrev.pl").to_kb()
-    best = float("inf")
-    for _ in range(repeat):
-        engine = Engine(kb, max_steps=10**10)
-        started = time.perf_counter()
-        engine.first(parse_term(f"range(1, 30, L), bench({times}, L)"))
-        best = min(best, time.perf_counter() - started)
-    return times * INFERENCES / best
+    return times * INFERENCES / ours_program(NREV, f"range(1, 30, L), bench({times}, L)", repeat)
 
 
 def swipl_nrev(swipl: str, repeat: int, times: int) -> float:
-    with tempfile.TemporaryDirectory() as tmp:
-        program = Path(tmp) / "nrev.pl"
-        program.write_text(NREV)
-        goal = (f"range(1, 30, L), findall(T, (between(1, {repeat}, _), statistics(cputime, T0), "
-                f"bench({times}, L), statistics(cputime, T1), T is T1 - T0), Ts), min_list(Ts, B), "
-                f"format('~w~n', [B]), halt")
-        out = subprocess.run([swipl, "-q", "-O", "-g", goal, str(program)], capture_output=True, text=True,
-                             check=True, timeout=600)
-    return times * INFERENCES / max(float(out.stdout.strip()), 1e-9)
+    return times * INFERENCES / swipl_program(swipl, NREV, f"range(1, 30, L), bench({times}, L)", repeat, 1)
 
 
 def join_program(size: int) -> tuple[list, str, int]:

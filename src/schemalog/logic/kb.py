@@ -34,8 +34,7 @@ from pathlib import Path
 from .. import defaults
 from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
-from .builtins import body_calls
-from .compile import COMPILE_AFTER, activate_ground, body_goals, compile_clause, compile_copy, push_goals
+from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
 from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
@@ -70,6 +69,7 @@ class StoredClause:
     key: Key | None = field(init=False)
     _copier: object = field(default=None, init=False, repr=False, compare=False)
     _activation: object = field(default=None, init=False, repr=False, compare=False)
+    _by_copy: object = field(default=None, init=False, repr=False, compare=False)
     _calls: int = field(default=0, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -94,10 +94,9 @@ class StoredClause:
             else:
                 self._calls += 1
                 if self._calls <= COMPILE_AFTER:
-                    head, body = self.renamed()
-                    if not b.unify(head, goal):
-                        return False
-                    return push_goals(body_goals(body_calls(body)), height, rest)
+                    if self._by_copy is None:
+                        self._by_copy = activate_by_copy(self.head, self.body)
+                    return self._by_copy(goal, b, height, rest)
                 activation = self._activation = compile_clause(self.head, self.body)
         return activation(goal, b, height, rest)
 
