@@ -99,13 +99,33 @@ def test_the_papers_pre_rule_is_refuted_by_verify():
     assert result.startswith("verify(prepareboth,counterexample(soundness,[")
 
 
+# s2 waits for lid.open, which nothing ever makes true: no run of the task completes.
+LID = """task(stuck).
+schema(stuck, [(s1, true), (s2, s1.done and lid.open)], s2.done).
+schema(s1, [], s1.done).  schema(s2, [], s2.done).
+"""
+
+
+def test_verify_of_a_task_that_cannot_complete_is_no_proof_not_proved(tmp_path):
+    path = tmp_path / "stuck.pl"
+    path.write_text(LID)
+    ws = Workspace([str(path)])
+    assert ask(ws, "verify(stuck, R)") == ["verify(stuck,no_proof(task_cannot_complete))"]
+    assert ask(ws, "verify(stuck, proved)") == []
+    path.write_text(LID + "initial(lid.open).\n")     # now it completes, and the proof says something
+    assert ask(Workspace([str(path)]), "verify(stuck, R)") == ["verify(stuck,proved)"]
+
+
 def test_a_compressed_file_is_read_with_its_provenance(tmp_path, mix):
     view = mix.focus
     written = tmp_path / "compressed.pl"
     written.write_text(to_pl(tree_document(view.compressed)))
     ws = Workspace([str(written)])
     assert ask(ws, "reduction_degree(T, RD)") == ["reduction_degree(use(spoon),0.6666666666666666)"]
-    assert ask(ws, "verify(use(spoon), R)") == ["verify(use(spoon),proved)"]
+    # The tree alone carries no initial/1: with nothing true, hand.free never holds.
+    assert ask(ws, "verify(use(spoon), R)") == ["verify(use(spoon),no_proof(task_cannot_complete))"]
+    written.write_text(to_pl(tree_document(view.compressed)) + "initial(hand.free).\n")
+    assert ask(Workspace([str(written)]), "verify(use(spoon), R)") == ["verify(use(spoon),proved)"]
 
 
 WAVE = """task(wave).

@@ -171,6 +171,19 @@ def test_a_command_that_raises_anything_is_reported_in_a_line_and_the_session_go
     assert "?- X = 1.\nX = 1.\n" in out and "% state: hand.free" in out
 
 
+def test_verify_in_the_repl_says_when_the_task_itself_cannot_complete(tmp_path):
+    path = tmp_path / "stuck.pl"
+    path.write_text("task(stuck).\nschema(stuck, [(s1, true), (s2, s1.done and lid.open)], s2.done).\n"
+                    "schema(s1, [], s1.done).  schema(s2, [], s2.done).\n")
+    code, out = piped(Workspace([str(path)]), ":verify\n")
+    assert code == 0 and "% stuck: no_proof(task_cannot_complete)" in out and "proved" not in out
+    assert "%   the task itself cannot complete: no run of the original accomplishes it" in out
+    assert f"%     why (schemalog lint): {path}:2:45: error: s2 can never be released: lid.open never holds" in out
+    assert "\n%       fix: correct the atom" in out     # every line of the cause is a comment line
+    code, out = piped(Workspace([str(MIX)]), ":verify\n")
+    assert "% use(spoon): proved" in out and "cannot complete" not in out
+
+
 def test_a_query_that_raises_anything_is_reported_and_the_traceback_is_only_for_debugging(monkeypatch, capsys):
     def answers(*args):
         raise ValueError("invalid literal for int() with base 16: '1b[2J'")

@@ -29,7 +29,8 @@ from ..logic.terms import Atom, Float, Int, Struct, Term, Var, is_ground, make_l
 from ..logic.unify import Bindings
 from ..run.execute import BASE_ACTIVATION, Executive, Plan, ScanSelector, emphasis, enabled_indices
 from ..run.scene import NO_SCENE, Scene
-from ..run.verify import prove
+from ..run.vacuity import vacuity_of, verdict_term
+from ..run.verify import DEFAULT_MAX_STATES, prove
 from ..run.world import World, initial_state
 from ..shipped import shipped_text
 from ..task import conditions as cond
@@ -302,28 +303,14 @@ class Workspace:
     def _verify(self, e: Engine, a: tuple, b: Bindings) -> bool:
         """verify(+Task, ?Result): the compressed tree against the original, from initial/1."""
         view, _ = self._tree_arg(b.walk(a[0]))
-        return b.unify(a[1], verdict_term(self.verify(view)))
+        return b.unify(a[1], verdict_term(*self.verify(view)))
 
-    def verify(self, view: TaskView):
-        """The verifier's report on `view`'s compression, from the files' initial state."""
+    def verify(self, view: TaskView) -> tuple:
+        """The verifier's report on `view`'s compression from the files' initial state, and the
+        Vacuity that says whether the original itself can complete from it."""
         world = World(view.original, self.initial)
-        initial = [world.atoms]
-        return prove(view.original, view.compressed, world, initial, None, view.task)
-
-
-def verdict_term(report) -> Term:
-    """proved | counterexample(Property, Steps) | no_proof(Why), Steps the compressed run."""
-    for name in ("soundness", "completion"):
-        verdict = report.properties[name]
-        if verdict.holds is False:
-            ce = verdict.counterexample
-            steps = [s.behaviour for s in ce.path] if ce is not None else []
-            if ce is not None and ce.behaviour is not None:
-                steps.append(ce.behaviour)
-            return Struct("counterexample", (Atom(name), make_list(steps)))
-    if report.exhaustive and report.sound and report.complete:
-        return Atom("proved")
-    return Struct("no_proof", (Atom("state_limit" if not report.exhaustive else "unknown"),))
+        report = prove(view.original, view.compressed, world, [world.atoms], None, view.task)
+        return report, vacuity_of(view.original, World(view.original), report.initial_states, DEFAULT_MAX_STATES)
 
 
 def emphases(plan: Plan, atoms: frozenset, scene: Scene) -> list[float]:

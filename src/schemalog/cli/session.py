@@ -219,13 +219,16 @@ class Repl:
         self.say(f"% {executive.outcome.status.name.lower()}: {executive.outcome.reason}")
 
     def verify(self, view) -> None:
-        from .relations import verdict_term
+        from ..run.vacuity import verdict_term
+        from .verify import vacuity_lines
 
-        report = self.workspace.verify(view)
-        self.say(f"% {term_to_text(view.task)}: {term_to_text(verdict_term(report))} "
+        report, vacuity = self.workspace.verify(view)
+        self.say(f"% {term_to_text(view.task)}: {term_to_text(verdict_term(report, vacuity))} "
                  f"({report.compressed_states:,} + {report.original_states:,} states, {report.seconds:.2f} s)")
         for verdict in report.properties.values():
             self.say(f"%   {verdict.name}: {verdict.summary}")
+        for line in "\n".join(vacuity_lines(vacuity)).splitlines():   # a lint cause has a fix: line
+            self.say(f"%   {line}")
 
     # -- the loop -------------------------------------------------------------------
     def loop(self, interactive: bool, stdin: TextIO = sys.stdin) -> int:

@@ -1,6 +1,7 @@
 """Whether a proof says anything: which covered initial states let the ORIGINAL task complete
 at all. A compressed tree proved sound and complete against a task that can never complete is
-proved vacuously; verify and compress --verify say so and exit 1 (docs/semantics.md).
+proved vacuously; verify and compress --verify say so and exit 1, verify/2 and the REPL's
+:verify answer no_proof(task_cannot_complete) (docs/semantics.md, docs/queries.md).
 
     Vacuity = (states, completes: tuple[bool | None], cause: lint Finding | None)
 """
@@ -10,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .. import defaults
+from ..logic.terms import Atom, Struct, Term, make_list
 
 
 @dataclass(frozen=True)
@@ -79,3 +81,22 @@ def original_completes(original, world, start, max_states: int) -> bool | None:
     except OutOfWork:
         return None
     return None if cut else False
+
+
+def verdict_term(report, vacuity: Vacuity | None = None) -> Term:
+    """verify/2's answer: counterexample(Property, Steps) (Steps the compressed run), proved, or
+    no_proof(Why) with Why task_cannot_complete (the original completes from no covered state:
+    a proof would be vacuous), state_limit or unknown."""
+    for name in ("soundness", "completion"):
+        verdict = report.properties[name]
+        if verdict.holds is False:
+            ce = verdict.counterexample
+            steps = [s.behaviour for s in ce.path] if ce is not None else []
+            if ce is not None and ce.behaviour is not None:
+                steps.append(ce.behaviour)
+            return Struct("counterexample", (Atom(name), make_list(steps)))
+    if vacuity is not None and vacuity.vacuous:
+        return Struct("no_proof", (Atom("task_cannot_complete"),))
+    if report.exhaustive and report.sound and report.complete:
+        return Atom("proved")
+    return Struct("no_proof", (Atom("state_limit" if not report.exhaustive else "unknown"),))
