@@ -800,6 +800,15 @@ def test_a_wrong_option_prints_the_commands_usage_not_the_top_levels():
         assert f"schemalog {args[0]}: error: unrecognized arguments: " in r.stderr
 
 
+def test_a_commands_option_before_its_name_is_pointed_after_it():
+    r = run("--json", "show", MIX)
+    assert r.returncode == 2 and r.stdout == ""
+    assert ("schemalog show: error: unrecognized arguments: --json (options of show go after its name: "
+            "schemalog show --json ...)") in r.stderr
+    assert "go after" not in run("--bogus", "show", MIX).stderr       # not one of show's: no hint
+    assert run("show", "--json", MIX).returncode == 0
+
+
 def test_the_top_level_help_states_each_exit_status_the_commands_return(tmp_path):
     text = run("--help").stdout
     stated = {int(line.split()[0]) for line in text.split("exit status:")[1].splitlines()

@@ -97,12 +97,26 @@ def main(argv: list[str] | None = None) -> int:
         if getattr(args, "command", None) == "query" and not any(e.startswith("-") for e in extra):
             args.files, args.query = [*args.files, args.query, *extra[:-1]], extra[-1]
         else:
-            getattr(args, "command_parser", parser).error(f"unrecognized arguments: {' '.join(extra)}")
+            command_parser = getattr(args, "command_parser", parser)
+            command_parser.error(f"unrecognized arguments: {' '.join(extra)}{_misplaced(argv, args, extra)}")
     if not getattr(args, "run", None):
         parser.print_help(sys.stderr)
         return 2
     with restored_memory_limit():
         return _run_command(args, parser)
+
+
+def _misplaced(argv: list[str], args: argparse.Namespace, extra: list[str]) -> str:
+    """The hint for `schemalog --json show FILE`: an option of the command, given before its name."""
+    command = getattr(args, "command", None)
+    accepted = getattr(getattr(args, "command_parser", None), "_option_string_actions", {})
+    if command not in argv:
+        return ""
+    before = argv[:argv.index(command)]
+    early = [e for e in extra if e.split("=", 1)[0] in accepted and e in before]
+    if not early:
+        return ""
+    return f" (options of {command} go after its name: schemalog {command} {' '.join(early)} ...)"
 
 
 def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
