@@ -28,7 +28,7 @@ from __future__ import annotations
 from typing import Callable
 
 from .builtins import body_calls
-from .engine import BUILTINS, CONTROL
+from .engine import BUILTINS, CONTROL, IfThen, IfThenElse, Not, Or, SoftIfThenElse
 from .terms import TRUE, Int, Struct, Term, Var, iter_vars, is_ground
 from .unify import rename
 
@@ -125,6 +125,8 @@ def activate_ground(head: Term, body: Term) -> Activation:
 _INLINE_BINARY = {"+": "+", "-": "-", "*": "*"}
 _COMPARISONS = {"<": "<", ">": ">", "=<": "<=", ">=": ">=", "=:=": "==", "=\\=": "!="}
 _SMALL = 1 << 62
+# Control constructs compiled into engine.Or and the like (`*->` alone stays a term: rare).
+_COMPILED_CONTROL = frozenset({(";", 2), ("->", 2), ("\\+", 1), ("not", 1)})
 
 
 def _inline_expression(t: Term, depth: int = 0) -> bool:
@@ -271,10 +273,33 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         target = [names[goal.args[0]]] if name == "is" else []
         return f"({fn}, ({', '.join(target + [names[v] for v in operands])},))"
 
-    def goal_code(goal: Term) -> str:
-        """The goal list entry of one body goal: a Call, or the goal's instance."""
+    def branch(t: Term, depth: int) -> str:
+        """A tuple of the goal list entries of a control construct's part."""
+        return "(" + "".join(goal_code(g, depth) + ", " for g in body_goals(t)) + ")"
+
+    def control(goal: Struct, depth: int) -> str:
+        """A compiled control construct (engine.Or and the like) with its parts compiled."""
+        if depth > max_depth:
+            raise OverflowError
+        depth += 1
+        if goal.name == ";":
+            left, right = goal.args
+            if isinstance(left, Struct) and len(left.args) == 2 and left.name in ("->", "*->"):
+                kind = "ITE" if left.name == "->" else "SITE"
+                return (f"{kind}({branch(left.args[0], depth)}, {branch(left.args[1], depth)}, "
+                        f"{branch(right, depth)})")
+            return f"OR({branch(left, depth)}, {branch(right, depth)})"
+        if goal.name == "->":
+            return f"IT({branch(goal.args[0], depth)}, {branch(goal.args[1], depth)})"
+        return f"NOT({branch(goal.args[0], depth)})"
+
+    def goal_code(goal: Term, depth: int = 0) -> str:
+        """The goal list entry of one body goal: a Call, a compiled control construct, or
+        the goal's instance."""
         if isinstance(goal, Struct):
             key = (goal.name, len(goal.args))
+            if key in _COMPILED_CONTROL:
+                return control(goal, depth)
             fn = BUILTINS.get(key)
             if fn is not None and key not in CONTROL:
                 inline = arithmetic(goal)
@@ -306,7 +331,8 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         "def activate(goal, b, height, rest):\n"
         "    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
         + "\n".join(lines) + "\n    return r\n")
-    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "c": tuple(constants)}
+    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "c": tuple(constants), "OR": Or, "ITE": IfThenElse,
+             "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not}
     try:
         exec(source, scope)
     except (SyntaxError, RecursionError, MemoryError):   # a body term too deep for Python's parser

@@ -68,6 +68,62 @@ class _ExitCatch:
         self.height = height
 
 
+# Control constructs a compiled clause body found (compile.py): each part is a branch, the
+# tuple of its goal list entries, pushed when the construct is called. Interpreted, the same
+# constructs are terms the machine takes apart on every call.
+class Or:
+    """`A ; B`, A not an if-then(-else)."""
+
+    __slots__ = ("left", "right")
+
+    def __init__(self, left: tuple, right: tuple) -> None:
+        self.left = left
+        self.right = right
+
+
+class IfThenElse:
+    """`C -> T ; E`."""
+
+    __slots__ = ("cond", "then", "otherwise")
+
+    def __init__(self, cond: tuple, then: tuple, otherwise: tuple) -> None:
+        self.cond = cond
+        self.then = then
+        self.otherwise = otherwise
+
+
+class SoftIfThenElse(IfThenElse):
+    """`C *-> T ; E`."""
+
+    __slots__ = ()
+
+
+class IfThen:
+    """`C -> T` without an else-branch."""
+
+    __slots__ = ("cond", "then")
+
+    def __init__(self, cond: tuple, then: tuple) -> None:
+        self.cond = cond
+        self.then = then
+
+
+class Not:
+    """`\\+ G`."""
+
+    __slots__ = ("goal",)
+
+    def __init__(self, goal: tuple) -> None:
+        self.goal = goal
+
+
+def _push(branch: tuple, cutb: int, rest):
+    """The goal list with a compiled branch's entries in front of `rest`, each cutting to `cutb`."""
+    for entry in reversed(branch):
+        rest = (entry, cutb, rest)
+    return rest
+
+
 # Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
 _CLAUSES, _ALT, _NONDET, _CATCH, _DEAD = range(5)
 
@@ -197,6 +253,25 @@ class Engine:
                         name, args = term.name, term.args
                     else:
                         raise type_error("callable", term)
+                elif kind is Or:
+                    cps.append((_ALT, len(b.trail), _push(term.right, cutb, rest)))
+                    goals = _push(term.left, cutb, rest)
+                    continue
+                elif kind is Not:
+                    height = len(cps)
+                    cps.append((_ALT, len(b.trail), rest))
+                    goals = _push(term.goal, height + 1, (_FailAfterCut(height), cutb, None))
+                    continue
+                elif kind is IfThenElse or kind is SoftIfThenElse:
+                    height = len(cps)
+                    cps.append((_ALT, len(b.trail), _push(term.otherwise, cutb, rest)))
+                    commit = _CutTo(height) if kind is IfThenElse else _SoftCut(height)
+                    goals = _push(term.cond, height + 1, (commit, cutb, _push(term.then, cutb, rest)))
+                    continue
+                elif kind is IfThen:
+                    height = len(cps)
+                    goals = _push(term.cond, height, (_CutTo(height), cutb, _push(term.then, cutb, rest)))
+                    continue
                 else:
                     if isinstance(term, _CutTo):
                         del cps[term.height:]
