@@ -146,6 +146,7 @@ class Engine:
         self.steps = 0
         self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
         self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
+        self._special = _special_goals(self.builtins, self.nondet)   # 3 us: built per engine
 
     # -- public API -----------------------------------------------------------
     def solve(self, goal: Term, bindings: Bindings | None = None) -> Iterator[Bindings]:
@@ -194,7 +195,7 @@ class Engine:
         cps: list[tuple] = []
         goals = (goal, 0, None)
         kb = self.kb
-        builtins = self.builtins
+        special = self._special
         nondet = self.nondet
         predicates = kb.predicates
         max_steps = self.max_steps
@@ -297,7 +298,8 @@ class Engine:
 
                 # Control constructs ------------------------------------------
                 key = (name, arity)
-                if key in CONTROL or name == "call":  # one test for the common case, a user predicate
+                entry = special.get(key)   # one lookup for the common case, a user predicate
+                if entry is _CONTROL_ENTRY or name == "call":
                     if arity == 2 and name == ",":
                         goals = (args[0], cutb, (args[1], cutb, rest))
                         continue
@@ -355,10 +357,9 @@ class Engine:
                         goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
                         continue
                 # Builtins ----------------------------------------------------
-                fn = builtins.get(key)
-                if fn is not None:
-                    mark = b.mark()
-                    ok = fn(self, args, b)
+                if entry is not None and entry is not _CONTROL_ENTRY and entry is not _NONDET_ENTRY:
+                    mark = len(b.trail)
+                    ok = entry(self, args, b)
                     if b.work:  # the cells the built-in resolved (a copy, an assert, a sort)
                         self._charge_work(b)
                     if ok:
@@ -369,8 +370,8 @@ class Engine:
                         if goals is False:
                             return
                     continue
-                gen_fn = nondet.get(key)
-                if gen_fn is not None:
+                if entry is _NONDET_ENTRY:
+                    gen_fn = nondet[key]
                     mark = b.mark()
                     gen = gen_fn(self, args, b)
                     cps.append((_NONDET, mark, gen, rest))
@@ -513,6 +514,18 @@ CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("no
 NONDET_BUILTINS: dict[tuple[str, int], NondetBuiltin] = {**CORE_NONDET, **EXTRA_NONDET}
 BUILTINS: dict[tuple[str, int], Builtin] = {key: fn for key, fn in {**CORE, **EXTRA, **ECLIPSE}.items()
                                             if key not in NONDET_BUILTINS}
+
+
+# What the machine does with a goal of each name and arity that is not a user predicate:
+# a control construct, a nondeterministic built-in, or the deterministic built-in itself.
+_CONTROL_ENTRY, _NONDET_ENTRY = object(), object()
+
+
+def _special_goals(builtins: dict, nondet: dict) -> dict:
+    """The goals the machine handles itself, by (name, arity): control constructs first, then
+    deterministic built-ins, then nondeterministic ones (the order the machine tries them in)."""
+    return {**{key: _NONDET_ENTRY for key in nondet}, **builtins, **{key: _CONTROL_ENTRY for key in CONTROL}}
+
 
 
 def is_builtin(name: str, arity: int) -> bool:

@@ -201,6 +201,8 @@ class Predicate:
         if index is None:
             index, self._unindexed = _build_index(clauses, lambda c: c.key)
             self._index = index
+        if not index:   # no clause has a constant first argument (tak/4): no key to compute
+            return self._unindexed
         kind = type(first)
         if kind is Struct:
             key = ("s", first.name, len(first.args))
