@@ -25,6 +25,7 @@ costs an `exec`, worth it only for a clause called again and again), copy the cl
 
 from __future__ import annotations
 
+import re
 from typing import Callable
 
 from .builtins import body_calls
@@ -157,8 +158,9 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
     nodes = 0
 
     def const(t) -> str:
+        # a global of the generated code: one look-up where `c[k]` takes two
         constants.append(t)
-        return f"c[{len(constants) - 1}]"
+        return f"c{len(constants) - 1}"
 
     def build(t: Term, var=None) -> str:
         """An expression building `t` from the named variables (or `var(v)` for a variable)."""
@@ -327,12 +329,16 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             lines.append(f"    r = ({goal_code(goal)}, height, r)")
     except (OverflowError, RecursionError):
         return activate_by_copy(head, body)
+    code = "\n".join(lines)
+    # only the look-ups the code uses: a clause of variables alone (tak/4) needs none
+    prologue = "".join(f"    {line}\n" for word, line in (
+        ("values", "values = b.values"), ("trail", "trail = b.trail"), ("get", "get = b.values.get"),
+        ("unify", "unify = b.unify")) if re.search(rf"\b{word}\b", code))
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
-        "def activate(goal, b, height, rest):\n"
-        "    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
-        + "\n".join(lines) + "\n    return r\n")
-    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "c": tuple(constants), "OR": Or, "ITE": IfThenElse,
-             "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not}
+        "def activate(goal, b, height, rest):\n" + prologue + code + "\n    return r\n")
+    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,
+             "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not,
+             **{f"c{k}": constant for k, constant in enumerate(constants)}}
     try:
         exec(source, scope)
     except (SyntaxError, RecursionError, MemoryError):   # a body term too deep for Python's parser
