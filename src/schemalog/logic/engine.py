@@ -124,6 +124,8 @@ def _push(branch: tuple, cutb: int, rest):
     return rest
 
 
+_POLL = 256   # steps between two looks at `interrupted` (a few hundred microseconds)
+
 # Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
 _CLAUSES, _ALT, _NONDET, _CATCH, _DEAD = range(5)
 
@@ -199,6 +201,7 @@ class Engine:
         nondet = self.nondet
         predicates = kb.predicates
         max_steps = self.max_steps
+        check = self.steps   # the count at which the limit and Ctrl-C are looked at next
         while True:
             try:
                 if goals is None:
@@ -217,12 +220,15 @@ class Engine:
                     continue
                 term, cutb, rest = goals
                 # An attribute, not a local: built-ins and sub-machines add to the same count.
+                # One test per step: Ctrl-C is looked for every _POLL steps, with the limit.
                 self.steps += 1
-                if self.steps > max_steps:
-                    raise self._over()
-                if self.interrupted:
-                    self.interrupted = False
-                    raise SchemalogError("interrupted")
+                if self.steps > check:
+                    if self.steps > max_steps:
+                        raise self._over()
+                    if self.interrupted:
+                        self.interrupted = False
+                        raise SchemalogError("interrupted")
+                    check = min(max_steps, self.steps + _POLL)
                 kind = type(term)
                 if kind is tuple:  # a Call: a built-in a compiled clause body found (compile.py)
                     mark = len(b.trail)
@@ -390,23 +396,27 @@ class Engine:
                         continue
                     raise existence_error(name, arity)
                 candidates = pred.select(args, b)
-                if len(candidates) == 1:  # one clause to try: no choicepoint to leave
-                    clause = candidates[0]
-                    mark = len(b.trail)
-                    activation = clause._activation
-                    goals = (activation(term, b, len(cps), rest) if activation is not None
-                             else clause.activate(term, b, len(cps), rest))
-                    if goals is False:
-                        b.undo(mark)
-                        goals = self._backtrack(cps, b)
-                        if goals is False:
-                            return
-                    continue
+                # The first clause whose head matches is tried here, and a choicepoint left
+                # only when clauses remain (as _backtrack would, without a round trip).
                 height = len(cps)
-                cps.append((_CLAUSES, b.mark(), term, candidates, 0, rest, height))
-                goals = self._backtrack(cps, b)
-                if goals is False:
-                    return
+                mark = len(b.trail)
+                count = len(candidates)
+                index = 0
+                while index < count:
+                    clause = candidates[index]
+                    index += 1
+                    activation = clause._activation
+                    goals = (activation(term, b, height, rest) if activation is not None
+                             else clause.activate(term, b, height, rest))
+                    if goals is not False:
+                        if index < count:
+                            cps.append((_CLAUSES, mark, term, candidates, index, rest, height))
+                        break
+                    b.undo(mark)
+                else:
+                    goals = self._backtrack(cps, b)
+                    if goals is False:
+                        return
             except PrologError as err:
                 goals = self._handle_throw(err, cps, b)
             except MemoryError:
