@@ -169,3 +169,16 @@ def test_cuts_inside_compiled_control_constructs_reach_as_interpreted():
     for what, program, goal, expected in CUTS:
         for answer in _all_answers(CONTROL_PROGRAM + program, goal, COMPILE_AFTER + 2):
             assert answer == expected, what
+
+
+# `X = Y` in a compiled body binds an unbound side itself (compile.unify_goal): the same
+# answers as the general unification, whichever side is bound, shared or cyclic.
+SIDES = st.sampled_from(["_", "A", "a", "1", "f(_)", "f(A)", "f(a)", "g(A, B)", "[A|B]", "A-A"])
+
+
+@settings(max_examples=200, deadline=None)
+@given(left=SIDES, right=SIDES, pattern=st.sampled_from(["X = Y", "Y = X", "X = f(Y)", "X = Y, Y = X"]))
+def test_compiled_unification_answers_as_the_general_one(left, right, pattern):
+    program = f"t(X, Y) :- {pattern}.\n"
+    first, *compiled = _all_answers(program, f"B = b, t({left}, {right})", COMPILE_AFTER + 2)
+    assert compiled == [first] * len(compiled)

@@ -143,6 +143,34 @@ def _inline_expression(t: Term, depth: int = 0) -> bool:
     return False
 
 
+def unify_goal(e, a: tuple, b) -> bool:
+    """`X = Y` as a compiled body calls it: an unbound side is bound at once, without the
+    general unification's set-up; anything else is the general unification."""
+    x, y = a
+    get = b.values.get
+    while type(x) is Var:
+        bound = get(x)
+        if bound is None:
+            break
+        x = bound
+    while type(y) is Var:
+        bound = get(y)
+        if bound is None:
+            break
+        y = bound
+    if x is y:
+        return True
+    if type(x) is Var:   # the side bound first, as Bindings.unify binds it
+        b.values[x] = y
+        b.trail.append(x)
+        return True
+    if type(y) is Var:
+        b.values[y] = x
+        b.trail.append(y)
+        return True
+    return b.unify(x, y)
+
+
 def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int = 12,
                    max_goals: int = 200) -> Activation:
     """Compile `head :- body` into an activation (see the module's docstring)."""
@@ -302,6 +330,8 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             key = (goal.name, len(goal.args))
             if key in _COMPILED_CONTROL:
                 return control(goal, depth)
+            if key == ("=", 2):
+                return f"(U, ({build(goal.args[0])}, {build(goal.args[1])},))"
             fn = BUILTINS.get(key)
             if fn is not None and key not in CONTROL:
                 inline = arithmetic(goal)
@@ -337,7 +367,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
         "def activate(goal, b, height, rest):\n" + prologue + code + "\n    return r\n")
     scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,
-             "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not,
+             "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not, "U": unify_goal,
              **{f"c{k}": constant for k, constant in enumerate(constants)}}
     try:
         exec(source, scope)
@@ -347,4 +377,4 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
 
 
 __all__ = ["COMPILE_AFTER", "activate_by_copy", "activate_ground", "body_goals", "compile_clause",
-           "compile_copy", "push_goals"]
+           "compile_copy", "push_goals", "unify_goal"]
