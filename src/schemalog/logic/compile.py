@@ -303,6 +303,35 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         target = [names[goal.args[0]]] if name == "is" else []
         return f"({fn}, ({', '.join(target + [names[v] for v in operands])},))"
 
+    def guard(goal: Term) -> bool:
+        """Code testing a first body goal that compares integers of the head (tak/4's
+        `X =< Y`) in the activation: False when it fails, so the clause fails as its head
+        would, before a choicepoint is left for the next clause; `known` tells whether the
+        test was made (else the goal stays in the body, for floats, unbound variables and
+        errors)."""
+        if not (isinstance(goal, Struct) and goal.name in _COMPARISONS and len(goal.args) == 2
+                and all(_inline_expression(a) for a in goal.args) and set(iter_vars(goal)) <= seen):
+            return False
+        local = {}
+        for v in dict.fromkeys(iter_vars(goal)):
+            x = local[v] = f"g{next(counter)}"
+            lines.append(f"    {x} = {names[v]}")
+            walk(x, "    ", lines)
+
+        def value(t: Term) -> str:
+            if isinstance(t, Var):
+                return f"{local[t]}.value"
+            if isinstance(t, Int):
+                return repr(t.value)
+            if len(t.args) == 1:
+                return f"(-{value(t.args[0])})"
+            return f"({value(t.args[0])} {_INLINE_BINARY[t.name]} {value(t.args[1])})"
+
+        lines.append("    known = " + (" and ".join(f"type({x}) is I" for x in local.values()) or "True"))
+        lines.append(f"    if known and not {value(goal.args[0])} {_COMPARISONS[goal.name]} {value(goal.args[1])}:"
+                     " return False")
+        return True
+
     def branch(t: Term, depth: int) -> str:
         """A tuple of the goal list entries of a control construct's part."""
         return "(" + "".join(goal_code(g, depth) + ", " for g in body_goals(t)) + ")"
@@ -350,13 +379,16 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         goals = body_goals(body)
         if len(goals) > max_goals:
             raise OverflowError
+        test = guard(goals[0]) if goals else None
         for goal in goals:
             create(goal, "    ", seen)
         # The goal list is built last goal first, one statement each: Python's parser
         # refuses more than 200 nested parentheses.
         lines.append("    r = rest")
-        for goal in reversed(goals):
+        for goal in reversed(goals[1:] if test else goals):
             lines.append(f"    r = ({goal_code(goal)}, height, r)")
+        if test:
+            lines.append(f"    if not known: r = ({goal_code(goals[0])}, height, r)")
     except (OverflowError, RecursionError):
         return activate_by_copy(head, body)
     code = "\n".join(lines)
