@@ -395,7 +395,25 @@ class Engine:
                             return
                         continue
                     raise existence_error(name, arity)
-                candidates = pred.select(args, b)
+                # Predicate.select, its commonest case inline: a first argument bound to a
+                # compound or an atom, looked up in the index already built.
+                index = pred._index
+                if index:
+                    first = args[0]
+                    while type(first) is Var:
+                        bound = b.values.get(first)
+                        if bound is None:
+                            break
+                        first = bound
+                    kind = type(first)
+                    if kind is Struct:
+                        candidates = index.get(("s", first.name, len(first.args)), pred._unindexed)
+                    elif kind is Atom:
+                        candidates = index.get(("a", first.name), pred._unindexed)
+                    else:
+                        candidates = pred.select(args, b)
+                else:
+                    candidates = pred.select(args, b)
                 # The first clause whose head matches is tried here, and a choicepoint left
                 # only when clauses remain (as _backtrack would, without a round trip).
                 height = len(cps)

@@ -182,7 +182,8 @@ class Predicate:
 
     def select(self, args: tuple, b) -> list[StoredClause]:
         """The clauses that may match a call with these arguments (the engine's hot path:
-        the first argument dereferenced and keyed inline)."""
+        the first argument dereferenced and keyed inline; engine._run inlines the case of
+        an index already built, so the two must key alike)."""
         clauses = self.clauses
         if len(clauses) < self.MIN_CLAUSES or not args:
             self._shared = True
