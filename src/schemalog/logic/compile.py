@@ -2,9 +2,12 @@
 
     activate(goal, b, height, rest) -> Goals | False     False: the head does not match
     Goals = (Goal, cut_barrier, rest) | None               the engine's goal list (engine.py)
-    Goal  = Term | Call
+    Goal  = Term | Call | Or | IfThenElse | IfThen | Not
     Call  = (Builtin, args)                                a deterministic built-in, found when
                                                            the clause was compiled
+    Or(left, right), IfThenElse(cond, then, otherwise), IfThen(cond, then), Not(goal)
+                                                           a control construct (engine.py), each
+                                                           part a tuple of Goals
 
 Calling a clause unifies its head with the goal and pushes its body's goals. Compiled, that is
 one Python function per clause (the WAM's get and put instructions, in effect):
@@ -17,7 +20,13 @@ one Python function per clause (the WAM's get and put instructions, in effect):
 - a built-in that is not a control construct is resolved now, into a `Call`, so the engine
   calls it without looking it up; `X is Y - 1` and the comparisons of integer sums,
   differences and products are computed in Python, falling back to the general `is` (with its
-  errors, floats and big numbers) for anything else.
+  errors, floats and big numbers) for anything else; `X = Y` binds an unbound side itself;
+- `;`, `->`, `*->` with an else-branch, `\\+` and `not` become the engine's Or, IfThenElse,
+  IfThen and Not with their parts compiled the same way (their cuts reach as interpreted: the
+  condition's is local, a branch's cuts the clause); `*->` without else stays a term;
+- a first body goal comparing integers of the head (tak's `X =< Y`) is also tested in the
+  activation, which fails as a head would: no choicepoint is left for the next clause only to
+  fail at once. On anything but integers the goal stays first in the body, with its errors.
 
 Heads and bodies past a size bound, and a clause's first calls (`COMPILE_AFTER`: compiling
 costs an `exec`, worth it only for a clause called again and again), copy the clause and unify.

@@ -1,7 +1,9 @@
 """SLD resolution: depth-first, backtracking, iterative, with a step limit.
 
-    Goals       = (goal: Term | Call | Marker, cut_barrier: int, rest: Goals) | None   (a linked list)
+    Goals       = (goal: Term | Call | Control | Marker, cut_barrier: int, rest: Goals) | None
+                                                      (a linked list)
     Call        = (Builtin, args)                     a built-in a compiled clause found (compile.py)
+    Control     = Or | IfThenElse | IfThen | Not      a control construct a compiled clause found
     ChoicePoint = (kind, trail_mark, ...)                                               (a stack)
 
 The machine pops a goal, rewrites control constructs into goals and choicepoints,
