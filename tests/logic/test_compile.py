@@ -101,3 +101,97 @@ def test_compiled_and_copied_activations_give_the_same_goal_list():
     assert by_copy[0::2] == compiled[0::2] == ["q(a)", "r([2])"]
     assert re.fullmatch(r"_G[0-9]+ is 1\+1", by_copy[1])                    # the goal, as a term
     assert isinstance(compiled[1], tuple)                                 # a Call, found when compiled
+
+
+# Control constructs inside a compiled body (engine.Or, IfThenElse, IfThen, Not) must answer
+# as the interpreted terms do: the clause's first calls copy and unify, pushing `;`, `->`
+# and `\+` as terms; the later ones run the compiled constructs.
+CONTROL_PROGRAM = "p(a). p(b). q(b). q(c).\n"
+LEAVES = st.sampled_from(["p(X)", "q(X)", "p(Y)", "q(Y)", "X == Y", "X = a", "!", "true", "fail",
+                          "(Y = c ; Y = a)", "call(G)"])
+
+
+def _bodies(leaf):
+    def binary(op):
+        return st.tuples(leaf, leaf).map(lambda pair: f"({pair[0]} {op} {pair[1]})")
+    return st.one_of(binary(","), binary(";"), binary("->"), binary("*->"),
+                     st.tuples(leaf, leaf, leaf).map(lambda t: f"({t[0]} -> {t[1]} ; {t[2]})"),
+                     st.tuples(leaf, leaf, leaf).map(lambda t: f"({t[0]} *-> {t[1]} ; {t[2]})"),
+                     leaf.map(lambda g: f"\\+ {g}"), leaf.map(lambda g: f"not({g})"))
+
+
+BODIES = st.recursive(LEAVES, _bodies, max_leaves=8)
+
+
+def _all_answers(program: str, goal: str, times: int) -> list[list[str]]:
+    kb = document_from_text(program, "t.pl").to_kb()
+    out = []
+    for _ in range(times):
+        try:
+            out.append([re.sub(r"_G[0-9]+", "_", term_to_text(t)) for t in Engine(kb).answers(parse_term(goal))])
+        except PrologError as err:
+            out.append([re.sub(r"_G[0-9]+", "_", f"error {term_to_text(err.ball)}")])
+    return out
+
+
+@settings(max_examples=300, deadline=None)
+@given(body=BODIES, g=st.sampled_from(["true", "!", "fail", "p(X)", "(p(X), !)"]))
+def test_compiled_control_constructs_answer_as_the_interpreted_terms(body, g):
+    # A second clause shows whether a cut reached the clause; G is a meta-called goal.
+    program = CONTROL_PROGRAM + f"t(X, Y, G) :- {body}, Y = Y.\nt(z, z, _).\n"
+    first, *compiled = _all_answers(program, f"t(X, Y, {g})", COMPILE_AFTER + 2)
+    assert compiled == [first] * len(compiled)
+
+
+def test_the_compiled_body_holds_control_constructs_not_terms():
+    # So the test above compares two paths: the compiled clause pushes an engine.Or.
+    from schemalog.logic.engine import Or
+    head, body = parse_term("(t(X) :- (X = a ; X = b))").args
+    entry, _, _ = compile_clause(head, body)(parse_term("t(Y)"), Bindings(), 0, None)
+    assert isinstance(entry, Or)
+
+
+CUTS = [("a cut in an if-then-else condition is local to it",
+         "t(X) :- ((p(X), !) -> true ; X = none).\nt(last).\n", "t(X)", ["t(a)", "t(last)"]),
+        ("a cut in a disjunction's branch cuts the clause",
+         "t(X) :- (p(X), ! ; X = other).\nt(last).\n", "t(X)", ["t(a)"]),
+        ("a cut in a then-branch cuts the clause",
+         "t(X) :- (true -> p(X), ! ; X = other).\nt(last).\n", "t(X)", ["t(a)"]),
+        ("a cut inside negation is local to it",
+         "t(X) :- \\+ (p(_), !, fail), X = yes.\nt(last).\n", "t(X)", ["t(yes)", "t(last)"]),
+        ("an if-then without else fails when its condition fails",
+         "t(X) :- (X == q -> true), X = q.\nt(last).\n", "t(X)", ["t(last)"]),
+        ("a soft cut keeps the condition's alternatives",
+         "t(X) :- (p(X) *-> true ; X = none).\nt(last).\n", "t(X)", ["t(a)", "t(b)", "t(last)"])]
+
+
+def test_cuts_inside_compiled_control_constructs_reach_as_interpreted():
+    for what, program, goal, expected in CUTS:
+        for answer in _all_answers(CONTROL_PROGRAM + program, goal, COMPILE_AFTER + 2):
+            assert answer == expected, what
+
+
+# `X = Y` in a compiled body binds an unbound side itself (compile.unify_goal): the same
+# answers as the general unification, whichever side is bound, shared or cyclic.
+SIDES = st.sampled_from(["_", "A", "a", "1", "f(_)", "f(A)", "f(a)", "g(A, B)", "[A|B]", "A-A"])
+
+
+@settings(max_examples=200, deadline=None)
+@given(left=SIDES, right=SIDES, pattern=st.sampled_from(["X = Y", "Y = X", "X = f(Y)", "X = Y, Y = X"]))
+def test_compiled_unification_answers_as_the_general_one(left, right, pattern):
+    program = f"t(X, Y) :- {pattern}.\n"
+    first, *compiled = _all_answers(program, f"B = b, t({left}, {right})", COMPILE_AFTER + 2)
+    assert compiled == [first] * len(compiled)
+
+
+# A first body goal comparing the head's integers is tested in the activation (a guard):
+# failing, the clause fails before a choicepoint is left; on anything but integers the
+# goal runs as the body's first, with its errors.
+@settings(max_examples=300, deadline=None)
+@given(test=st.sampled_from(["X < Y", "X =< Y", "X > Y + 1", "X - 1 >= Y * 2", "X =:= Y", "X =\\= Y"]),
+       cut=st.sampled_from(["!, ", "", "fail ; "]), x=OPERANDS, y=OPERANDS)
+def test_a_guard_answers_as_the_comparison_in_the_body(test, cut, x, y):
+    program = f"t(X, Y, R) :- {test}, {cut}R = first.\nt(_, _, second).\n"
+    goal = f"t({_text(x)}, {_text(y)}, R)"
+    first, *compiled = _all_answers(program, goal, COMPILE_AFTER + 2)
+    assert compiled == [first] * len(compiled)

@@ -2,9 +2,12 @@
 
     activate(goal, b, height, rest) -> Goals | False     False: the head does not match
     Goals = (Goal, cut_barrier, rest) | None               the engine's goal list (engine.py)
-    Goal  = Term | Call
+    Goal  = Term | Call | Or | IfThenElse | IfThen | Not
     Call  = (Builtin, args)                                a deterministic built-in, found when
                                                            the clause was compiled
+    Or(left, right), IfThenElse(cond, then, otherwise), IfThen(cond, then), Not(goal)
+                                                           a control construct (engine.py), each
+                                                           part a tuple of Goals
 
 Calling a clause unifies its head with the goal and pushes its body's goals. Compiled, that is
 one Python function per clause (the WAM's get and put instructions, in effect):
@@ -17,7 +20,13 @@ one Python function per clause (the WAM's get and put instructions, in effect):
 - a built-in that is not a control construct is resolved now, into a `Call`, so the engine
   calls it without looking it up; `X is Y - 1` and the comparisons of integer sums,
   differences and products are computed in Python, falling back to the general `is` (with its
-  errors, floats and big numbers) for anything else.
+  errors, floats and big numbers) for anything else; `X = Y` binds an unbound side itself;
+- `;`, `->`, `*->` with an else-branch, `\\+` and `not` become the engine's Or, IfThenElse,
+  IfThen and Not with their parts compiled the same way (their cuts reach as interpreted: the
+  condition's is local, a branch's cuts the clause); `*->` without else stays a term;
+- a first body goal comparing integers of the head (tak's `X =< Y`) is also tested in the
+  activation, which fails as a head would: no choicepoint is left for the next clause only to
+  fail at once. On anything but integers the goal stays first in the body, with its errors.
 
 Heads and bodies past a size bound, and a clause's first calls (`COMPILE_AFTER`: compiling
 costs an `exec`, worth it only for a clause called again and again), copy the clause and unify.
@@ -25,10 +34,11 @@ costs an `exec`, worth it only for a clause called again and again), copy the cl
 
 from __future__ import annotations
 
+import re
 from typing import Callable
 
 from .builtins import body_calls
-from .engine import BUILTINS, CONTROL
+from .engine import BUILTINS, CONTROL, IfThen, IfThenElse, Not, Or, SoftIfThenElse
 from .terms import TRUE, Int, Struct, Term, Var, iter_vars, is_ground
 from .unify import rename
 
@@ -125,6 +135,8 @@ def activate_ground(head: Term, body: Term) -> Activation:
 _INLINE_BINARY = {"+": "+", "-": "-", "*": "*"}
 _COMPARISONS = {"<": "<", ">": ">", "=<": "<=", ">=": ">=", "=:=": "==", "=\\=": "!="}
 _SMALL = 1 << 62
+# Control constructs compiled into engine.Or and the like (`*->` alone stays a term: rare).
+_COMPILED_CONTROL = frozenset({(";", 2), ("->", 2), ("\\+", 1), ("not", 1)})
 
 
 def _inline_expression(t: Term, depth: int = 0) -> bool:
@@ -138,6 +150,34 @@ def _inline_expression(t: Term, depth: int = 0) -> bool:
     if isinstance(t, Struct) and len(t.args) == 1 and t.name == "-":
         return _inline_expression(t.args[0], depth + 1)
     return False
+
+
+def unify_goal(e, a: tuple, b) -> bool:
+    """`X = Y` as a compiled body calls it: an unbound side is bound at once, without the
+    general unification's set-up; anything else is the general unification."""
+    x, y = a
+    get = b.values.get
+    while type(x) is Var:
+        bound = get(x)
+        if bound is None:
+            break
+        x = bound
+    while type(y) is Var:
+        bound = get(y)
+        if bound is None:
+            break
+        y = bound
+    if x is y:
+        return True
+    if type(x) is Var:   # the side bound first, as Bindings.unify binds it
+        b.values[x] = y
+        b.trail.append(x)
+        return True
+    if type(y) is Var:
+        b.values[y] = x
+        b.trail.append(y)
+        return True
+    return b.unify(x, y)
 
 
 def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int = 12,
@@ -155,8 +195,9 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
     nodes = 0
 
     def const(t) -> str:
+        # a global of the generated code: one look-up where `c[k]` takes two
         constants.append(t)
-        return f"c[{len(constants) - 1}]"
+        return f"c{len(constants) - 1}"
 
     def build(t: Term, var=None) -> str:
         """An expression building `t` from the named variables (or `var(v)` for a variable)."""
@@ -271,10 +312,64 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         target = [names[goal.args[0]]] if name == "is" else []
         return f"({fn}, ({', '.join(target + [names[v] for v in operands])},))"
 
-    def goal_code(goal: Term) -> str:
-        """The goal list entry of one body goal: a Call, or the goal's instance."""
+    def guard(goal: Term) -> bool:
+        """Code testing a first body goal that compares integers of the head (tak/4's
+        `X =< Y`) in the activation: False when it fails, so the clause fails as its head
+        would, before a choicepoint is left for the next clause; `known` tells whether the
+        test was made (else the goal stays in the body, for floats, unbound variables and
+        errors)."""
+        if not (isinstance(goal, Struct) and goal.name in _COMPARISONS and len(goal.args) == 2
+                and all(_inline_expression(a) for a in goal.args) and set(iter_vars(goal)) <= seen):
+            return False
+        local = {}
+        for v in dict.fromkeys(iter_vars(goal)):
+            x = local[v] = f"g{next(counter)}"
+            lines.append(f"    {x} = {names[v]}")
+            walk(x, "    ", lines)
+
+        def value(t: Term) -> str:
+            if isinstance(t, Var):
+                return f"{local[t]}.value"
+            if isinstance(t, Int):
+                return repr(t.value)
+            if len(t.args) == 1:
+                return f"(-{value(t.args[0])})"
+            return f"({value(t.args[0])} {_INLINE_BINARY[t.name]} {value(t.args[1])})"
+
+        lines.append("    known = " + (" and ".join(f"type({x}) is I" for x in local.values()) or "True"))
+        lines.append(f"    if known and not {value(goal.args[0])} {_COMPARISONS[goal.name]} {value(goal.args[1])}:"
+                     " return False")
+        return True
+
+    def branch(t: Term, depth: int) -> str:
+        """A tuple of the goal list entries of a control construct's part."""
+        return "(" + "".join(goal_code(g, depth) + ", " for g in body_goals(t)) + ")"
+
+    def control(goal: Struct, depth: int) -> str:
+        """A compiled control construct (engine.Or and the like) with its parts compiled."""
+        if depth > max_depth:
+            raise OverflowError
+        depth += 1
+        if goal.name == ";":
+            left, right = goal.args
+            if isinstance(left, Struct) and len(left.args) == 2 and left.name in ("->", "*->"):
+                kind = "ITE" if left.name == "->" else "SITE"
+                return (f"{kind}({branch(left.args[0], depth)}, {branch(left.args[1], depth)}, "
+                        f"{branch(right, depth)})")
+            return f"OR({branch(left, depth)}, {branch(right, depth)})"
+        if goal.name == "->":
+            return f"IT({branch(goal.args[0], depth)}, {branch(goal.args[1], depth)})"
+        return f"NOT({branch(goal.args[0], depth)})"
+
+    def goal_code(goal: Term, depth: int = 0) -> str:
+        """The goal list entry of one body goal: a Call, a compiled control construct, or
+        the goal's instance."""
         if isinstance(goal, Struct):
             key = (goal.name, len(goal.args))
+            if key in _COMPILED_CONTROL:
+                return control(goal, depth)
+            if key == ("=", 2):
+                return f"(U, ({build(goal.args[0])}, {build(goal.args[1])},))"
             fn = BUILTINS.get(key)
             if fn is not None and key not in CONTROL:
                 inline = arithmetic(goal)
@@ -293,20 +388,28 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         goals = body_goals(body)
         if len(goals) > max_goals:
             raise OverflowError
+        test = guard(goals[0]) if goals else None
         for goal in goals:
             create(goal, "    ", seen)
         # The goal list is built last goal first, one statement each: Python's parser
         # refuses more than 200 nested parentheses.
         lines.append("    r = rest")
-        for goal in reversed(goals):
+        for goal in reversed(goals[1:] if test else goals):
             lines.append(f"    r = ({goal_code(goal)}, height, r)")
+        if test:
+            lines.append(f"    if not known: r = ({goal_code(goals[0])}, height, r)")
     except (OverflowError, RecursionError):
         return activate_by_copy(head, body)
+    code = "\n".join(lines)
+    # only the look-ups the code uses: a clause of variables alone (tak/4) needs none
+    prologue = "".join(f"    {line}\n" for word, line in (
+        ("values", "values = b.values"), ("trail", "trail = b.trail"), ("get", "get = b.values.get"),
+        ("unify", "unify = b.unify")) if re.search(rf"\b{word}\b", code))
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
-        "def activate(goal, b, height, rest):\n"
-        "    values = b.values; trail = b.trail; get = values.get; unify = b.unify\n"
-        + "\n".join(lines) + "\n    return r\n")
-    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "c": tuple(constants)}
+        "def activate(goal, b, height, rest):\n" + prologue + code + "\n    return r\n")
+    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,
+             "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not, "U": unify_goal,
+             **{f"c{k}": constant for k, constant in enumerate(constants)}}
     try:
         exec(source, scope)
     except (SyntaxError, RecursionError, MemoryError):   # a body term too deep for Python's parser
@@ -315,4 +418,4 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
 
 
 __all__ = ["COMPILE_AFTER", "activate_by_copy", "activate_ground", "body_goals", "compile_clause",
-           "compile_copy", "push_goals"]
+           "compile_copy", "push_goals", "unify_goal"]

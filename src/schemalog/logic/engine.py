@@ -1,7 +1,9 @@
 """SLD resolution: depth-first, backtracking, iterative, with a step limit.
 
-    Goals       = (goal: Term | Call | Marker, cut_barrier: int, rest: Goals) | None   (a linked list)
+    Goals       = (goal: Term | Call | Control | Marker, cut_barrier: int, rest: Goals) | None
+                                                      (a linked list)
     Call        = (Builtin, args)                     a built-in a compiled clause found (compile.py)
+    Control     = Or | IfThenElse | IfThen | Not      a control construct a compiled clause found
     ChoicePoint = (kind, trail_mark, ...)                                               (a stack)
 
 The machine pops a goal, rewrites control constructs into goals and choicepoints,
@@ -68,6 +70,64 @@ class _ExitCatch:
         self.height = height
 
 
+# Control constructs a compiled clause body found (compile.py): each part is a branch, the
+# tuple of its goal list entries, pushed when the construct is called. Interpreted, the same
+# constructs are terms the machine takes apart on every call.
+class Or:
+    """`A ; B`, A not an if-then(-else)."""
+
+    __slots__ = ("left", "right")
+
+    def __init__(self, left: tuple, right: tuple) -> None:
+        self.left = left
+        self.right = right
+
+
+class IfThenElse:
+    """`C -> T ; E`."""
+
+    __slots__ = ("cond", "then", "otherwise")
+
+    def __init__(self, cond: tuple, then: tuple, otherwise: tuple) -> None:
+        self.cond = cond
+        self.then = then
+        self.otherwise = otherwise
+
+
+class SoftIfThenElse(IfThenElse):
+    """`C *-> T ; E`."""
+
+    __slots__ = ()
+
+
+class IfThen:
+    """`C -> T` without an else-branch."""
+
+    __slots__ = ("cond", "then")
+
+    def __init__(self, cond: tuple, then: tuple) -> None:
+        self.cond = cond
+        self.then = then
+
+
+class Not:
+    """`\\+ G`."""
+
+    __slots__ = ("goal",)
+
+    def __init__(self, goal: tuple) -> None:
+        self.goal = goal
+
+
+def _push(branch: tuple, cutb: int, rest):
+    """The goal list with a compiled branch's entries in front of `rest`, each cutting to `cutb`."""
+    for entry in reversed(branch):
+        rest = (entry, cutb, rest)
+    return rest
+
+
+_POLL = 256   # steps between two looks at `interrupted` (a few hundred microseconds)
+
 # Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
 _CLAUSES, _ALT, _NONDET, _CATCH, _DEAD = range(5)
 
@@ -90,6 +150,7 @@ class Engine:
         self.steps = 0
         self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
         self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
+        self._special = _special_goals(self.builtins, self.nondet)   # 3 us: built per engine
 
     # -- public API -----------------------------------------------------------
     def solve(self, goal: Term, bindings: Bindings | None = None) -> Iterator[Bindings]:
@@ -138,10 +199,11 @@ class Engine:
         cps: list[tuple] = []
         goals = (goal, 0, None)
         kb = self.kb
-        builtins = self.builtins
+        special = self._special
         nondet = self.nondet
         predicates = kb.predicates
         max_steps = self.max_steps
+        check = self.steps   # the count at which the limit and Ctrl-C are looked at next
         while True:
             try:
                 if goals is None:
@@ -160,12 +222,15 @@ class Engine:
                     continue
                 term, cutb, rest = goals
                 # An attribute, not a local: built-ins and sub-machines add to the same count.
+                # One test per step: Ctrl-C is looked for every _POLL steps, with the limit.
                 self.steps += 1
-                if self.steps > max_steps:
-                    raise self._over()
-                if self.interrupted:
-                    self.interrupted = False
-                    raise SchemalogError("interrupted")
+                if self.steps > check:
+                    if self.steps > max_steps:
+                        raise self._over()
+                    if self.interrupted:
+                        self.interrupted = False
+                        raise SchemalogError("interrupted")
+                    check = min(max_steps, self.steps + _POLL)
                 kind = type(term)
                 if kind is tuple:  # a Call: a built-in a compiled clause body found (compile.py)
                     mark = len(b.trail)
@@ -197,6 +262,25 @@ class Engine:
                         name, args = term.name, term.args
                     else:
                         raise type_error("callable", term)
+                elif kind is Or:
+                    cps.append((_ALT, len(b.trail), _push(term.right, cutb, rest)))
+                    goals = _push(term.left, cutb, rest)
+                    continue
+                elif kind is Not:
+                    height = len(cps)
+                    cps.append((_ALT, len(b.trail), rest))
+                    goals = _push(term.goal, height + 1, (_FailAfterCut(height), cutb, None))
+                    continue
+                elif kind is IfThenElse or kind is SoftIfThenElse:
+                    height = len(cps)
+                    cps.append((_ALT, len(b.trail), _push(term.otherwise, cutb, rest)))
+                    commit = _CutTo(height) if kind is IfThenElse else _SoftCut(height)
+                    goals = _push(term.cond, height + 1, (commit, cutb, _push(term.then, cutb, rest)))
+                    continue
+                elif kind is IfThen:
+                    height = len(cps)
+                    goals = _push(term.cond, height, (_CutTo(height), cutb, _push(term.then, cutb, rest)))
+                    continue
                 else:
                     if isinstance(term, _CutTo):
                         del cps[term.height:]
@@ -222,7 +306,8 @@ class Engine:
 
                 # Control constructs ------------------------------------------
                 key = (name, arity)
-                if key in CONTROL or name == "call":  # one test for the common case, a user predicate
+                entry = special.get(key)   # one lookup for the common case, a user predicate
+                if entry is _CONTROL_ENTRY or name == "call":
                     if arity == 2 and name == ",":
                         goals = (args[0], cutb, (args[1], cutb, rest))
                         continue
@@ -280,10 +365,9 @@ class Engine:
                         goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
                         continue
                 # Builtins ----------------------------------------------------
-                fn = builtins.get(key)
-                if fn is not None:
-                    mark = b.mark()
-                    ok = fn(self, args, b)
+                if entry is not None and entry is not _CONTROL_ENTRY and entry is not _NONDET_ENTRY:
+                    mark = len(b.trail)
+                    ok = entry(self, args, b)
                     if b.work:  # the cells the built-in resolved (a copy, an assert, a sort)
                         self._charge_work(b)
                     if ok:
@@ -294,8 +378,8 @@ class Engine:
                         if goals is False:
                             return
                     continue
-                gen_fn = nondet.get(key)
-                if gen_fn is not None:
+                if entry is _NONDET_ENTRY:
+                    gen_fn = nondet[key]
                     mark = b.mark()
                     gen = gen_fn(self, args, b)
                     cps.append((_NONDET, mark, gen, rest))
@@ -313,24 +397,46 @@ class Engine:
                             return
                         continue
                     raise existence_error(name, arity)
-                candidates = pred.select(args, b)
-                if len(candidates) == 1:  # one clause to try: no choicepoint to leave
-                    clause = candidates[0]
-                    mark = len(b.trail)
-                    activation = clause._activation
-                    goals = (activation(term, b, len(cps), rest) if activation is not None
-                             else clause.activate(term, b, len(cps), rest))
-                    if goals is False:
-                        b.undo(mark)
-                        goals = self._backtrack(cps, b)
-                        if goals is False:
-                            return
-                    continue
+                # Predicate.select, its commonest case inline: a first argument bound to a
+                # compound or an atom, looked up in the index already built.
+                index = pred._index
+                if index:
+                    first = args[0]
+                    while type(first) is Var:
+                        bound = b.values.get(first)
+                        if bound is None:
+                            break
+                        first = bound
+                    kind = type(first)
+                    if kind is Struct:
+                        candidates = index.get(("s", first.name, len(first.args)), pred._unindexed)
+                    elif kind is Atom:
+                        candidates = index.get(("a", first.name), pred._unindexed)
+                    else:
+                        candidates = pred.select(args, b)
+                else:
+                    candidates = pred.select(args, b)
+                # The first clause whose head matches is tried here, and a choicepoint left
+                # only when clauses remain (as _backtrack would, without a round trip).
                 height = len(cps)
-                cps.append((_CLAUSES, b.mark(), term, candidates, 0, rest, height))
-                goals = self._backtrack(cps, b)
-                if goals is False:
-                    return
+                mark = len(b.trail)
+                count = len(candidates)
+                index = 0
+                while index < count:
+                    clause = candidates[index]
+                    index += 1
+                    activation = clause._activation
+                    goals = (activation(term, b, height, rest) if activation is not None
+                             else clause.activate(term, b, height, rest))
+                    if goals is not False:
+                        if index < count:
+                            cps.append((_CLAUSES, mark, term, candidates, index, rest, height))
+                        break
+                    b.undo(mark)
+                else:
+                    goals = self._backtrack(cps, b)
+                    if goals is False:
+                        return
             except PrologError as err:
                 goals = self._handle_throw(err, cps, b)
             except MemoryError:
@@ -438,6 +544,18 @@ CONTROL = frozenset({(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("no
 NONDET_BUILTINS: dict[tuple[str, int], NondetBuiltin] = {**CORE_NONDET, **EXTRA_NONDET}
 BUILTINS: dict[tuple[str, int], Builtin] = {key: fn for key, fn in {**CORE, **EXTRA, **ECLIPSE}.items()
                                             if key not in NONDET_BUILTINS}
+
+
+# What the machine does with a goal of each name and arity that is not a user predicate:
+# a control construct, a nondeterministic built-in, or the deterministic built-in itself.
+_CONTROL_ENTRY, _NONDET_ENTRY = object(), object()
+
+
+def _special_goals(builtins: dict, nondet: dict) -> dict:
+    """The goals the machine handles itself, by (name, arity): control constructs first, then
+    deterministic built-ins, then nondeterministic ones (the order the machine tries them in)."""
+    return {**{key: _NONDET_ENTRY for key in nondet}, **builtins, **{key: _CONTROL_ENTRY for key in CONTROL}}
+
 
 
 def is_builtin(name: str, arity: int) -> bool:

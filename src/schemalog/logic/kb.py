@@ -182,7 +182,8 @@ class Predicate:
 
     def select(self, args: tuple, b) -> list[StoredClause]:
         """The clauses that may match a call with these arguments (the engine's hot path:
-        the first argument dereferenced and keyed inline)."""
+        the first argument dereferenced and keyed inline; engine._run inlines the case of
+        an index already built, so the two must key alike)."""
         clauses = self.clauses
         if len(clauses) < self.MIN_CLAUSES or not args:
             self._shared = True
@@ -201,6 +202,8 @@ class Predicate:
         if index is None:
             index, self._unindexed = _build_index(clauses, lambda c: c.key)
             self._index = index
+        if not index:   # no clause has a constant first argument (tak/4): no key to compute
+            return self._unindexed
         kind = type(first)
         if kind is Struct:
             key = ("s", first.name, len(first.args))

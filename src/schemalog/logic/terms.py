@@ -16,7 +16,7 @@ import functools
 import itertools
 import re
 from decimal import Decimal
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Iterable, Iterator, Union
 
 
@@ -76,12 +76,18 @@ class Str:
 _fresh = itertools.count(1)
 
 
-@dataclass(frozen=True, slots=True, eq=False)
 class Var:
-    """A logic variable; identity is the object, the name is only for printing."""
+    """A logic variable; identity is the object, the name is only for printing.
 
-    name: str = ""
-    id: int = field(default_factory=lambda: next(_fresh))
+    A plain slots class, not a frozen dataclass: the engine makes one per fresh clause
+    variable, and a frozen dataclass's constructor costs three times as much. It is never
+    changed after construction (by convention: nothing assigns to a term's fields)."""
+
+    __slots__ = ("name", "id")
+
+    def __init__(self, name: str = "", id: int | None = None) -> None:
+        self.name = name
+        self.id = next(_fresh) if id is None else id
 
     def __str__(self) -> str:
         return self.name if self.name and not self.name.startswith("_") else f"_G{self.id}"
@@ -95,13 +101,26 @@ class Var:
         return (Var, (self.name,))
 
 
-@dataclass(frozen=True, slots=True)
 class Struct:
-    """A compound term `name(arg1, ..., argN)` with N >= 1."""
+    """A compound term `name(arg1, ..., argN)` with N >= 1.
 
-    name: str
-    args: tuple
-    _hash: int = field(default=0, init=False, repr=False, compare=False)
+    A plain slots class for the same reason as Var (clause bodies build many), immutable
+    by convention; equal when name and arguments are, hashed as the pair."""
+
+    __slots__ = ("name", "args", "_hash")
+
+    def __init__(self, name: str, args: tuple) -> None:
+        self.name = name
+        self.args = args
+        self._hash = 0
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is not Struct:
+            return NotImplemented
+        return self is other or (self.name == other.name and self.args == other.args)
+
+    def __repr__(self) -> str:
+        return f"Struct(name={self.name!r}, args={self.args!r})"
 
     def __reduce__(self):
         # The cached hash is not kept: string hashes differ from one process to the next.
@@ -111,8 +130,7 @@ class Struct:
         # Computed on first use: the engine builds many terms (clause copies) never hashed.
         h = self._hash
         if not h:
-            h = hash((self.name, self.args))
-            object.__setattr__(self, "_hash", h)
+            h = self._hash = hash((self.name, self.args))
         return h
 
     @property
