@@ -2,6 +2,7 @@
 
 import io
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -229,9 +230,11 @@ def generated(tmp_path_factory):
                 "-o", folder / f"{name}.pl")
         assert r.returncode == 0, r.stderr
     # t12 and then a directive of some ten million steps: a :load that lasts however fast the
-    # machine (t12 alone now loads in well under a second), interrupted after its trees are read
-    (folder / "slow.pl").write_text((folder / "t12.pl").read_text()
-                                    + "\n:- between(1, 9000000, _), fail ; true.\n")
+    # machine (t12 alone now loads in well under a second), interrupted after its trees are read.
+    # Renamed (s1, thing1 for b1, obj1): with t11's names it would be refused at once for
+    # defining b1 in a second file, its directive never run, and the Ctrl-C would come too late.
+    renamed = re.sub(r"\bobj(\d+)", r"thing\1", re.sub(r"\bb(\d+)", r"s\1", (folder / "t12.pl").read_text()))
+    (folder / "slow.pl").write_text(renamed + "\n:- between(1, 9000000, _), fail ; true.\n")
     return folder
 
 
