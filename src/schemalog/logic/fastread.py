@@ -69,13 +69,17 @@ def read_text(text: str, file: str) -> list[Clause | Directive]:
         return _all_by_lark(text, file, line_at)
     operand, operator = found[0].match, found[1].match
     items: list[Clause | Directive] = []
+    # One Atom per name, one str per functor or operator name, for the whole text: a file
+    # of 100,000 schemas repeats a few names (schema, true, done, its objects) a million times.
+    atoms: dict[str, Atom] = {}
+    names: dict[str, str] = {}
     offset, size = 0, len(text)
     while True:
         start = _LAYOUT.match(text, offset).end()
         if start == size:
             return items
         try:
-            term, offset = _read_term(text, start, operand, operator)
+            term, offset = _read_term(text, start, operand, operator, atoms, names)
         except (_Fallback, _BadEscape, ValueError, OverflowError):
             read, offset = lark_clause(text, offset, file, line_at)
             items.extend(read)
@@ -105,7 +109,7 @@ def _finish(run: list):
     return arrange(run, _give_up)[0]
 
 
-def _read_term(text: str, pos: int, operand, operator):
+def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict):
     """The clause term from `pos` to its final "." and the offset after it (else _Fallback)."""
     varmap: dict[str, Var] = {}
     stack: list[tuple] = []
@@ -119,7 +123,10 @@ def _read_term(text: str, pos: int, operand, operator):
         typ = m.lastgroup
         pos = m.end()
         if typ == "NAME":
-            value = Atom(m[typ])
+            token = m[typ]
+            value = atoms.get(token)
+            if value is None:
+                value = atoms[token] = Atom(token)
         elif typ == "VAR":
             var_name = m[typ]
             if var_name == "_":
@@ -135,7 +142,7 @@ def _read_term(text: str, pos: int, operand, operator):
             token = m[typ]
             stack.append((kind, run, prefixes, args, name))
             kind, run, prefixes, args = _ARGS, [], None, []
-            name = _atom_name(token) if token[0] == "'" else token
+            name = _atom_name(token) if token[0] == "'" else names.setdefault(token, token)
             pos += 1
             continue
         elif typ == "LSQB" or typ == "LPAR" or typ == "LBRACE":
@@ -156,7 +163,10 @@ def _read_term(text: str, pos: int, operand, operator):
             if value is None:
                 raise _Fallback
         elif typ == "QATOM" or typ == "SYMATOM":
-            value = Atom(_atom_name(m[typ]))
+            token = m[typ]
+            value = atoms.get(token)
+            if value is None:
+                value = atoms[token] = Atom(_atom_name(token))
         elif typ == "FLOAT":
             value = float_of_token(m[typ])
         elif typ == "STRING":
@@ -190,7 +200,8 @@ def _read_term(text: str, pos: int, operand, operator):
                 run.append(",")
                 break
             if typ == "INFIX" or typ == "DOT":
-                run.append(m[typ])
+                token = m[typ]
+                run.append(names.setdefault(token, token))
                 break
             if typ == "END":
                 if kind != _TOP:

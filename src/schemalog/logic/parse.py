@@ -33,7 +33,7 @@ MAX_NESTING = 2_000
 MAX_BYTES = defaults.MAX_BYTES
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Clause:
     """A fact or rule `head :- body`, with where it was written."""
 
@@ -42,7 +42,7 @@ class Clause:
     pos: SourcePos
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Directive:
     """A directive `:- goal.`, with where it was written."""
 

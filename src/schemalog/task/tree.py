@@ -36,7 +36,7 @@ DEFAULT_MAX_DEPTH = defaults.MAX_DEPTH
 DEFAULT_MAX_NODES = defaults.MAX_NODES
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Origin:
     """An original behaviour that a compressed one stands for (provenance).
 
@@ -53,7 +53,7 @@ class Origin:
     slot: int = 0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Behaviour:
     """A node of a task tree: a running behaviour with its conditions."""
 
