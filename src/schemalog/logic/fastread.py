@@ -21,7 +21,7 @@ import re
 from ..errors import SourcePos
 from .parse import (_LAYOUT, MAX_NESTING, Clause, Directive, _atom_name, _BadEscape, _LineIndex, _Operand,
                     _reader, _unescape, arrange, clause_item, float_of_token, int_of_token, lark_clause)
-from .terms import NIL, Atom, Str, Struct, Var, make_list
+from .terms import NIL, Atom, Int, Str, Struct, Var, make_list
 
 # Terminal names of grammar/schemalog.lark (lark names "(" LPAR, and so on).
 OPERAND_TERMINALS = frozenset({"PREFIX", "NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING",
@@ -69,17 +69,20 @@ def read_text(text: str, file: str) -> list[Clause | Directive]:
         return _all_by_lark(text, file, line_at)
     operand, operator = found[0].match, found[1].match
     items: list[Clause | Directive] = []
-    # One Atom per name, one str per functor or operator name, for the whole text: a file
-    # of 100,000 schemas repeats a few names (schema, true, done, its objects) a million times.
+    # One Atom per name, one str per name, one compound per functor and atomic arguments
+    # (b3(cup), b3.done), for the whole text: a file of 100,000 schemas names each sub-task
+    # twice and repeats a few names (schema, true, done, its objects) a million times. Terms
+    # are immutable, so what is equal may be one object.
     atoms: dict[str, Atom] = {}
     names: dict[str, str] = {}
+    shared: dict[Struct, Struct] = {}
     offset, size = 0, len(text)
     while True:
         start = _LAYOUT.match(text, offset).end()
         if start == size:
             return items
         try:
-            term, offset = _read_term(text, start, operand, operator, atoms, names)
+            term, offset = _read_term(text, start, operand, operator, atoms, names, shared)
         except (_Fallback, _BadEscape, ValueError, OverflowError):
             read, offset = lark_clause(text, offset, file, line_at)
             items.extend(read)
@@ -98,18 +101,27 @@ def _all_by_lark(text: str, file: str, line_at: _LineIndex) -> list[Clause | Dir
         items.extend(read)
 
 
-def _finish(run: list):
+def _shared(name: str, args: tuple, shared: dict) -> Struct:
+    """Struct(name, args), the one already made if its arguments are atoms or integers."""
+    for arg in args:
+        if type(arg) is not Atom and type(arg) is not Int:
+            return Struct(name, args)
+    made = Struct(name, args)
+    return shared.setdefault(made, made)
+
+
+def _finish(run: list, shared: dict):
     """The term of a run `operand (infix operand)*`, as the transformer's `expr` and `arg`."""
     if len(run) == 1:
         item = run[0]
         if type(item) is not _Operand:
             return item
     elif len(run) == 3 and type(run[0]) is not _Operand and type(run[2]) is not _Operand:
-        return Struct(run[1], (run[0], run[2]))  # two primaries (priority 0) fit any operator
+        return _shared(run[1], (run[0], run[2]), shared)  # two primaries (priority 0) fit any operator
     return arrange(run, _give_up)[0]
 
 
-def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict):
+def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict, shared: dict):
     """The clause term from `pos` to its final "." and the offset after it (else _Fallback)."""
     varmap: dict[str, Var] = {}
     stack: list[tuple] = []
@@ -126,7 +138,7 @@ def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict)
             token = m[typ]
             value = atoms.get(token)
             if value is None:
-                value = atoms[token] = Atom(token)
+                value = atoms[token] = Atom(names.setdefault(token, token))
         elif typ == "VAR":
             var_name = m[typ]
             if var_name == "_":
@@ -192,7 +204,7 @@ def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict)
             pos = m.end()
             if typ == "COMMA":
                 if kind == _ARGS or kind == _LIST:
-                    args.append(_finish(run))
+                    args.append(_finish(run, shared))
                     run = []
                     break
                 if kind == _TAIL:
@@ -206,25 +218,25 @@ def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict)
             if typ == "END":
                 if kind != _TOP:
                     raise _Fallback
-                return _finish(run), pos
+                return _finish(run, shared), pos
             if typ == "VBAR":
                 if kind != _LIST:
                     raise _Fallback
-                args.append(_finish(run))
+                args.append(_finish(run, shared))
                 kind, run = _TAIL, []
                 break
             if typ == "RPAR" and kind == _ARGS:
-                args.append(_finish(run))
-                value = Struct(name, tuple(args))
+                args.append(_finish(run, shared))
+                value = _shared(name, tuple(args), shared)
             elif typ == "RPAR" and kind == _PAREN:
-                value = _finish(run)
+                value = _finish(run, shared)
             elif typ == "RSQB" and kind == _LIST:
-                args.append(_finish(run))
+                args.append(_finish(run, shared))
                 value = make_list(args)
             elif typ == "RSQB" and kind == _TAIL:
-                value = make_list(args, _finish(run))
+                value = make_list(args, _finish(run, shared))
             elif typ == "RBRACE" and kind == _CURLY:
-                value = Struct("{}", (_finish(run),))
+                value = Struct("{}", (_finish(run, shared),))
             else:
                 raise _Fallback
             depth -= 1

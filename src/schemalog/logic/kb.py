@@ -57,7 +57,7 @@ def first_arg_key(term: Term) -> Key | None:
     return (type(term).__name__, term.value)  # Int, Str
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, slots=True)
 class StoredClause:
     """A clause in the knowledge base; `source` is the file it was read from (resolved)."""
 
