@@ -17,7 +17,8 @@ from hypothesis import strategies as st
 
 from schemalog.errors import SchemalogError
 from schemalog.logic import fastread
-from schemalog.logic.parse import MAX_NESTING, Clause, Directive, _reader, parse_text, parse_text_by_lark
+from schemalog.logic.fastread import parse_text
+from schemalog.logic.parse import MAX_NESTING, Clause, Directive, _reader, parse_text_by_lark
 from schemalog.logic.terms import Atom, Float, Int, Str, Struct, Var, term_to_text, variable_names
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -23,7 +23,7 @@ def run(args: argparse.Namespace) -> int:
     from ..task.tree import count_nodes, depth
     from .common import choose_tasks, instantiate_task, load_files
 
-    kb, _ = load_files(args)
+    kb = load_files(args)[0]   # not the documents too: their clauses would stay in memory
     schemas = len(check_schemas(kb))   # the count: the schemas read are not kept while trees are built
     tasks = choose_tasks(kb, args.task, every=True)
     files = ", ".join(args.files)

@@ -1,7 +1,7 @@
 """The reader's fast path: lark's own terminals, matched by two regexes, and a small
 operator-precedence parser for the grammar's clauses; lark reads any clause it does not.
 
-    read_text(text, file) -> list[Clause | Directive]     what parse.parse_text returns
+    parse_text(text, file) -> list[Clause | Directive]    what parse.parse_text_by_lark returns
 
 lark's contextual lexer matches, in each parser state, the terminals that state accepts, in
 lark's priority order. Every state of the grammar accepts either terms' first tokens
@@ -61,7 +61,7 @@ def scanners() -> tuple[re.Pattern, re.Pattern] | None:
     return scanner(OPERAND_TERMINALS), scanner(OPERATOR_TERMINALS)
 
 
-def read_text(text: str, file: str) -> list[Clause | Directive]:
+def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
     """Parse program text into clauses and directives, lark reading the clauses this does not."""
     found = scanners()
     line_at = _LineIndex(text)

@@ -37,7 +37,8 @@ from ..errors import SchemalogError, SourcePos
 from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
-from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
+from .fastread import parse_text
+from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, read_source
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, list_items, quote_atom, term_to_text, variable_names
 from .unify import Bindings, rename
 

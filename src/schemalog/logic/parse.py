@@ -6,6 +6,9 @@
 The LALR parser calls the transformer as it reduces, so no parse tree is built and
 deep operator chains never recurse in Python. Bracket nesting is bounded
 (`MAX_NESTING`) so that printing and unifying what we read stays safe.
+
+Files are read by fastread.parse_text, which takes the common clauses faster and hands the
+others to `lark_clause` here; parse_text_by_lark reads with lark alone.
 """
 
 from __future__ import annotations
@@ -481,14 +484,8 @@ def lark_clause(text: str, offset: int, file: str, line_at: _LineIndex) -> tuple
     return _lark_errors(text, file, lambda: _reader("start").parse_clause(text, offset, file, line_at))
 
 
-def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
-    """Parse program text into clauses and directives (through the fast path, fastread.py)."""
-    from .fastread import read_text  # it builds on this module
-    return read_text(text, file)
-
-
 def parse_text_by_lark(text: str, file: str = "<string>") -> list[Clause | Directive]:
-    """Parse program text with lark alone (what the fast path must agree with)."""
+    """Parse program text with lark alone (what fastread.parse_text must agree with)."""
     return _parse(text, file, "start")
 
 
@@ -515,8 +512,3 @@ def read_source(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
         line = data.count(b"\n", 0, err.start) + 1
         column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
         raise SchemalogError("not UTF-8 text (binary file?)", SourcePos(name, line, column)) from None
-
-
-def parse_file(path: str | Path, max_bytes: int = MAX_BYTES) -> list[Clause | Directive]:
-    """Read and parse a knowledge file."""
-    return parse_text(read_source(path, max_bytes), str(path))
