@@ -1,16 +1,21 @@
 """Parse and instantiate generated task files from 1k to 100k behaviours.
 
     python benchmarks/bench_foundation.py [--sizes 1000 10000 100000] [--repeat 3]
+                                          [--options-size 10000]
 
 For each size it writes a task file in the schema language (a balanced tree, four
 children per behaviour, learned-action style releasers), then measures, in one run:
 
-- read:   schemalog's reader (lark LALR + our term building) -> tokens/s, MB/s
+- read:   schemalog's reader (its fast path, fastread.py) -> tokens/s, MB/s
 - lark:   lark's own parse of the same text into a parse tree, no terms (the baseline)
 - inst:   instantiation of the root task (loadTaskFromLTM) -> behaviours/s
 
 and prints a Markdown table with the growth of each time per 10x size (1.0 per 10x
-would be constant time; 10x is linear).
+would be constant time; 10x is linear). Then, on the file of --options-size behaviours,
+the ways of reading the issue named, side by side, as MB/s and as a ratio to the lark
+reader (LALR with the transformer inline, the reader before the fast path): a tree then
+transformed, lark's `basic` lexer, and the time to build the parser with and without lark's
+cache of the analysed grammar.
 """
 
 from __future__ import annotations
@@ -26,7 +31,8 @@ from lark import Lark
 
 from schemalog.cli.main import tune_gc
 from schemalog.formats.documents import read_document
-from schemalog.logic.parse import grammar_text, read_source
+from schemalog.logic.fastread import parse_text
+from schemalog.logic.parse import _LineIndex, _ToTerms, grammar_text, parse_text_by_lark, read_source
 from schemalog.logic.terms import Atom
 from schemalog.task.tree import count_nodes, instantiate
 
@@ -69,10 +75,52 @@ def best_of(repeat: int, fn) -> tuple[float, object]:
     return min(times), result
 
 
+def lark_reader(inline: bool = True, **options):
+    """A reader of clauses built on lark as parse.py builds its own, with `options` changed;
+    inline=False builds lark's parse tree first and transforms it after."""
+    terms = _ToTerms("<bench>")
+    end = {"END": lambda token: (terms.starts.append(token.end_pos), token)[1]}
+    lark = Lark(grammar_text(), parser="lalr", maybe_placeholders=False, lexer_callbacks=end,
+                transformer=terms if inline else None, **options)
+
+    def read(text: str):
+        terms.varmap, terms.text, terms.line_at = {}, text, _LineIndex(text)
+        terms.starts.clear()
+        terms.starts.append(0)
+        parsed = lark.parse(text)
+        return parsed if inline else terms.transform(parsed)
+    return read
+
+
+def reader_options(path: Path, repeat: int) -> list[tuple[str, float, str]]:
+    """(option, seconds, note) for each way of reading the file at `path`."""
+    text = read_source(path)
+    expected = len(parse_text_by_lark(text, str(path)))
+    rows = []
+    for name, read in [("lark LALR, transformer inline (the reader before)", lambda t: parse_text_by_lark(t, "b")),
+                       ("lark LALR, parse tree then transformer", lark_reader(inline=False)),
+                       ("lark LALR, `basic` lexer, transformer inline", lark_reader(lexer="basic")),
+                       ("fast path (fastread.py), lark for any other clause", lambda t: parse_text(t, "b"))]:
+        try:
+            seconds, items = best_of(repeat, lambda: read(text))
+            note = "same clauses" if len(items) == expected else f"{len(items)} clauses, not {expected}"
+        except Exception as err:  # an option that cannot read the file says why, in the table
+            seconds, note = float("nan"), f"fails: {type(err).__name__}"
+        rows.append((name, seconds, note))
+    with tempfile.TemporaryDirectory() as tmp:
+        cached = str(Path(tmp) / "grammar.cache")
+        Lark(grammar_text(), parser="lalr", cache=cached)  # writes the cache
+        for name, cache in [("building the parser, no cache", False), ("building the parser, lark's cache", cached)]:
+            seconds, _ = best_of(repeat, lambda: Lark(grammar_text(), parser="lalr", cache=cache))
+            rows.append((name, seconds, "once per process"))
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000])
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--options-size", type=int, default=10000)
     args = parser.parse_args(argv)
     tune_gc()  # measure what the schemalog command does
 
@@ -111,6 +159,21 @@ def main(argv: list[str] | None = None) -> int:
         insts = [r[6] / r[1] for r in rows]
         print(f"- time per behaviour, smallest to largest: read {statistics.mean(reads[:1]) * 1e6:.1f} -> "
               f"{reads[-1] * 1e6:.1f} us, instantiate {insts[0] * 1e6:.1f} -> {insts[-1] * 1e6:.1f} us")
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "options.pl"
+        path.write_text(task_text(args.options_size))
+        mb = path.stat().st_size / 1e6
+        rows_o = reader_options(path, args.repeat)
+    print()
+    print(f"Ways of reading {args.options_size:,} behaviours ({mb:.2f} MB):")
+    print()
+    print("| reader | s | MB/s | speed vs the reader before | |")
+    print("|---|---:|---:|---:|---|")
+    before = rows_o[0][1]
+    for name, seconds, note in rows_o:
+        speed = f"x{before / seconds:.2f}" if "building" not in name else ""
+        rate = f"{mb / seconds:.2f}" if "building" not in name else ""
+        print(f"| {name} | {seconds:.3f} | {rate} | {speed} | {note} |")
     return 0
 
 

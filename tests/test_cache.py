@@ -8,7 +8,7 @@ from pathlib import Path
 
 from schemalog import cache
 from schemalog.logic.kb import KnowledgeBase, _prelude
-from schemalog.logic.parse import parse_text
+from schemalog.logic.fastread import parse_text
 from schemalog.logic.terms import TRUE, Struct, Var, iter_vars
 from schemalog.logic.unify import variant
 

@@ -14,7 +14,8 @@ from schemalog.task import conditions as cond
 from schemalog.formats.documents import document_from_text, read_document, to_pl
 from schemalog.formats.render import carried_clauses, tree_document
 from schemalog.formats.seed import seed_text
-from schemalog.logic.parse import parse_term, parse_text
+from schemalog.logic.fastread import parse_text
+from schemalog.logic.parse import parse_term
 from schemalog.logic.terms import Struct, term_to_text
 from schemalog.task.compress import compress, decompress
 from schemalog.task.tree import count_nodes, depth, instantiate, walk

@@ -8,7 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from schemalog.errors import SchemalogError
-from schemalog.logic.parse import parse_term, parse_text
+from schemalog.logic.fastread import parse_text
+from schemalog.logic.parse import parse_term
 from schemalog.logic.terms import Atom, Int, Str, Struct
 
 

@@ -29,7 +29,8 @@ from hypothesis import strategies as st
 
 from schemalog.task import conditions as cond
 from schemalog.errors import SchemalogError
-from schemalog.logic.parse import Clause, Directive, parse_term, parse_text
+from schemalog.logic.fastread import parse_text
+from schemalog.logic.parse import Clause, Directive, parse_term
 from schemalog.task.schema import write_clause
 from schemalog.logic.terms import (INFIX_OPS, NIL, PREFIX_OPS, RESERVED_WORDS, TRUE, Atom, Float, Int, Str, Struct, Var,
                              list_items, make_list, quote_atom, term_to_text, variable_names)

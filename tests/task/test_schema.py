@@ -5,7 +5,8 @@ import pytest
 from schemalog.task import conditions as cond
 from schemalog.errors import SchemalogError
 from schemalog.logic.kb import KnowledgeBase
-from schemalog.logic.parse import parse_term, parse_text
+from schemalog.logic.fastread import parse_text
+from schemalog.logic.parse import parse_term
 from schemalog.task.schema import check_schemas, read_schema, schema_term, write_clause
 
 

@@ -23,8 +23,8 @@ def run(args: argparse.Namespace) -> int:
     from ..task.tree import count_nodes, depth
     from .common import choose_tasks, instantiate_task, load_files
 
-    kb, _ = load_files(args)
-    schemas = check_schemas(kb)
+    kb = load_files(args)[0]   # not the documents too: their clauses would stay in memory
+    schemas = len(check_schemas(kb))   # the count: the schemas read are not kept while trees are built
     tasks = choose_tasks(kb, args.task, every=True)
     files = ", ".join(args.files)
     report = []
@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
         trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
     _warn(kb, trees, unused=args.task is None)
-    summary = f"ok: {files}: {len(schemas)} schemas"
+    summary = f"ok: {files}: {schemas} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
     print(summary)
     return 0

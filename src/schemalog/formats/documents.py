@@ -32,7 +32,8 @@ from pathlib import Path
 from ..inputs import check_yaml_nesting
 from ..errors import CannotWrite, SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
-from ..logic.parse import MAX_BYTES, Clause, Directive, parse_text, read_source
+from ..logic.fastread import parse_text
+from ..logic.parse import MAX_BYTES, Clause, Directive, read_source
 from ..task import conditions as cond
 from ..task.schema import DEFAULT_IMPORTANCE, Entry, knowledge_base, schema_term, static_schema, write_clause
 from .seed import import_seed, is_seed

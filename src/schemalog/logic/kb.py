@@ -37,7 +37,8 @@ from ..errors import SchemalogError, SourcePos
 from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
-from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, parse_text, read_source
+from .fastread import parse_text
+from .parse import MAX_BYTES, Clause, Directive, grammar_text, lark_version, read_source
 from .terms import TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator, is_ground, list_items, quote_atom, term_to_text, variable_names
 from .unify import Bindings, rename
 
@@ -57,7 +58,7 @@ def first_arg_key(term: Term) -> Key | None:
     return (type(term).__name__, term.value)  # Int, Str
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, slots=True)
 class StoredClause:
     """A clause in the knowledge base; `source` is the file it was read from (resolved)."""
 
@@ -273,7 +274,7 @@ def _prelude() -> tuple[Clause, ...]:
     text = (here / "prelude.pl").read_text(encoding="utf-8")
     # what the stored clauses are made of: the reader, the term and position classes, lark
     readers = [(path).read_text(encoding="utf-8") for path in
-               (here / "terms.py", here / "parse.py", here.parent / "errors.py")]
+               (here / "terms.py", here / "parse.py", here / "fastread.py", here.parent / "errors.py")]
     return remembered("prelude", [text, grammar_text(), *readers, lark_version()],
                       lambda: tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause)))
 

@@ -6,6 +6,9 @@
 The LALR parser calls the transformer as it reduces, so no parse tree is built and
 deep operator chains never recurse in Python. Bracket nesting is bounded
 (`MAX_NESTING`) so that printing and unifying what we read stays safe.
+
+Files are read by fastread.parse_text, which takes the common clauses faster and hands the
+others to `lark_clause` here; parse_text_by_lark reads with lark alone.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import lark
-from lark import Lark, Token, Transformer
+from lark import Lark, TextSlice, Token, Transformer
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 from .. import defaults
@@ -33,7 +36,7 @@ MAX_NESTING = 2_000
 MAX_BYTES = defaults.MAX_BYTES
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Clause:
     """A fact or rule `head :- body`, with where it was written."""
 
@@ -42,7 +45,7 @@ class Clause:
     pos: SourcePos
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Directive:
     """A directive `:- goal.`, with where it was written."""
 
@@ -117,7 +120,37 @@ def _atom_name(token: str) -> str:
     return token
 
 
+def int_of_token(text: str) -> Int | None:
+    """The integer an INT token denotes; None for a `0'` that is not one character (a bad
+    escape in it is _BadEscape)."""
+    sign, digits = (-1, text[1:]) if text.startswith("-") else (1, text)
+    if digits.startswith("0'"):
+        char = _unescape(digits[2:], "'")
+        return Int(sign * ord(char)) if len(char) == 1 else None
+    if digits[:2] in ("0x", "0o", "0b"):
+        return Int(sign * int(digits, 0))
+    return Int(sign * int_of_digits(digits.replace("_", "")))
+
+
+def float_of_token(text: str) -> Float:
+    """The float a FLOAT token denotes."""
+    if text.endswith("Inf"):  # SWI-Prolog writes infinity as 1.0Inf
+        return Float(float("-inf") if text.startswith("-") else float("inf"))
+    if text.endswith("NaN"):
+        return Float(float("nan"))
+    return Float(float(text))
+
+
 _LAYOUT = re.compile(r"(?:\s+|%[^\n]*|/\*.*?\*/)*", re.S)
+
+
+def clause_item(term: Term, pos: SourcePos) -> Clause | Directive:
+    """The clause or directive a term read as a clause stands for."""
+    if isinstance(term, Struct) and term.name in (":-", "?-") and len(term.args) == 1:
+        return Directive(term.args[0], pos)
+    if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 2:
+        return Clause(term.args[0], term.args[1], pos)
+    return Clause(term, TRUE, pos)
 
 
 class _LineIndex:
@@ -138,6 +171,47 @@ class _Operand:
 
     def __init__(self, parts: list) -> None:
         self.parts = parts
+
+
+def arrange(items: list, clash) -> tuple[Term, int]:
+    """The term of a run `operand (infix operand)*` and its priority, by operator priority
+    (shunting-yard): an infix operator is its token (a str), an operand with prefix operators
+    an _Operand; `clash(token, name)` is the exception for operands that do not fit."""
+    out: list[tuple[Term, int]] = []          # operands with their priority
+    ops: list[tuple[str, int, int, int, str]] = []  # (name, priority, left max, right max, token)
+
+    def reduce() -> None:
+        name, priority, left_max, right_max, token = ops.pop()
+        right, right_p = out.pop()
+        if right_p > right_max:
+            raise clash(token, name)
+        if left_max < 0:  # prefix operator
+            out.append((Struct(name, (right,)), priority))
+            return
+        left, left_p = out.pop()
+        if left_p > left_max:
+            raise clash(token, name)
+        out.append((Struct(name, (left, right)), priority))
+
+    for item in items:
+        if isinstance(item, str):  # an infix operator
+            name = str(item)
+            priority, kind = INFIX_OPS[name]
+            left_max = priority if kind == "yfx" else priority - 1
+            right_max = priority if kind == "xfy" else priority - 1
+            while ops and ops[-1][1] <= left_max:
+                reduce()
+            ops.append((name, priority, left_max, right_max, item))
+            continue
+        parts = item.parts if isinstance(item, _Operand) else (item,)
+        for part in parts[:-1]:  # prefix operators
+            name = str(part)
+            priority, kind = PREFIX_OPS[name]
+            ops.append((name, priority, -1, priority if kind == "fy" else priority - 1, part))
+        out.append((parts[-1], 0))
+    while ops:
+        reduce()
+    return out[0]
 
 
 class _ToTerms(Transformer):
@@ -166,14 +240,7 @@ class _ToTerms(Transformer):
         term = children[0]
         self._fresh_clause()
         offset = _LAYOUT.match(self.text, self.starts.popleft()).end()
-        pos = SourcePos(self.file, *self.line_at(offset))
-        if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 1:
-            return Directive(term.args[0], pos)
-        if isinstance(term, Struct) and term.name == "?-" and len(term.args) == 1:
-            return Directive(term.args[0], pos)
-        if isinstance(term, Struct) and term.name == ":-" and len(term.args) == 2:
-            return Clause(term.args[0], term.args[1], pos)
-        return Clause(term, TRUE, pos)
+        return clause_item(term, SourcePos(self.file, *self.line_at(offset)))
 
     # -- operators: a flat run arranged by priority ----------------------------
     def expr(self, c): return self._arrange(c, 1200)
@@ -185,44 +252,10 @@ class _ToTerms(Transformer):
     def arg_infix(self, c): return c[0]
 
     def _arrange(self, items: list, max_priority: int) -> Term:
-        """Build the term of `operand (infix operand)*` by operator priority (shunting-yard)."""
+        """Build the term of `operand (infix operand)*` by operator priority."""
         if len(items) == 1 and not isinstance(items[0], _Operand):
             return items[0]
-        out: list[tuple[Term, int]] = []          # operands with their priority
-        ops: list[tuple[str, int, int, int, Token]] = []  # (name, priority, left max, right max, token)
-
-        def reduce() -> None:
-            name, priority, left_max, right_max, token = ops.pop()
-            right, right_p = out.pop()
-            if right_p > right_max:
-                raise self._clash(token, name)
-            if left_max < 0:  # prefix operator
-                out.append((Struct(name, (right,)), priority))
-                return
-            left, left_p = out.pop()
-            if left_p > left_max:
-                raise self._clash(token, name)
-            out.append((Struct(name, (left, right)), priority))
-
-        for item in items:
-            if isinstance(item, Token):  # an infix operator
-                name = str(item)
-                priority, kind = INFIX_OPS[name]
-                left_max = priority if kind == "yfx" else priority - 1
-                right_max = priority if kind == "xfy" else priority - 1
-                while ops and ops[-1][1] <= left_max:
-                    reduce()
-                ops.append((name, priority, left_max, right_max, item))
-                continue
-            parts = item.parts if isinstance(item, _Operand) else (item,)
-            for part in parts[:-1]:  # prefix operators
-                name = str(part)
-                priority, kind = PREFIX_OPS[name]
-                ops.append((name, priority, -1, priority if kind == "fy" else priority - 1, part))
-            out.append((parts[-1], 0))
-        while ops:
-            reduce()
-        term, priority = out[0]
+        term, priority = arrange(items, self._clash)
         if priority > max_priority:
             raise SchemalogError(f"operator priority clash: a term of priority {priority} where at most "
                                  f"{max_priority} is allowed (put it in parentheses)",
@@ -269,25 +302,13 @@ class _ToTerms(Transformer):
         return v
 
     def int(self, c):
-        text = str(c[0])
-        sign, digits = (-1, text[1:]) if text.startswith("-") else (1, text)
-        if digits.startswith("0'"):
-            char = self._quoted(c[0], lambda t: _unescape(digits[2:], "'"))
-            if len(char) != 1:
-                raise SchemalogError(f"syntax error: {text} is not one character",
-                                     SourcePos(self.file, c[0].line, c[0].column), _source_line(self.text, c[0].line))
-            return Int(sign * ord(char))
-        if digits[:2] in ("0x", "0o", "0b"):
-            return Int(sign * int(digits, 0))
-        return Int(sign * int_of_digits(digits.replace("_", "")))
+        value = self._quoted(c[0], int_of_token)
+        if value is None:
+            raise SchemalogError(f"syntax error: {c[0]} is not one character",
+                                 SourcePos(self.file, c[0].line, c[0].column), _source_line(self.text, c[0].line))
+        return value
 
-    def float(self, c):
-        text = str(c[0])
-        if text.endswith("Inf"):  # SWI-Prolog writes infinity as 1.0Inf
-            return Float(float("-inf") if text.startswith("-") else float("inf"))
-        if text.endswith("NaN"):
-            return Float(float("nan"))
-        return Float(float(text))
+    def float(self, c): return float_of_token(str(c[0]))
     def string(self, c): return Str(self._quoted(c[0], lambda t: _unescape(t[1:-1], '"')))
     def compound(self, c): return Struct(self._quoted(c[0], _atom_name), tuple(c[1]))
     def args(self, c): return [a for a in c if not isinstance(a, Token)]
@@ -343,16 +364,38 @@ class _Reader:
         self.depth = max(0, self.depth - 1)
         return token
 
+    def _reset(self, text: str, file: str, offset: int, line_at: _LineIndex) -> None:
+        self.transformer.file = file
+        self.transformer.varmap = {}
+        self.transformer.starts.clear()
+        self.transformer.starts.append(offset)
+        self.transformer.text = text
+        self.transformer.line_at = line_at
+        self.depth = 0
+
     def parse(self, text: str, file: str):
         with self.lock:
-            self.transformer.file = file
-            self.transformer.varmap = {}
-            self.transformer.starts.clear()
-            self.transformer.starts.append(0)
-            self.transformer.text = text
-            self.transformer.line_at = _LineIndex(text)
-            self.depth = 0
+            self._reset(text, file, 0, _LineIndex(text))
             return self.lark.parse(text)
+
+    def parse_clause(self, text: str, offset: int, file: str, line_at: _LineIndex) -> tuple[list, int]:
+        """The items of the one clause from `offset` on (none if only layout is left) and
+        the offset after its final "."; lark reads no further, so a later clause's errors
+        are found when that clause is read."""
+        with self.lock:
+            self._reset(text, file, offset, line_at)
+            interactive = self.lark.parse_interactive(TextSlice(text, offset, len(text)))
+            try:
+                for token in interactive.iter_parse():  # a token is fed when the loop goes on
+                    if token.type == "END":
+                        interactive.feed_token(token)
+                        return interactive.feed_eof(token), token.end_pos
+                return interactive.feed_eof(), len(text)
+            except UnexpectedToken as err:
+                # What lark's own parse does, so the error lists what a term may continue with.
+                if err.interactive_parser is None:
+                    err.interactive_parser = interactive
+                raise
 
 
 @functools.lru_cache(maxsize=None)
@@ -415,8 +458,13 @@ def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogErr
 
 
 def _parse(text: str, file: str, start: str):
+    return _lark_errors(text, file, lambda: _reader(start).parse(text, file))
+
+
+def _lark_errors(text: str, file: str, parse):
+    """`parse()`, its failures as SchemalogErrors at file:line:column."""
     try:
-        return _reader(start).parse(text, file)
+        return parse()
     except _TooDeep as deep:
         tok = deep.token
         raise SchemalogError(f"brackets nested deeper than {MAX_NESTING} levels",
@@ -430,8 +478,14 @@ def _parse(text: str, file: str, start: str):
         raise SchemalogError(f"cannot read term: {err.orig_exc}", SourcePos(file, 1, 1)) from None
 
 
-def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
-    """Parse program text into clauses and directives."""
+def lark_clause(text: str, offset: int, file: str, line_at: _LineIndex) -> tuple[list, int]:
+    """The clause (or nothing but layout) lark reads in `text` from `offset`, and the offset
+    after it: the fast reader's fallback, with lark's own errors and positions."""
+    return _lark_errors(text, file, lambda: _reader("start").parse_clause(text, offset, file, line_at))
+
+
+def parse_text_by_lark(text: str, file: str = "<string>") -> list[Clause | Directive]:
+    """Parse program text with lark alone (what fastread.parse_text must agree with)."""
     return _parse(text, file, "start")
 
 
@@ -458,8 +512,3 @@ def read_source(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
         line = data.count(b"\n", 0, err.start) + 1
         column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
         raise SchemalogError("not UTF-8 text (binary file?)", SourcePos(name, line, column)) from None
-
-
-def parse_file(path: str | Path, max_bytes: int = MAX_BYTES) -> list[Clause | Directive]:
-    """Read and parse a knowledge file."""
-    return parse_text(read_source(path, max_bytes), str(path))

@@ -210,7 +210,14 @@ def iter_vars(term: Term) -> Iterator[Var]:
 
 def is_ground(term: Term) -> bool:
     """Whether `term` has no variables."""
-    return next(iter_vars(term), None) is None
+    stack = [term]  # a loop, not iter_vars' generator: instantiation asks this of every schema
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Struct):
+            stack.extend(t.args)
+        elif isinstance(t, Var):
+            return False
+    return True
 
 
 # ---------------------------------------------------------------------------

@@ -52,7 +52,7 @@ def knowledge_base() -> KnowledgeBase:
     return KnowledgeBase(definitions=SCHEMA_LANGUAGE)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Entry:
     """One sub-task of a schema, with its releaser and SEED importance."""
 
@@ -61,7 +61,7 @@ class Entry:
     importance: int | float = DEFAULT_IMPORTANCE
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class SchemaDef:
     """A `schema/3` clause, read."""
 
@@ -76,6 +76,18 @@ class SchemaDef:
         return not self.entries
 
 
+class _Text:
+    """A message's text, made only if the message is shown: most schemas read have no error."""
+
+    __slots__ = ("make",)
+
+    def __init__(self, make) -> None:
+        self.make = make
+
+    def __str__(self) -> str:
+        return self.make()
+
+
 def read_entry(term: Term, where: str) -> Entry:
     """Read `(Sub, Releaser)`, `(Sub, Releaser, Importance)` or SEED's `[Sub, Importance, Releasers]`."""
     if isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
@@ -85,12 +97,14 @@ def read_entry(term: Term, where: str) -> Entry:
         if isinstance(rest, Struct) and rest.name == "," and len(rest.args) == 2 \
                 and isinstance(rest.args[1], (Int, Float)):
             rest, importance = rest.args
-        return Entry(_behaviour(sub, where), _condition(rest, f"the releaser of {term_to_text(sub)}", where),
+        return Entry(_behaviour(sub, where), _condition(rest, _Text(lambda: f"the releaser of {term_to_text(sub)}"),
+                                                        where),
                      _importance(importance, sub, where))
     items, tail = list_items(term)
     if tail == NIL and len(items) == 3 and isinstance(items[1], (Int, Float)):
         sub, weight, releasers = items
-        return Entry(_behaviour(sub, where), _condition(releasers, f"the releaser of {term_to_text(sub)}", where),
+        return Entry(_behaviour(sub, where),
+                     _condition(releasers, _Text(lambda: f"the releaser of {term_to_text(sub)}"), where),
                      _importance(weight, sub, where))
     raise SchemalogError(f"{where}: a sub-task must be (Behaviour, Releaser) or "
                          f"[Behaviour, Importance, [Releasers]], not {term_to_text(term)}")
@@ -123,7 +137,7 @@ def read_schema(head: Term, body: Term = TRUE, pos: SourcePos | None = None,
     """Read a `schema(Task, Subtasks, Post)` clause; raise SchemalogError with its position."""
     assert isinstance(head, Struct) and head.name == "schema" and len(head.args) == 3
     task, subs, post = head.args
-    where = f"schema {term_to_text(task)}"
+    where = _Text(lambda: f"schema {term_to_text(task)}")
     try:
         if isinstance(task, Var) and body is TRUE:
             raise SchemalogError(f"{where}: the task of a schema fact cannot be a variable")

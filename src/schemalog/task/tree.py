@@ -29,14 +29,14 @@ from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..errors import SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, read_schema
-from ..logic.terms import NIL, Atom, Float, Int, Str, Struct, Term, Var, is_ground, list_items, term_to_text
+from ..logic.terms import NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var, is_ground, list_items, term_to_text
 from ..logic.unify import Bindings
 
 DEFAULT_MAX_DEPTH = defaults.MAX_DEPTH
 DEFAULT_MAX_NODES = defaults.MAX_NODES
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Origin:
     """An original behaviour that a compressed one stands for (provenance).
 
@@ -53,7 +53,7 @@ class Origin:
     slot: int = 0
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Behaviour:
     """A node of a task tree: a running behaviour with its conditions."""
 
@@ -190,8 +190,15 @@ class Instantiator:
     def _find(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
         """The schema of `label`, or None when no clause applies (a body that raises is an error)."""
         goal_list, goal_post = Var("L"), Var("P")
+        ground = is_ground(label)
         for clause in self.kb.candidates("schema", 3, label) or []:
             if clause.library:
+                continue
+            if ground and clause.body == TRUE and is_ground(clause.head):
+                # A ground fact matches a ground label when equal, and is its own answer:
+                # no copy to rename, unify and resolve.
+                if clause.head.args[0] == label:
+                    return label, read_schema(clause.head, pos=clause.pos, allow_unbound=False)
                 continue
             b = Bindings()
             head, body = clause.renamed()

@@ -1,0 +1,248 @@
+"""The reader's fast path: lark's own terminals, matched by two regexes, and a small
+operator-precedence parser for the grammar's clauses; lark reads any clause it does not.
+
+    parse_text(text, file) -> list[Clause | Directive]    what parse.parse_text_by_lark returns
+
+lark's contextual lexer matches, in each parser state, the terminals that state accepts, in
+lark's priority order. Every state of the grammar accepts either terms' first tokens
+(operand mode) or what may follow a term (operator mode; `(` after a functor aside), so two
+alternations of the compiled terminals, in lark's order, give the tokens lark gives. The
+parser below follows grammar/schemalog.lark rule by rule and builds the terms the
+transformer in parse.py builds, with the same `arrange`. Whatever it does not take as the
+grammar does (a syntax error, a priority clash, a bad escape, nesting past MAX_NESTING) it
+hands to lark for that one clause, so every error is lark's, with its file:line:column.
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+
+from ..errors import SourcePos
+from .parse import (_LAYOUT, MAX_NESTING, Clause, Directive, _atom_name, _BadEscape, _LineIndex, _Operand,
+                    _reader, _unescape, arrange, clause_item, float_of_token, int_of_token, lark_clause)
+from .terms import NIL, Atom, Int, Str, Struct, Var, make_list
+
+# Terminal names of grammar/schemalog.lark (lark names "(" LPAR, and so on).
+OPERAND_TERMINALS = frozenset({"PREFIX", "NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING",
+                               "FUNCTOR", "SYMFUNCTOR", "LPAR", "LSQB", "LBRACE", "RSQB", "RBRACE"})
+OPERATOR_TERMINALS = frozenset({"INFIX", "DOT", "COMMA", "END", "RPAR", "RSQB", "RBRACE", "VBAR"})
+
+# What the parser is inside: a clause, ( ), { }, a functor's arguments, a list, a list's tail.
+_TOP, _PAREN, _CURLY, _ARGS, _LIST, _TAIL = range(6)
+
+
+class _Fallback(Exception):
+    """This clause is lark's to read."""
+
+
+def _give_up(token, name):
+    return _Fallback()
+
+
+@functools.lru_cache(maxsize=None)
+def scanners() -> tuple[re.Pattern, re.Pattern] | None:
+    """The operand-mode and operator-mode token regexes, built from the terminals of lark's
+    compiled grammar (None if lark's lexer does something they would not: then lark reads all)."""
+    lexer = _reader("start").lark.parser.lexer
+    root = getattr(lexer, "root_lexer", None)
+    if root is None or any(cb for cb in getattr(root, "callback", {}).values()
+                           if type(cb).__name__ == "UnlessCallback"):
+        return None
+    ordered = root.terminals  # lark's order: priority, then width, then length, then name
+    layout = "|".join(f"(?:{t.pattern.to_regexp()})" for t in ordered if t.name in root.ignore_types)
+
+    def scanner(names: frozenset) -> re.Pattern:
+        alternatives = "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in ordered if t.name in names)
+        # Layout is skipped first, never backtracked into: a lookahead group is atomic, and
+        # lark tries the ignored terminals where no token may start.
+        return re.compile(f"(?=(?P<_layout>(?:{layout})*))(?P=_layout)(?:{alternatives})", root.g_regex_flags)
+
+    return scanner(OPERAND_TERMINALS), scanner(OPERATOR_TERMINALS)
+
+
+def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
+    """Parse program text into clauses and directives, lark reading the clauses this does not."""
+    found = scanners()
+    line_at = _LineIndex(text)
+    if found is None:
+        return _all_by_lark(text, file, line_at)
+    operand, operator = found[0].match, found[1].match
+    items: list[Clause | Directive] = []
+    # One Atom per name, one str per name, one compound per functor and atomic arguments
+    # (b3(cup), b3.done), for the whole text: a file of 100,000 schemas names each sub-task
+    # twice and repeats a few names (schema, true, done, its objects) a million times. Terms
+    # are immutable, so what is equal may be one object.
+    atoms: dict[str, Atom] = {}
+    names: dict[str, str] = {}
+    shared: dict[Struct, Struct] = {}
+    offset, size = 0, len(text)
+    while True:
+        start = _LAYOUT.match(text, offset).end()
+        if start == size:
+            return items
+        try:
+            term, offset = _read_term(text, start, operand, operator, atoms, names, shared)
+        except (_Fallback, _BadEscape, ValueError, OverflowError):
+            read, offset = lark_clause(text, offset, file, line_at)
+            items.extend(read)
+            if not read:
+                return items
+            continue
+        items.append(clause_item(term, SourcePos(file, *line_at(start))))
+
+
+def _all_by_lark(text: str, file: str, line_at: _LineIndex) -> list[Clause | Directive]:
+    items, offset = [], 0
+    while True:
+        read, offset = lark_clause(text, offset, file, line_at)
+        if not read:
+            return items
+        items.extend(read)
+
+
+def _shared(name: str, args: tuple, shared: dict) -> Struct:
+    """Struct(name, args), the one already made if its arguments are atoms or integers."""
+    for arg in args:
+        if type(arg) is not Atom and type(arg) is not Int:
+            return Struct(name, args)
+    made = Struct(name, args)
+    return shared.setdefault(made, made)
+
+
+def _finish(run: list, shared: dict):
+    """The term of a run `operand (infix operand)*`, as the transformer's `expr` and `arg`."""
+    if len(run) == 1:
+        item = run[0]
+        if type(item) is not _Operand:
+            return item
+    elif len(run) == 3 and type(run[0]) is not _Operand and type(run[2]) is not _Operand:
+        return _shared(run[1], (run[0], run[2]), shared)  # two primaries (priority 0) fit any operator
+    return arrange(run, _give_up)[0]
+
+
+def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict, shared: dict):
+    """The clause term from `pos` to its final "." and the offset after it (else _Fallback)."""
+    varmap: dict[str, Var] = {}
+    stack: list[tuple] = []
+    kind, run, prefixes, args, name = _TOP, [], None, None, None
+    depth = 0
+    while True:
+        # Operand mode: prefix operators, then a primary (or an opening bracket).
+        m = operand(text, pos)
+        if m is None:
+            raise _Fallback
+        typ = m.lastgroup
+        pos = m.end()
+        if typ == "NAME":
+            token = m[typ]
+            value = atoms.get(token)
+            if value is None:
+                value = atoms[token] = Atom(names.setdefault(token, token))
+        elif typ == "VAR":
+            var_name = m[typ]
+            if var_name == "_":
+                value = Var("_")
+            else:
+                value = varmap.get(var_name)
+                if value is None:
+                    value = varmap[var_name] = Var(var_name)
+        elif typ == "FUNCTOR" or typ == "SYMFUNCTOR":
+            depth += 1  # the "(" its lookahead saw
+            if depth > MAX_NESTING:
+                raise _Fallback
+            token = m[typ]
+            stack.append((kind, run, prefixes, args, name))
+            kind, run, prefixes, args = _ARGS, [], None, []
+            name = _atom_name(token) if token[0] == "'" else names.setdefault(token, token)
+            pos += 1
+            continue
+        elif typ == "LSQB" or typ == "LPAR" or typ == "LBRACE":
+            depth += 1
+            if depth > MAX_NESTING:
+                raise _Fallback
+            stack.append((kind, run, prefixes, args, name))
+            kind = _LIST if typ == "LSQB" else _PAREN if typ == "LPAR" else _CURLY
+            run, prefixes, args = [], None, [] if typ == "LSQB" else None
+            continue
+        elif typ == "PREFIX":
+            if prefixes is None:
+                prefixes = []
+            prefixes.append(m[typ])
+            continue
+        elif typ == "INT":
+            value = int_of_token(m[typ])
+            if value is None:
+                raise _Fallback
+        elif typ == "QATOM" or typ == "SYMATOM":
+            token = m[typ]
+            value = atoms.get(token)
+            if value is None:
+                value = atoms[token] = Atom(_atom_name(token))
+        elif typ == "FLOAT":
+            value = float_of_token(m[typ])
+        elif typ == "STRING":
+            value = Str(_unescape(m[typ][1:-1], '"'))
+        elif (typ == "RSQB" and kind == _LIST or typ == "RBRACE" and kind == _CURLY) \
+                and not run and not args and prefixes is None:
+            value = NIL if typ == "RSQB" else Atom("{}")  # `[ ]`, `{ }`
+            depth -= 1
+            kind, run, prefixes, args, name = stack.pop()
+        else:
+            raise _Fallback
+        if prefixes is not None:
+            run.append(_Operand([*prefixes, value]))
+            prefixes = None
+        else:
+            run.append(value)
+        # Operator mode: an infix operator, a separator, or the end of what is open.
+        while True:
+            m = operator(text, pos)
+            if m is None:
+                raise _Fallback
+            typ = m.lastgroup
+            pos = m.end()
+            if typ == "COMMA":
+                if kind == _ARGS or kind == _LIST:
+                    args.append(_finish(run, shared))
+                    run = []
+                    break
+                if kind == _TAIL:
+                    raise _Fallback
+                run.append(",")
+                break
+            if typ == "INFIX" or typ == "DOT":
+                token = m[typ]
+                run.append(names.setdefault(token, token))
+                break
+            if typ == "END":
+                if kind != _TOP:
+                    raise _Fallback
+                return _finish(run, shared), pos
+            if typ == "VBAR":
+                if kind != _LIST:
+                    raise _Fallback
+                args.append(_finish(run, shared))
+                kind, run = _TAIL, []
+                break
+            if typ == "RPAR" and kind == _ARGS:
+                args.append(_finish(run, shared))
+                value = _shared(name, tuple(args), shared)
+            elif typ == "RPAR" and kind == _PAREN:
+                value = _finish(run, shared)
+            elif typ == "RSQB" and kind == _LIST:
+                args.append(_finish(run, shared))
+                value = make_list(args)
+            elif typ == "RSQB" and kind == _TAIL:
+                value = make_list(args, _finish(run, shared))
+            elif typ == "RBRACE" and kind == _CURLY:
+                value = Struct("{}", (_finish(run, shared),))
+            else:
+                raise _Fallback
+            depth -= 1
+            kind, run, prefixes, args, name = stack.pop()
+            if prefixes is not None:
+                run.append(_Operand([*prefixes, value]))
+                prefixes = None
+            else:
+                run.append(value)
