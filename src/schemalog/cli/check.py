@@ -19,20 +19,24 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Parse, read every schema, and instantiate the tasks."""
     from ..task.compress import original_of
-    from ..task.schema import check_schemas
+    from ..task.schema import check_schemas, schema_clauses
     from ..task.tree import count_nodes, depth
     from .common import choose_tasks, instantiate_task, load_files
 
     kb = load_files(args)[0]   # not the documents too: their clauses would stay in memory
-    schemas = len(check_schemas(kb))   # the count: the schemas read are not kept while trees are built
+    clauses = schema_clauses(kb)
+    # read once: instantiating takes a ground fact's schema from here instead of reading it again
+    read = {id(c): schema for c, schema in zip(clauses, check_schemas(kb))}
+    schemas = len(read)
     tasks = choose_tasks(kb, args.task, every=True)
     files = ", ".join(args.files)
     report = []
     trees = []
     for task in tasks:
-        tree = instantiate_task(kb, task, args)
+        tree = instantiate_task(kb, task, args, read)
         trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
+    del read                             # the trees hold what they need of it
     _warn(kb, trees, unused=args.task is None)
     summary = f"ok: {files}: {schemas} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"

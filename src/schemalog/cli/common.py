@@ -83,9 +83,11 @@ def defines(kb: KnowledgeBase, task: Term) -> bool:
     return any(Bindings().unify(c.head, goal) for c in kb.candidates("schema", 3, task) or [])
 
 
-def instantiate_task(kb: KnowledgeBase, task: Term, args: argparse.Namespace) -> Behaviour:
-    """The task's tree; the sub-tasks SEED knowledge leaves out are said on stderr."""
-    instantiator = Instantiator(kb, max_depth=args.max_depth, max_nodes=args.max_nodes)
+def instantiate_task(kb: KnowledgeBase, task: Term, args: argparse.Namespace,
+                     read: dict | None = None) -> Behaviour:
+    """The task's tree (`read`: schemas already read, by id of their clause); the sub-tasks
+    SEED knowledge leaves out are said on stderr."""
+    instantiator = Instantiator(kb, max_depth=args.max_depth, max_nodes=args.max_nodes, read=read)
     tree = instantiator.instantiate(task)
     for warning in instantiator.warnings:
         print(warning, file=sys.stderr)

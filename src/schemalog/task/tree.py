@@ -163,8 +163,11 @@ class Instantiator:
     """Looks behaviours up in one knowledge base (schemas, agents, objects)."""
 
     def __init__(self, kb: KnowledgeBase, max_depth: int = DEFAULT_MAX_DEPTH,
-                 max_nodes: int = DEFAULT_MAX_NODES) -> None:
+                 max_nodes: int = DEFAULT_MAX_NODES, read: dict[int, SchemaDef] | None = None) -> None:
         self.kb = kb
+        # check_schemas's schemas by id of their clause (`schemalog check` has read them all
+        # once already): a ground fact's is taken from here instead of being read again
+        self._read = read or {}
         # A rule schema's body, and each look-up of agent/2, object/1 ..., runs under the
         # knowledge base's step limit (--max-steps), as its directives do.
         self.engine = Engine(kb, max_steps=kb.max_steps)
@@ -198,7 +201,8 @@ class Instantiator:
                 # A ground fact matches a ground label when equal, and is its own answer:
                 # no copy to rename, unify and resolve.
                 if clause.head.args[0] == label:
-                    return label, read_schema(clause.head, pos=clause.pos, allow_unbound=False)
+                    known = self._read.get(id(clause))
+                    return label, known or read_schema(clause.head, pos=clause.pos, allow_unbound=False)
                 continue
             b = Bindings()
             head, body = clause.renamed()
