@@ -152,6 +152,18 @@ def _inline_expression(t: Term, depth: int = 0) -> bool:
     return False
 
 
+def _expression_code(t: Term, local: dict[Var, str]) -> str:
+    """Python code computing the inline expression `t` (`_inline_expression`), each variable
+    read as the Int bound to the local it names: `X + 1` is `(x3.value + 1)`."""
+    if isinstance(t, Var):
+        return f"{local[t]}.value"
+    if isinstance(t, Int):
+        return repr(t.value)
+    if len(t.args) == 1:
+        return f"(-{_expression_code(t.args[0], local)})"
+    return f"({_expression_code(t.args[0], local)} {_INLINE_BINARY[t.name]} {_expression_code(t.args[1], local)})"
+
+
 def unify_goal(e, a: tuple, b) -> bool:
     """`X = Y` as a compiled body calls it: an unbound side is bound at once, without the
     general unification's set-up; anything else is the general unification."""
@@ -283,13 +295,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         test = " and ".join(f"type({x}) is I" for x in local.values()) or "True"
 
         def value(t: Term) -> str:
-            if isinstance(t, Var):
-                return f"{local[t]}.value"
-            if isinstance(t, Int):
-                return repr(t.value)
-            if len(t.args) == 1:
-                return f"(-{value(t.args[0])})"
-            return f"({value(t.args[0])} {_INLINE_BINARY[t.name]} {value(t.args[1])})"
+            return _expression_code(t, local)
 
         general = build(goal, var=lambda v: slot[v] if v in slot else "a[0]")
         builtin = const(BUILTINS[(name, 2)])
@@ -328,13 +334,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             walk(x, "    ", lines)
 
         def value(t: Term) -> str:
-            if isinstance(t, Var):
-                return f"{local[t]}.value"
-            if isinstance(t, Int):
-                return repr(t.value)
-            if len(t.args) == 1:
-                return f"(-{value(t.args[0])})"
-            return f"({value(t.args[0])} {_INLINE_BINARY[t.name]} {value(t.args[1])})"
+            return _expression_code(t, local)
 
         lines.append("    known = " + (" and ".join(f"type({x}) is I" for x in local.values()) or "True"))
         lines.append(f"    if known and not {value(goal.args[0])} {_COMPARISONS[goal.name]} {value(goal.args[1])}:"
