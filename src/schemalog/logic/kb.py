@@ -45,12 +45,17 @@ from .unify import Bindings, rename
 Key = tuple  # ("atom", name) | ("struct", name, arity) | ("int", v) | ...
 
 
+_STRUCT_KEYS: dict[Key, Key] = {}   # a memo of immutable values, not state: see first_arg_key
+
+
 def first_arg_key(term: Term) -> Key | None:
     """The index key of a (walked) first argument; None for a variable."""
     if isinstance(term, Var):
         return None
     if isinstance(term, Struct):
-        return ("s", term.name, len(term.args))
+        # One tuple per functor, not per clause: a file of 100,000 schemas keys each twice.
+        key = ("s", term.name, len(term.args))
+        return _STRUCT_KEYS.setdefault(key, key)
     if isinstance(term, Atom):
         return ("a", term.name)
     if isinstance(term, Float):
@@ -318,11 +323,13 @@ class _Defined:
     """The first arguments one file gave a by-argument predicate, indexed to find one that
     unifies with a new argument without scanning them all."""
 
-    __slots__ = ("ground", "keyed", "open_keyed", "variables")
+    __slots__ = ("ground", "ground_keyed", "open_keyed", "variables")
 
     def __init__(self) -> None:
         self.ground: dict[Term, SourcePos] = {}
-        self.keyed: dict[Key, list[tuple[Term, SourcePos]]] = {}       # every non-variable one
+        # The ground ones by key, made only when a first argument with variables asks: a file
+        # of 100,000 ground schema facts never needs it, and it would cost a list each.
+        self.ground_keyed: dict[Key, list[tuple[Term, SourcePos]]] | None = None
         self.open_keyed: dict[Key, list[tuple[Term, SourcePos]]] = {}  # those with variables
         self.variables: list[tuple[Term, SourcePos]] = []
 
@@ -330,10 +337,11 @@ class _Defined:
         key = first_arg_key(arg)
         if key is None:
             self.variables.append((arg, pos))
-            return
-        self.keyed.setdefault(key, []).append((arg, pos))
-        if is_ground(arg):
-            self.ground.setdefault(arg, pos)
+        elif is_ground(arg):
+            if arg not in self.ground:
+                self.ground[arg] = pos
+                if self.ground_keyed is not None:
+                    self.ground_keyed.setdefault(key, []).append((arg, pos))
         else:
             self.open_keyed.setdefault(key, []).append((arg, pos))
 
@@ -341,13 +349,18 @@ class _Defined:
         """A first argument given here that unifies with `arg`, and where it was written."""
         key = first_arg_key(arg)
         if key is None:
-            candidates = [*self.variables, *(e for entries in self.keyed.values() for e in entries)]
+            candidates = [*self.variables, *self.ground.items(),
+                          *(e for entries in self.open_keyed.values() for e in entries)]
         elif is_ground(arg):
             if arg in self.ground:
                 return arg, self.ground[arg]
             candidates = [*self.open_keyed.get(key, ()), *self.variables]
         else:
-            candidates = [*self.keyed.get(key, ()), *self.variables]
+            if self.ground_keyed is None:
+                self.ground_keyed = {}
+                for term, pos in self.ground.items():
+                    self.ground_keyed.setdefault(first_arg_key(term), []).append((term, pos))
+            candidates = [*self.ground_keyed.get(key, ()), *self.open_keyed.get(key, ()), *self.variables]
         for term, pos in candidates:
             if Bindings().unify(arg, rename(term)):
                 return term, pos

@@ -19,6 +19,7 @@ from __future__ import annotations
 import difflib
 import functools
 import os
+from array import array
 from collections import deque
 from dataclasses import dataclass
 
@@ -171,9 +172,11 @@ class _Flat:
 
     def __init__(self, tree: Behaviour) -> None:
         self.nodes: list[Behaviour] = []
-        self.parent: list[int] = []
-        self.children: list[list[int]] = []
-        self.end: list[int] = []
+        # Machine integers, and one empty tuple for every leaf: on a task of 100,000
+        # behaviours a list per leaf and an int object per index cost tens of MB.
+        self.parent = array("l")
+        self.children: list[list[int] | tuple[()]] = []
+        self.end = array("l")
         stack: list[tuple[Behaviour, int, bool]] = [(tree, -1, False)]
         open_: list[int] = []
         while stack:
@@ -184,7 +187,7 @@ class _Flat:
             i = len(self.nodes)
             self.nodes.append(node)
             self.parent.append(parent)
-            self.children.append([])
+            self.children.append([] if node.children else ())
             self.end.append(i + 1)
             if parent >= 0:
                 self.children[parent].append(i)

@@ -179,6 +179,8 @@ class Instantiator:
         self._origins_cache: dict[Term, list[tuple[Origin, ...]]] = {}
         self._agent_cache: dict[Term, str] = {}
         self._objects_cache: dict[Term, tuple[Term, ...]] = {}
+        self._object_cache: dict[Term, bool] = {}
+        self._object_tuples: dict[tuple[Term, ...], tuple[Term, ...]] = {}
         # The sub-tasks the last instantiation left out, as SEED does: (parent's clause, parent, sub-task).
         self.left_out: list[tuple[SourcePos, Term, Term]] = []
 
@@ -281,11 +283,20 @@ class Instantiator:
         if result is None:
             args = label.args if isinstance(label, Struct) else ()
             if self._has["object"]:
-                result = tuple(a for a in args if self._succeeds(Struct("object", (a,))))
+                result = tuple(a for a in args if self._is_object(a))
             else:
                 result = tuple(a for a in args if isinstance(a, (Atom, Int, Float, Str)))
-        self._objects_cache[label] = result
+        # one tuple for each distinct list of objects: (obj1,) stands for thousands of behaviours
+        result = self._objects_cache[label] = self._object_tuples.setdefault(result, result)
         return result
+
+    def _is_object(self, arg: Term) -> bool:
+        """Whether `object(arg)` succeeds, asked once per argument (a file of 100,000 schemas
+        names each of its few objects tens of thousands of times)."""
+        known = self._object_cache.get(arg)
+        if known is None:
+            known = self._object_cache[arg] = self._succeeds(Struct("object", (arg,)))
+        return known
 
     # -- provenance of a compressed tree (written by schemalog compress) ------
     def child_origins(self, parent: Term, index: int, pos: SourcePos | None) -> tuple[Origin, ...]:
