@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 
+import pytest
 from hypothesis import given, settings, strategies as st
 
 from schemalog.formats.documents import document_from_text
@@ -11,7 +12,7 @@ from schemalog.logic.compile import COMPILE_AFTER, activate_by_copy, body_goals,
 from schemalog.logic.engine import Engine
 from schemalog.logic.exceptions import PrologError
 from schemalog.logic.parse import parse_term
-from schemalog.logic.terms import Float, term_to_text
+from schemalog.logic.terms import Atom, Float, Struct, term_to_text
 from schemalog.logic.unify import Bindings
 
 
@@ -91,10 +92,12 @@ def test_compiled_and_copied_activations_give_the_same_goal_list():
     lists = []
     for make in (activate_by_copy, compile_clause):
         b = Bindings()
-        goals, entries = make(head, body)(goal, b, 7, None), []
+        goals, entries = make(head, body)(goal.args, b, 7, None), []
         while goals is not None:
             entry, height, goals = goals
             assert height == 7
+            if isinstance(entry, tuple) and isinstance(entry[0], tuple):   # a UserCall: its goal
+                entry = Struct(entry[0][0], entry[1])
             entries.append(entry if isinstance(entry, tuple) else term_to_text(b.resolve(entry)))
         lists.append(entries)
     by_copy, compiled = lists
@@ -147,7 +150,7 @@ def test_the_compiled_body_holds_control_constructs_not_terms():
     # So the test above compares two paths: the compiled clause pushes an engine.Or.
     from schemalog.logic.engine import Or
     head, body = parse_term("(t(X) :- (X = a ; X = b))").args
-    entry, _, _ = compile_clause(head, body)(parse_term("t(Y)"), Bindings(), 0, None)
+    entry, _, _ = compile_clause(head, body)(parse_term("t(Y)").args, Bindings(), 0, None)
     assert isinstance(entry, Or)
 
 
@@ -195,3 +198,38 @@ def test_a_guard_answers_as_the_comparison_in_the_body(test, cut, x, y):
     goal = f"t({_text(x)}, {_text(y)}, R)"
     first, *compiled = _all_answers(program, goal, COMPILE_AFTER + 2)
     assert compiled == [first] * len(compiled)
+
+
+# A compiled body calls a user predicate through a UserCall (its key made once, no goal term);
+# what else a body calls must still reach the machine as it does interpreted: a
+# nondeterministic built-in, a library predicate, an atom goal, an unknown procedure, and a
+# relation an engine adds, which answers before a clause of the same name.
+KINDS_PROGRAM = ("p(a). p(b).\ngo.\n"
+                 "t(user, X) :- p(X).\n"
+                 "t(atom, done) :- go.\n"
+                 "t(nondet, N) :- between(1, 3, N).\n"
+                 "t(length, L) :- length(L, 2).\n"
+                 "t(library, L) :- append(L, [z], [y, z]).\n"
+                 "t(output, x) :- nl.\n"
+                 "t(unknown, X) :- nope(X).\n")
+
+
+@pytest.mark.parametrize("kind, expected", [
+    ("user", ["t(user,a)", "t(user,b)"]), ("atom", ["t(atom,done)"]),
+    ("nondet", ["t(nondet,1)", "t(nondet,2)", "t(nondet,3)"]), ("length", ["t(length,[_,_])"]),
+    ("library", ["t(library,[y])"]), ("output", ["t(output,x)"]),
+    ("unknown", ["error error(existence_error(procedure,nope/1),_)"])])
+def test_every_kind_of_body_goal_answers_alike_before_and_after_compiling(kind, expected):
+    answers = _all_answers(KINDS_PROGRAM, f"t({kind}, X)", COMPILE_AFTER + 2)
+    assert answers == [expected] * (COMPILE_AFTER + 2)
+
+
+def test_a_relation_of_the_engine_answers_before_a_clause_of_its_name_once_compiled():
+    def relation(engine, args, b):
+        return b.unify(args[0], Atom("relation"))
+
+    kb = document_from_text("p(clause).\nt(X) :- p(X).\n", "t.pl").to_kb()
+    for _ in range(COMPILE_AFTER + 2):
+        plain = [term_to_text(t) for t in Engine(kb).answers(parse_term("t(X)"))]
+        extended = [term_to_text(t) for t in Engine(kb, builtins={("p", 1): relation}).answers(parse_term("t(X)"))]
+        assert (plain, extended) == (["t(clause)"], ["t(relation)"])

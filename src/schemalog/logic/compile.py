@@ -1,10 +1,13 @@
 """Clauses compiled to Python: the head's unification and the body's goals, in one function.
 
-    activate(goal, b, height, rest) -> Goals | False     False: the head does not match
+    activate(args, b, height, rest) -> Goals | False     args: the call's arguments;
+                                                           False: the head does not match
     Goals = (Goal, cut_barrier, rest) | None               the engine's goal list (engine.py)
-    Goal  = Term | Call | Or | IfThenElse | IfThen | Not
+    Goal  = Term | Call | UserCall | Or | IfThenElse | IfThen | Not
     Call  = (Builtin, args)                                a deterministic built-in, found when
                                                            the clause was compiled
+    UserCall = ((name, arity), args)                       any other predicate's call, its key
+                                                           made once, no goal term built
     Or(left, right), IfThenElse(cond, then, otherwise), IfThen(cond, then), Not(goal)
                                                            a control construct (engine.py), each
                                                            part a tuple of Goals
@@ -18,9 +21,11 @@ one Python function per clause (the WAM's get and put instructions, in effect):
 - the body's conjunction is flattened into the goal list, so `(A, B, C)` costs three goals,
   not five; a variable goal G is call(G), as ISO converts a clause body (its cut is local);
 - a built-in that is not a control construct is resolved now, into a `Call`, so the engine
-  calls it without looking it up; `X is Y - 1` and the comparisons of integer sums,
-  differences and products are computed in Python, falling back to the general `is` (with its
-  errors, floats and big numbers) for anything else; `X = Y` binds an unbound side itself;
+  calls it without looking it up; a user predicate's call becomes a `UserCall`, its key made
+  now and its arguments built, with no goal term for the engine to take apart again;
+  `X is Y - 1` and the comparisons of integer sums, differences and products are computed in
+  Python, falling back to the general `is` (with its errors, floats and big numbers) for
+  anything else; `X = Y` binds an unbound side itself;
 - `;`, `->`, `*->` with an else-branch, `\\+` and `not` become the engine's Or, IfThenElse,
   IfThen and Not with their parts compiled the same way (their cuts reach as interpreted: the
   condition's is local, a branch's cuts the clause); `*->` without else stays a term;
@@ -38,11 +43,11 @@ import re
 from typing import Callable
 
 from .builtins import body_calls
-from .engine import BUILTINS, CONTROL, IfThen, IfThenElse, Not, Or, SoftIfThenElse
-from .terms import TRUE, Int, Struct, Term, Var, iter_vars, is_ground
+from .engine import BUILTINS, CONTROL, NONDET_BUILTINS, IfThen, IfThenElse, Not, Or, SoftIfThenElse
+from .terms import TRUE, Atom, Int, Struct, Term, Var, iter_vars, is_ground
 from .unify import rename
 
-Activation = Callable  # (goal, bindings, height, rest) -> Goals | False
+Activation = Callable  # (args, bindings, height, rest) -> Goals | False
 
 COMPILE_AFTER = 2   # calls of a clause before it is compiled
 
@@ -111,9 +116,9 @@ def activate_by_copy(head: Term, body: Term) -> Activation:
     clause = Struct(":-", (head, body_calls(body)))
     copy = compile_copy(clause)
 
-    def activate(goal: Term, b, height: int, rest):
+    def activate(args: tuple, b, height: int, rest):
         fresh_head, fresh_body = copy().args
-        if not b.unify(fresh_head, goal):
+        if args and not b.unify(fresh_head, Struct(fresh_head.name, args)):
             return False
         return push_goals(body_goals(fresh_body), height, rest)
     return activate
@@ -122,9 +127,10 @@ def activate_by_copy(head: Term, body: Term) -> Activation:
 def activate_ground(head: Term, body: Term) -> Activation:
     """A clause without variables (a fact of a task tree) needs no copy: unify it as it is."""
     goals = body_goals(body)
+    pattern = head if isinstance(head, Struct) else None
 
-    def activate(goal: Term, b, height: int, rest):
-        if not b.unify(head, goal):
+    def activate(args: tuple, b, height: int, rest):
+        if pattern is not None and not b.unify(pattern, Struct(pattern.name, args)):
             return False
         return push_goals(goals, height, rest)
     return activate
@@ -241,7 +247,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             raise OverflowError
         if isinstance(p, Var):
             if p in seen:
-                lines.append(f"{pad}if not unify({names[p]}, {x}): return False")
+                lines.append(f"{pad}if not b.unify({names[p]}, {x}): return False")
             else:
                 seen.add(p)
                 lines.append(f"{pad}{names[p]} = {x}")
@@ -250,7 +256,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         if not isinstance(p, Struct) or is_ground(p):
             c = const(p)
             lines.append(f"{pad}if type({x}) is V: values[{x}] = {c}; trail.append({x})")
-            test = f"not unify({x}, {c})" if isinstance(p, Struct) else f"type({x}) is not type({c}) or {x} != {c}"
+            test = f"not b.unify({x}, {c})" if isinstance(p, Struct) else f"type({x}) is not type({c}) or {x} != {c}"
             lines.append(f"{pad}elif {test}: return False")
             return
         # A compound with variables: built for an unbound goal variable, else taken apart;
@@ -258,15 +264,27 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         lines.append(f"{pad}if type({x}) is V:")
         create(p, pad + "    ", set(seen))
         lines.append(f"{pad}    values[{x}] = {build(p)}; trail.append({x})")
-        lines.append(f"{pad}elif type({x}) is S and {x}.name == {const(p.name)} and len({x}.args) == {len(p.args)}:")
         args = f"a{next(counter)}"
-        lines.append(f"{pad}    {args} = {x}.args")
-        for i, sub in enumerate(p.args):
-            item = f"x{next(counter)}"
-            lines.append(f"{pad}    {item} = {args}[{i}]")
-            unify_with(sub, item, pad + "    ", depth + 1)
+        lines.append(f"{pad}elif type({x}) is S and {x}.name == {const(p.name)} and len({args} := {x}.args) == {len(p.args)}:")
+        unpack(p.args, args, pad + "    ", depth + 1)
         lines.append(f"{pad}else: return False")
         seen.update(iter_vars(p))
+
+    def unpack(patterns: tuple, source: str, pad: str, depth: int) -> None:
+        """Code unifying each of `patterns` with the items of the tuple named `source`, taken
+        in one assignment: `v0, x3 = a1` names a variable's first occurrence at once."""
+        targets, pending = [], []
+        for sub in patterns:
+            if isinstance(sub, Var) and sub not in seen:
+                seen.add(sub)
+                targets.append(names[sub])
+            else:
+                item = f"x{next(counter)}"
+                targets.append(item)
+                pending.append((sub, item))
+        lines.append(f"{pad}{', '.join(targets)}, = {source}")
+        for sub, item in pending:
+            unify_with(sub, item, pad, depth)
 
     def arithmetic(goal: Struct) -> str | None:
         """A `Call` computing `goal` (is/2 or a comparison) inline, or None."""
@@ -362,29 +380,28 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         return f"NOT({branch(goal.args[0], depth)})"
 
     def goal_code(goal: Term, depth: int = 0) -> str:
-        """The goal list entry of one body goal: a Call, a compiled control construct, or
-        the goal's instance."""
-        if isinstance(goal, Struct):
-            key = (goal.name, len(goal.args))
-            if key in _COMPILED_CONTROL:
-                return control(goal, depth)
-            if key == ("=", 2):
-                return f"(U, ({build(goal.args[0])}, {build(goal.args[1])},))"
-            fn = BUILTINS.get(key)
-            if fn is not None and key not in CONTROL:
-                inline = arithmetic(goal)
-                if inline is not None:
-                    return inline
-                return f"({const(fn)}, ({', '.join(build(a) for a in goal.args)},))"
-        return build(goal)
+        """The goal list entry of one body goal: a Call, a UserCall, a compiled control
+        construct, or the goal's instance (the other control constructs, nondeterministic
+        built-ins)."""
+        if not isinstance(goal, (Struct, Atom)):
+            return build(goal)
+        args = goal.args if isinstance(goal, Struct) else ()
+        key = (goal.name, len(args))
+        if key in _COMPILED_CONTROL:
+            return control(goal, depth)
+        if key == ("=", 2):
+            return f"(U, ({build(args[0])}, {build(args[1])},))"
+        if key in CONTROL or key in NONDET_BUILTINS:
+            return build(goal)
+        fn = BUILTINS.get(key)
+        if fn is not None:
+            inline = arithmetic(goal) if args else None
+            return inline if inline is not None else f"({const(fn)}, ({''.join(build(a) + ', ' for a in args)}))"
+        return f"({const(key)}, ({''.join(build(a) + ', ' for a in args)}))"
 
     try:
         if isinstance(head, Struct):   # an atom head (`go :- ...`) has nothing to unify
-            lines.append("    goal_args = goal.args")
-        for i, p in enumerate(head.args if isinstance(head, Struct) else ()):
-            x = f"x{next(counter)}"
-            lines.append(f"    {x} = goal_args[{i}]")
-            unify_with(p, x, "    ", 0)
+            unpack(head.args, "goal_args", "    ", 0)
         goals = body_goals(body)
         if len(goals) > max_goals:
             raise OverflowError
@@ -403,10 +420,11 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
     code = "\n".join(lines)
     # only the look-ups the code uses: a clause of variables alone (tak/4) needs none
     prologue = "".join(f"    {line}\n" for word, line in (
-        ("values", "values = b.values"), ("trail", "trail = b.trail"), ("get", "get = b.values.get"),
-        ("unify", "unify = b.unify")) if re.search(rf"\b{word}\b", code))
+        ("values", "values = b.values"), ("trail", "trail = b.trail"),
+        ("get", "get = values.get" if re.search(r"\bvalues\b", code) else "get = b.values.get"))
+        if re.search(rf"\b{word}\b", code))
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
-        "def activate(goal, b, height, rest):\n" + prologue + code + "\n    return r\n")
+        "def activate(goal_args, b, height, rest):\n" + prologue + code + "\n    return r\n")
     scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,
              "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not, "U": unify_goal,
              **{f"c{k}": constant for k, constant in enumerate(constants)}}

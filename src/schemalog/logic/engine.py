@@ -1,8 +1,9 @@
 """SLD resolution: depth-first, backtracking, iterative, with a step limit.
 
-    Goals       = (goal: Term | Call | Control | Marker, cut_barrier: int, rest: Goals) | None
+    Goals       = (goal: Term | Call | UserCall | Control | Marker, cut_barrier: int, rest: Goals) | None
                                                       (a linked list)
     Call        = (Builtin, args)                     a built-in a compiled clause found (compile.py)
+    UserCall    = ((name, arity), args)               another call a compiled clause made (compile.py)
     Control     = Or | IfThenElse | IfThen | Not      a control construct a compiled clause found
     ChoicePoint = (kind, trail_mark, ...)                                               (a stack)
 
@@ -201,6 +202,10 @@ class Engine:
         kb = self.kb
         special = self._special
         nondet = self.nondet
+        # A UserCall's key is no built-in (compile.py made sure of it): only this engine's
+        # own relations, when it has any, can answer it before the knowledge base does.
+        relations = self.builtins is not BUILTINS or self.nondet is not NONDET_BUILTINS
+        get = b.values.get
         predicates = kb.predicates
         max_steps = self.max_steps
         check = self.steps   # the count at which the limit and Ctrl-C are looked at next
@@ -221,93 +226,154 @@ class Engine:
                         return
                     continue
                 term, cutb, rest = goals
-                # An attribute, not a local: built-ins and sub-machines add to the same count.
-                # One test per step: Ctrl-C is looked for every _POLL steps, with the limit.
-                self.steps += 1
-                if self.steps > check:
-                    if self.steps > max_steps:
+                # An attribute, not a local: built-ins and sub-machines add to the same count
+                # (read once per step). One test per step: Ctrl-C is looked for every _POLL
+                # steps, with the limit.
+                steps = self.steps + 1
+                self.steps = steps
+                if steps > check:
+                    if steps > max_steps:
                         raise self._over()
                     if self.interrupted:
                         self.interrupted = False
                         raise SchemalogError("interrupted")
-                    check = min(max_steps, self.steps + _POLL)
+                    check = min(max_steps, steps + _POLL)
                 kind = type(term)
-                if kind is tuple:  # a Call: a built-in a compiled clause body found (compile.py)
-                    mark = len(b.trail)
-                    if term[0](self, term[1], b):
-                        if b.work:
-                            self._charge_work(b)
-                        goals = rest
-                    else:
-                        if b.work:
-                            self._charge_work(b)
-                        b.undo(mark)
-                        goals = self._backtrack(cps, b)
-                        if goals is False:
-                            return
-                    continue
-                if kind is Struct:
-                    name, args = term.name, term.args
-                elif kind is Atom:
-                    name, args = term.name, ()
-                elif kind is Var:  # `G` as a goal means call(G): its cut is local
-                    term = b.walk(term)
-                    if isinstance(term, Var):
-                        raise instantiation_error()
-                    _check_body(term, b)
-                    cutb = len(cps)
-                    if isinstance(term, Atom):
-                        name, args = term.name, ()
-                    elif isinstance(term, Struct):
-                        name, args = term.name, term.args
-                    else:
-                        raise type_error("callable", term)
-                elif kind is Or:
-                    cps.append((_ALT, len(b.trail), _push(term.right, cutb, rest)))
-                    goals = _push(term.left, cutb, rest)
-                    continue
-                elif kind is Not:
-                    height = len(cps)
-                    cps.append((_ALT, len(b.trail), rest))
-                    goals = _push(term.goal, height + 1, (_FailAfterCut(height), cutb, None))
-                    continue
-                elif kind is IfThenElse or kind is SoftIfThenElse:
-                    height = len(cps)
-                    cps.append((_ALT, len(b.trail), _push(term.otherwise, cutb, rest)))
-                    commit = _CutTo(height) if kind is IfThenElse else _SoftCut(height)
-                    goals = _push(term.cond, height + 1, (commit, cutb, _push(term.then, cutb, rest)))
-                    continue
-                elif kind is IfThen:
-                    height = len(cps)
-                    goals = _push(term.cond, height, (_CutTo(height), cutb, _push(term.then, cutb, rest)))
-                    continue
+                if kind is tuple:
+                    key = term[0]
+                    if type(key) is not tuple:   # a Call: a built-in a compiled body found (compile.py)
+                        mark = len(b.trail)
+                        if key(self, term[1], b):
+                            if b.work:
+                                self._charge_work(b)
+                            goals = rest
+                        else:
+                            if b.work:
+                                self._charge_work(b)
+                            b.undo(mark)
+                            goals = self._backtrack(cps, b)
+                            if goals is False:
+                                return
+                        continue
+                    # a UserCall: a user predicate's call a compiled body made, its key made then
+                    name, arity = key
+                    args = term[1]
+                    entry = special.get(key) if relations else None
                 else:
-                    if isinstance(term, _CutTo):
-                        del cps[term.height:]
-                        if isinstance(term, _FailAfterCut):
+                    if kind is Struct:
+                        name, args = term.name, term.args
+                    elif kind is Atom:
+                        name, args = term.name, ()
+                    elif kind is Var:  # `G` as a goal means call(G): its cut is local
+                        term = b.walk(term)
+                        if isinstance(term, Var):
+                            raise instantiation_error()
+                        _check_body(term, b)
+                        cutb = len(cps)
+                        if isinstance(term, Atom):
+                            name, args = term.name, ()
+                        elif isinstance(term, Struct):
+                            name, args = term.name, term.args
+                        else:
+                            raise type_error("callable", term)
+                    elif kind is Or:
+                        cps.append((_ALT, len(b.trail), _push(term.right, cutb, rest)))
+                        goals = _push(term.left, cutb, rest)
+                        continue
+                    elif kind is Not:
+                        height = len(cps)
+                        cps.append((_ALT, len(b.trail), rest))
+                        goals = _push(term.goal, height + 1, (_FailAfterCut(height), cutb, None))
+                        continue
+                    elif kind is IfThenElse or kind is SoftIfThenElse:
+                        height = len(cps)
+                        cps.append((_ALT, len(b.trail), _push(term.otherwise, cutb, rest)))
+                        commit = _CutTo(height) if kind is IfThenElse else _SoftCut(height)
+                        goals = _push(term.cond, height + 1, (commit, cutb, _push(term.then, cutb, rest)))
+                        continue
+                    elif kind is IfThen:
+                        height = len(cps)
+                        goals = _push(term.cond, height, (_CutTo(height), cutb, _push(term.then, cutb, rest)))
+                        continue
+                    else:
+                        if isinstance(term, _CutTo):
+                            del cps[term.height:]
+                            if isinstance(term, _FailAfterCut):
+                                goals = self._backtrack(cps, b)
+                                if goals is False:
+                                    return
+                                continue
+                            goals = rest
+                            continue
+                        if isinstance(term, _SoftCut):
+                            cps[term.height] = (_DEAD, cps[term.height][1])
+                            goals = rest
+                            continue
+                        if isinstance(term, _ExitCatch):
+                            cp = cps[term.height] if term.height < len(cps) else None
+                            if cp is not None and cp[0] == _CATCH:
+                                cps[term.height] = (_CATCH, cp[1], None, cp[3], cp[4], cp[5])
+                            goals = rest
+                            continue
+                        raise type_error("callable", term)
+                    arity = len(args)
+                    key = (name, arity)
+                    entry = special.get(key)   # one lookup for the common case, a user predicate
+
+                # User predicates (call/N past call/8 is a control construct) ------
+                if entry is None and (name != "call" or not arity):
+                    pred = predicates.get(key)
+                    if pred is None:
+                        if getattr(kb, "flags", {}).get("unknown") in _UNKNOWN_FAILS:  # set_prolog_flag(unknown, fail)
                             goals = self._backtrack(cps, b)
                             if goals is False:
                                 return
                             continue
-                        goals = rest
-                        continue
-                    if isinstance(term, _SoftCut):
-                        cps[term.height] = (_DEAD, cps[term.height][1])
-                        goals = rest
-                        continue
-                    if isinstance(term, _ExitCatch):
-                        cp = cps[term.height] if term.height < len(cps) else None
-                        if cp is not None and cp[0] == _CATCH:
-                            cps[term.height] = (_CATCH, cp[1], None, cp[3], cp[4], cp[5])
-                        goals = rest
-                        continue
-                    raise type_error("callable", term)
-                arity = len(args)
+                        raise existence_error(name, arity)
+                    # Predicate.select, its commonest case inline: a first argument bound to a
+                    # compound or an atom, looked up in the index already built.
+                    index = pred._index
+                    if index:
+                        first = args[0]
+                        while type(first) is Var:
+                            bound = get(first)
+                            if bound is None:
+                                break
+                            first = bound
+                        kind = type(first)
+                        if kind is Struct:
+                            candidates = index.get(("s", first.name, len(first.args)), pred._unindexed)
+                        elif kind is Atom:
+                            candidates = index.get(("a", first.name), pred._unindexed)
+                        else:
+                            candidates = pred.select(args, b)
+                    else:
+                        candidates = pred.select(args, b)
+                    # The first clause whose head matches is tried here, and a choicepoint left
+                    # only when clauses remain (as _backtrack would, without a round trip).
+                    height = len(cps)
+                    mark = len(b.trail)
+                    count = len(candidates)
+                    index = 0
+                    while index < count:
+                        clause = candidates[index]
+                        index += 1
+                        activation = clause._activation
+                        goals = (activation(args, b, height, rest) if activation is not None
+                                 else clause.activate(args, b, height, rest))
+                        if goals is not False:
+                            if index < count:
+                                cps.append((_CLAUSES, mark, args, candidates, index, rest, height))
+                            break
+                        b.undo(mark)
+                    else:
+                        goals = self._backtrack(cps, b)
+                        if goals is False:
+                            return
+                    continue
 
                 # Control constructs ------------------------------------------
-                key = (name, arity)
-                entry = special.get(key)   # one lookup for the common case, a user predicate
-                if entry is _CONTROL_ENTRY or name == "call":
+                if entry is _CONTROL_ENTRY or entry is None:
                     if arity == 2 and name == ",":
                         goals = (args[0], cutb, (args[1], cutb, rest))
                         continue
@@ -365,19 +431,6 @@ class Engine:
                         goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
                         continue
                 # Builtins ----------------------------------------------------
-                if entry is not None and entry is not _CONTROL_ENTRY and entry is not _NONDET_ENTRY:
-                    mark = len(b.trail)
-                    ok = entry(self, args, b)
-                    if b.work:  # the cells the built-in resolved (a copy, an assert, a sort)
-                        self._charge_work(b)
-                    if ok:
-                        goals = rest
-                    else:
-                        b.undo(mark)
-                        goals = self._backtrack(cps, b)
-                        if goals is False:
-                            return
-                    continue
                 if entry is _NONDET_ENTRY:
                     gen_fn = nondet[key]
                     mark = b.mark()
@@ -387,53 +440,14 @@ class Engine:
                     if goals is False:
                         return
                     continue
-
-                # User predicates ---------------------------------------------
-                pred = predicates.get(key)
-                if pred is None:
-                    if getattr(kb, "flags", {}).get("unknown") in _UNKNOWN_FAILS:  # set_prolog_flag(unknown, fail)
-                        goals = self._backtrack(cps, b)
-                        if goals is False:
-                            return
-                        continue
-                    raise existence_error(name, arity)
-                # Predicate.select, its commonest case inline: a first argument bound to a
-                # compound or an atom, looked up in the index already built.
-                index = pred._index
-                if index:
-                    first = args[0]
-                    while type(first) is Var:
-                        bound = b.values.get(first)
-                        if bound is None:
-                            break
-                        first = bound
-                    kind = type(first)
-                    if kind is Struct:
-                        candidates = index.get(("s", first.name, len(first.args)), pred._unindexed)
-                    elif kind is Atom:
-                        candidates = index.get(("a", first.name), pred._unindexed)
-                    else:
-                        candidates = pred.select(args, b)
-                else:
-                    candidates = pred.select(args, b)
-                # The first clause whose head matches is tried here, and a choicepoint left
-                # only when clauses remain (as _backtrack would, without a round trip).
-                height = len(cps)
                 mark = len(b.trail)
-                count = len(candidates)
-                index = 0
-                while index < count:
-                    clause = candidates[index]
-                    index += 1
-                    activation = clause._activation
-                    goals = (activation(term, b, height, rest) if activation is not None
-                             else clause.activate(term, b, height, rest))
-                    if goals is not False:
-                        if index < count:
-                            cps.append((_CLAUSES, mark, term, candidates, index, rest, height))
-                        break
-                    b.undo(mark)
+                ok = entry(self, args, b)
+                if b.work:  # the cells the built-in resolved (a copy, an assert, a sort)
+                    self._charge_work(b)
+                if ok:
+                    goals = rest
                 else:
+                    b.undo(mark)
                     goals = self._backtrack(cps, b)
                     if goals is False:
                         return
@@ -451,16 +465,16 @@ class Engine:
             kind, mark = cp[0], cp[1]
             b.undo(mark)
             if kind == _CLAUSES:
-                _, _, term, candidates, index, rest, height = cp
+                _, _, args, candidates, index, rest, height = cp
                 while index < len(candidates):
                     clause = candidates[index]
                     index += 1
                     activation = clause._activation
-                    goals = (activation(term, b, height, rest) if activation is not None
-                             else clause.activate(term, b, height, rest))
+                    goals = (activation(args, b, height, rest) if activation is not None
+                             else clause.activate(args, b, height, rest))
                     if goals is not False:
                         if index < len(candidates):
-                            cps[-1] = (_CLAUSES, mark, term, candidates, index, rest, height)
+                            cps[-1] = (_CLAUSES, mark, args, candidates, index, rest, height)
                         else:
                             cps.pop()
                         return goals

@@ -89,10 +89,10 @@ class StoredClause:
         pair = copy()
         return pair.args[0], pair.args[1]
 
-    def activate(self, goal: Term, b, height: int, rest):
-        """Unify a fresh copy of the head with `goal` and return the goal list with the body's
-        goals in front of `rest`, each cutting to `height`; False when the head does not match
-        (the caller undoes the bindings). See compile.py."""
+    def activate(self, args: tuple, b, height: int, rest):
+        """Unify a fresh copy of the head with a call of arguments `args` and return the goal
+        list with the body's goals in front of `rest`, each cutting to `height`; False when the
+        head does not match (the caller undoes the bindings). See compile.py."""
         activation = self._activation
         if activation is None:
             if is_ground(self.head) and is_ground(self.body):
@@ -102,9 +102,9 @@ class StoredClause:
                 if self._calls <= COMPILE_AFTER:
                     if self._by_copy is None:
                         self._by_copy = activate_by_copy(self.head, self.body)
-                    return self._by_copy(goal, b, height, rest)
+                    return self._by_copy(args, b, height, rest)
                 activation = self._activation = compile_clause(self.head, self.body)
-        return activation(goal, b, height, rest)
+        return activation(args, b, height, rest)
 
     def text(self) -> str:
         """The clause as Prolog text."""
