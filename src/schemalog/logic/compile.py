@@ -21,8 +21,9 @@ one Python function per clause (the WAM's get and put instructions, in effect):
 - the body's conjunction is flattened into the goal list, so `(A, B, C)` costs three goals,
   not five; a variable goal G is call(G), as ISO converts a clause body (its cut is local);
 - a built-in that is not a control construct is resolved now, into a `Call`, so the engine
-  calls it without looking it up; a user predicate's call becomes a `UserCall`, its key made
-  now and its arguments built, with no goal term for the engine to take apart again;
+  calls it without looking it up (an engine's own relations cannot override it, as for a
+  built-in); a user predicate's call becomes a `UserCall`, its key made now and its
+  arguments built, with no goal term for the engine to take apart again;
   `X is Y - 1` and the comparisons of integer sums, differences and products are computed in
   Python, falling back to the general `is` (with its errors, floats and big numbers) for
   anything else; `X = Y` binds an unbound side itself;
@@ -272,7 +273,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
 
     def unpack(patterns: tuple, source: str, pad: str, depth: int) -> None:
         """Code unifying each of `patterns` with the items of the tuple named `source`, taken
-        in one assignment: `v0, x3 = a1` names a variable's first occurrence at once."""
+        in one assignment: `v0, x3, = a1` names a variable's first occurrence at once."""
         targets, pending = [], []
         for sub in patterns:
             if isinstance(sub, Var) and sub not in seen:
@@ -286,8 +287,10 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         for sub, item in pending:
             unify_with(sub, item, pad, depth)
 
-    def arithmetic(goal: Struct) -> str | None:
+    def arithmetic(goal: Term) -> str | None:
         """A `Call` computing `goal` (is/2 or a comparison) inline, or None."""
+        if not isinstance(goal, Struct) or len(goal.args) != 2:
+            return None
         name = goal.name
         if name == "is":
             if not _inline_expression(goal.args[1]) or isinstance(goal.args[1], (Var, Int)):
@@ -391,13 +394,14 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             return control(goal, depth)
         if key == ("=", 2):
             return f"(U, ({build(args[0])}, {build(args[1])},))"
-        if key in CONTROL or key in NONDET_BUILTINS:
+        if key in CONTROL or key in NONDET_BUILTINS or goal.name == "call":   # call/9 and past too
             return build(goal)
+        built = "(" + "".join(build(a) + ", " for a in args) + ")"
         fn = BUILTINS.get(key)
         if fn is not None:
-            inline = arithmetic(goal) if args else None
-            return inline if inline is not None else f"({const(fn)}, ({''.join(build(a) + ', ' for a in args)}))"
-        return f"({const(key)}, ({''.join(build(a) + ', ' for a in args)}))"
+            inline = arithmetic(goal)
+            return inline if inline is not None else f"({const(fn)}, {built})"
+        return f"({const(key)}, {built})"
 
     try:
         if isinstance(head, Struct):   # an atom head (`go :- ...`) has nothing to unify
@@ -419,10 +423,10 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         return activate_by_copy(head, body)
     code = "\n".join(lines)
     # only the look-ups the code uses: a clause of variables alone (tak/4) needs none
-    prologue = "".join(f"    {line}\n" for word, line in (
-        ("values", "values = b.values"), ("trail", "trail = b.trail"),
-        ("get", "get = values.get" if re.search(r"\bvalues\b", code) else "get = b.values.get"))
-        if re.search(rf"\b{word}\b", code))
+    uses = {word for word in ("values", "trail", "get") if re.search(rf"\b{word}\b", code)}
+    prologue = ("    values = b.values\n" if "values" in uses else "") + (
+        "    trail = b.trail\n" if "trail" in uses else "") + (
+        ("    get = values.get\n" if "values" in uses else "    get = b.values.get\n") if "get" in uses else "")
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
         "def activate(goal_args, b, height, rest):\n" + prologue + code + "\n    return r\n")
     scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,

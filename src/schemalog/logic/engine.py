@@ -240,25 +240,12 @@ class Engine:
                     check = min(max_steps, steps + _POLL)
                 kind = type(term)
                 if kind is tuple:
-                    key = term[0]
-                    if type(key) is not tuple:   # a Call: a built-in a compiled body found (compile.py)
-                        mark = len(b.trail)
-                        if key(self, term[1], b):
-                            if b.work:
-                                self._charge_work(b)
-                            goals = rest
-                        else:
-                            if b.work:
-                                self._charge_work(b)
-                            b.undo(mark)
-                            goals = self._backtrack(cps, b)
-                            if goals is False:
-                                return
-                        continue
-                    # a UserCall: a user predicate's call a compiled body made, its key made then
-                    name, arity = key
-                    args = term[1]
-                    entry = special.get(key) if relations else None
+                    key, args = term
+                    if type(key) is tuple:   # a UserCall: a user predicate's call (compile.py)
+                        name, arity = key
+                        entry = special.get(key) if relations else None
+                    else:                    # a Call: the built-in a compiled body found
+                        entry = key
                 else:
                     if kind is Struct:
                         name, args = term.name, term.args
@@ -319,9 +306,11 @@ class Engine:
                     arity = len(args)
                     key = (name, arity)
                     entry = special.get(key)   # one lookup for the common case, a user predicate
+                    if entry is None and name == "call" and arity:   # call/N past call/8
+                        entry = _CONTROL_ENTRY
 
-                # User predicates (call/N past call/8 is a control construct) ------
-                if entry is None and (name != "call" or not arity):
+                # User predicates -----------------------------------------------
+                if entry is None:
                     pred = predicates.get(key)
                     if pred is None:
                         if getattr(kb, "flags", {}).get("unknown") in _UNKNOWN_FAILS:  # set_prolog_flag(unknown, fail)
@@ -373,7 +362,7 @@ class Engine:
                     continue
 
                 # Control constructs ------------------------------------------
-                if entry is _CONTROL_ENTRY or entry is None:
+                if entry is _CONTROL_ENTRY:
                     if arity == 2 and name == ",":
                         goals = (args[0], cutb, (args[1], cutb, rest))
                         continue
@@ -430,7 +419,8 @@ class Engine:
                         # the goal is meta-called, call/1 style, inside the frame: its errors are caught
                         goals = (Struct("call", (args[0],)), height + 1, (_ExitCatch(height), cutb, rest))
                         continue
-                # Builtins ----------------------------------------------------
+                    raise existence_error(name, arity)   # unreachable: CONTROL holds only the above
+                # Builtins (a Call's too) ---------------------------------------
                 if entry is _NONDET_ENTRY:
                     gen_fn = nondet[key]
                     mark = b.mark()
@@ -566,8 +556,8 @@ _CONTROL_ENTRY, _NONDET_ENTRY = object(), object()
 
 
 def _special_goals(builtins: dict, nondet: dict) -> dict:
-    """The goals the machine handles itself, by (name, arity): control constructs first, then
-    deterministic built-ins, then nondeterministic ones (the order the machine tries them in)."""
+    """The goals the machine handles itself, by (name, arity): a control construct, else a
+    deterministic built-in, else a nondeterministic one (a key in two tables is the first)."""
     return {**{key: _NONDET_ENTRY for key in nondet}, **builtins, **{key: _CONTROL_ENTRY for key in CONTROL}}
 
 
