@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import gc
 
 from ..logic.terms import term_to_text
 from .options import TOGETHER, Parents
@@ -37,6 +38,7 @@ def run(args: argparse.Namespace) -> int:
         trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
     del read                             # the trees hold what they need of it
+    gc.freeze()                          # the trees live to the end: lint's collections skip them
     _warn(kb, trees, unused=args.task is None)
     summary = f"ok: {files}: {schemas} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
