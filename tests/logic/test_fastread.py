@@ -135,6 +135,34 @@ def test_clauses_of_soup_read_or_fail_alike(parts):
     assert_same("ok(1).\n" + "".join(part + ". " for part in parts) + "\nok(2).\n")
 
 
+# Runs of tokens the fast reader matches at once (fastread.LANES: `f(a)`, `a.b`), next to
+# what would make them other tokens: operator words, "(" after the second word, prefix
+# operators before them, layout, quotes, digits and variables inside them.
+LANE_TOKENS = st.sampled_from([
+    "f", "b3", "cup", "not", "dynamic", "table", "is", "mod", "and", "or", "notx", "tablet", "a_1", "X", "_",
+    "1", "'q'", "(", ")", ".", ". ", ".\n", ",", " ", "[", "]", "|", "-", "- ", "\\+", ":-", "done", "(a)",
+    "f(a)", "b3(cup)", "a.b", "cup.taken", "not(a)", "f(not)", "a.not", "not.a", "x(table)", "a.b(c)"])
+
+
+@SETTINGS
+@given(st.lists(LANE_TOKENS, max_size=20).map("".join))
+def test_runs_read_at_once_read_or_fail_alike(text):
+    assert_same(text)
+    assert_same(f"x({text}).\n")
+    assert_same(f"schema(t, [({text}, true)], t.done).\n")
+
+
+def test_runs_read_at_once_are_on():
+    # The lanes are used only for the grammar they were checked against (fastread.LANES_GRAMMAR);
+    # after a change to grammar/schemalog.lark, check that what the lanes match is still read
+    # token by token as their comment says, then update the fingerprint.
+    assert "(?P<CALL>" in fastread.scanners()[0].pattern
+    for text in ("schema(b2(cup), [(b3(cup), true), (b4(cup), b3.done)], b2.done).\n",
+                 "x :- - f(a), - a.b, \\+ a.b.c, a.b(c), f(not), x(dynamic), a.is, [f(a)|a.b].\n",
+                 "y(not.a). z(a.not b). w(f(a)(b)).\n"):
+        assert_same(text)
+
+
 # ---------------------------------------------------------------------------
 # 4. Mutated knowledge files
 
