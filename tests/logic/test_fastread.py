@@ -19,7 +19,7 @@ from schemalog.errors import SchemalogError
 from schemalog.logic import fastread
 from schemalog.logic.fastread import parse_text
 from schemalog.logic.parse import MAX_NESTING, Clause, Directive, _reader, parse_text_by_lark
-from schemalog.logic.terms import Atom, Float, Int, Str, Struct, Var, term_to_text, variable_names
+from schemalog.logic.terms import INFIX_OPS, Atom, Float, Int, Str, Struct, Var, term_to_text, variable_names
 
 ROOT = Path(__file__).resolve().parents[2]
 KB_FILES = sorted((ROOT / "kb").rglob("*.pl"))
@@ -150,6 +150,20 @@ def test_runs_read_at_once_read_or_fail_alike(text):
     assert_same(text)
     assert_same(f"x({text}).\n")
     assert_same(f"schema(t, [({text}, true)], t.done).\n")
+
+
+INFIX = st.sampled_from(sorted(INFIX_OPS))
+PRIMARY = st.sampled_from(["a", "f(a)", "X", "1", "[]", "(a, b)", "'q r'", "a.b"])
+
+
+@SETTINGS
+@given(st.lists(st.tuples(PRIMARY, INFIX), min_size=2, max_size=3), PRIMARY, st.sampled_from([" ", ""]))
+def test_runs_of_two_operators_arrange_alike(pairs, last, space):
+    # three primaries and two infix operators take a short cut past arrange (fastread._finish)
+    run = "".join(f"{primary}{space}{op} " for primary, op in pairs) + last
+    assert_same(f"x :- {run}.\n")
+    assert_same(f"y(({run})).\n")
+    assert_same(f"z([{run}]).\n")
 
 
 def test_runs_read_at_once_are_on():

@@ -22,7 +22,7 @@ import re
 from ..errors import SourcePos
 from .parse import (_LAYOUT, MAX_NESTING, Clause, Directive, _atom_name, _BadEscape, _LineIndex, _Operand,
                     _reader, _unescape, arrange, clause_item, float_of_token, int_of_token, lark_clause)
-from .terms import NIL, Atom, Int, Str, Struct, Var, make_list
+from .terms import INFIX_OPS, NIL, Atom, Int, Str, Struct, Var, make_list
 
 # Terminal names of grammar/schemalog.lark (lark names "(" LPAR, and so on).
 OPERAND_TERMINALS = frozenset({"PREFIX", "NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING",
@@ -97,7 +97,7 @@ def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
     # (b3(cup), b3.done), for the whole text: a file of 100,000 schemas names each sub-task
     # twice and repeats a few names (schema, true, done, its objects) a million times. Terms
     # are immutable, so what is equal may be one object.
-    atoms: dict[str, Atom] = {}       # by name
+    atoms: dict[str, Atom] = {"[]": NIL}  # by name; `[]` is NIL itself, as `[ ]` is
     quoted: dict[str, Atom] = {}      # by token, for a quoted or symbol atom
     names: dict[str, str] = {}
     shared: dict[tuple, Struct] = {}  # see _shared
@@ -166,6 +166,19 @@ def _finish(run: list, shared: dict):
             return item
     elif len(run) == 3 and type(run[0]) is not _Operand and type(run[2]) is not _Operand:
         return _shared(run[1], (run[0], run[2]), shared)  # two primaries (priority 0) fit any operator
+    elif len(run) == 5 and type(run[0]) is not _Operand and type(run[2]) is not _Operand \
+            and type(run[4]) is not _Operand:
+        # Three primaries, two operators (`b3(cup), b2.done`): what arrange does with them.
+        # Either the first operator binds first (its priority fits the second's left
+        # argument), or the second does, and its priority must fit the first's right argument.
+        left, first, middle, second, right = run
+        p1, kind1 = INFIX_OPS[first]
+        p2, kind2 = INFIX_OPS[second]
+        if p1 <= (p2 if kind2 == "yfx" else p2 - 1):
+            return _shared(second, (_shared(first, (left, middle), shared), right), shared)
+        if p2 > (p1 if kind1 == "xfy" else p1 - 1):
+            raise _Fallback      # a priority clash: lark's error
+        return _shared(first, (left, _shared(second, (middle, right), shared)), shared)
     return arrange(run, _give_up)[0]
 
 
