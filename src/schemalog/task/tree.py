@@ -159,6 +159,9 @@ class _Frame:
     built: list[Behaviour] = field(default_factory=list)
 
 
+_UNSEEN = object()   # not looked up yet (None: looked up, no schema)
+
+
 class Instantiator:
     """Looks behaviours up in one knowledge base (schemas, agents, objects)."""
 
@@ -199,7 +202,7 @@ class Instantiator:
         for clause in self.kb.candidates("schema", 3, label) or []:
             if clause.library:
                 continue
-            if ground and clause.body == TRUE and is_ground(clause.head):
+            if ground and (clause.body is TRUE or clause.body == TRUE) and is_ground(clause.head):
                 # A ground fact matches a ground label when equal, and is its own answer:
                 # no copy to rename, unify and resolve.
                 if clause.head.args[0] == label:
@@ -329,9 +332,10 @@ class Instantiator:
     # -- the walk -------------------------------------------------------------
     def _lookup_once(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
         """`_find`, once per distinct sub-task of one instantiation (a rule's body runs once)."""
-        if label not in self._lookups:
-            self._lookups[label] = self._find(label, used_at)
-        return self._lookups[label]
+        found = self._lookups.get(label, _UNSEEN)    # one look-up: a term's hash is Python code
+        if found is _UNSEEN:
+            found = self._lookups[label] = self._find(label, used_at)
+        return found
 
     def _sub_schema(self, parent: Term, schema: SchemaDef, entry: Entry) -> tuple[Term, SchemaDef] | None:
         """The schema of one sub-task of `parent`; None for one SEED leaves out (a warning says so)."""
