@@ -71,7 +71,10 @@ class Behaviour:
     @property
     def pre(self) -> Condition:
         """The pre-condition: propagated context AND own releaser."""
-        return cond.conjoin([self.context, self.releaser])
+        releaser = self.releaser
+        if self.context is cond.TRUE and (releaser is cond.TRUE or type(releaser) is cond.Lit):
+            return releaser      # what conjoin gives, without its list and comparisons
+        return cond.conjoin([self.context, releaser])
 
     @property
     def k(self) -> int:
