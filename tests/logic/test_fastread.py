@@ -141,7 +141,9 @@ def test_clauses_of_soup_read_or_fail_alike(parts):
 LANE_TOKENS = st.sampled_from([
     "f", "b3", "cup", "not", "dynamic", "table", "is", "mod", "and", "or", "notx", "tablet", "a_1", "X", "_",
     "1", "'q'", "(", ")", ".", ". ", ".\n", ",", " ", "[", "]", "|", "-", "- ", "\\+", ":-", "done", "(a)",
-    "f(a)", "b3(cup)", "a.b", "cup.taken", "not(a)", "f(not)", "a.not", "not.a", "x(table)", "a.b(c)"])
+    "f(a)", "b3(cup)", "a.b", "cup.taken", "not(a)", "f(not)", "a.not", "not.a", "x(table)", "a.b(c)",
+    "(b3(cup), true)", "(f(a),x.y)", "( f(a) ,\n a.b )", "(f(a), not)", "(f(a), not.b)", "(f(a), a.not)",
+    "(f(a), b", "(f(a),", "(f(a) %c\n, b)", "(f(a), b /* c */)", "(f(a), is)", "(f(a), a.b.c)", "(f(a), b(c))"])
 
 
 @SETTINGS
@@ -172,6 +174,7 @@ def test_runs_read_at_once_are_on():
     # token by token as their comment says, then update the fingerprint.
     assert "(?P<CALL>" in fastread.scanners()[0].pattern
     for text in ("schema(b2(cup), [(b3(cup), true), (b4(cup), b3.done)], b2.done).\n",
+                 "x :- - (f(a), b), \\+ (f(a), b.c), -(f(a), b), [(f(a),b)|(g(c), not)], ( f(a) ,\n a.b ).\n",
                  "x :- - f(a), - a.b, \\+ a.b.c, a.b(c), f(not), x(dynamic), a.is, [f(a)|a.b].\n",
                  "y(not.a). z(a.not b). w(f(a)(b)).\n"):
         assert_same(text)

@@ -41,14 +41,19 @@ def _give_up(token, name):
     return _Fallback()
 
 
-# Two runs of tokens matched at once in operand mode, without layout inside: `name(word)`
+# Runs of tokens matched at once in operand mode, without layout inside: `name(word)`
 # (a behaviour and its object, `b3(cup)`) and `word.word` (a condition, `cup.taken`). Token
 # by token, with lark's terminals as below, `f(a)` is FUNCTOR, then NAME (or SYMATOM for an
 # operator word: the same atom), then RPAR; `a.b` is NAME, DOT, NAME unless a word is a
 # prefix operator (then PREFIX) or the second is followed by "(" (FUNCTOR): both left out.
+# And a schema's entry `(name(word), word)` or `(name(word), word.word)`, with white space
+# (layout, no comment) between its tokens: LPAR, the first run, COMMA, NAME or SYMATOM (a
+# word before ")" is an atom) or the second run, RPAR.
 _WORD = r"[a-z][A-Za-z0-9_]*"
 _PREFIX_WORD = r"(?:dynamic|discontiguous|multifile|initialization|table|not)(?![A-Za-z0-9_])"
-LANES = (rf"(?P<CALL>(?P<call_name>{_WORD})\((?P<call_arg>{_WORD})\))",
+LANES = (rf"(?P<ENTRY>\(\s*(?P<entry_name>{_WORD})\((?P<entry_arg>{_WORD})\)\s*,\s*"
+         rf"(?:(?!{_PREFIX_WORD})(?P<entry_left>{_WORD})\.)?(?P<entry_right>{_WORD})\s*\))",
+         rf"(?P<CALL>(?P<call_name>{_WORD})\((?P<call_arg>{_WORD})\))",
          rf"(?P<DOTTED>(?!{_PREFIX_WORD})(?P<dot_left>{_WORD})\.(?!{_PREFIX_WORD})(?P<dot_right>{_WORD})"
          rf"(?![A-Za-z0-9_(]))")
 # That argument rests on lark's terminals (which may start at a letter, at "." or at ")", and in
@@ -200,6 +205,26 @@ def _read_term(text: str, pos: int, operand, operator, atoms: dict, quoted: dict
             value = atoms.get(token)
             if value is None:
                 value = atoms[token] = Atom(names.setdefault(token, token))
+        elif typ == "ENTRY":  # "(" FUNCTOR "(" NAME ")" "," NAME [DOT NAME] ")" (see LANES)
+            if depth + 2 > MAX_NESTING:
+                raise _Fallback
+            token = m["entry_arg"]
+            arg = atoms.get(token)
+            if arg is None:
+                arg = atoms[token] = Atom(names.setdefault(token, token))
+            token = m["entry_name"]
+            behaviour = _shared(names.setdefault(token, token), (arg,), shared)
+            token = m["entry_right"]
+            releaser = atoms.get(token)
+            if releaser is None:
+                releaser = atoms[token] = Atom(names.setdefault(token, token))
+            token = m["entry_left"]
+            if token is not None:
+                left = atoms.get(token)
+                if left is None:
+                    left = atoms[token] = Atom(names.setdefault(token, token))
+                releaser = _shared(names.setdefault(".", "."), (left, releaser), shared)
+            value = _shared(names.setdefault(",", ","), (behaviour, releaser), shared)
         elif typ == "CALL":  # FUNCTOR "(" NAME ")" (see LANES)
             if depth >= MAX_NESTING:
                 raise _Fallback
