@@ -200,7 +200,7 @@ class Instantiator:
 
     def _find(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
         """The schema of `label`, or None when no clause applies (a body that raises is an error)."""
-        goal_list, goal_post = Var("L"), Var("P")
+        goal_list = goal_post = None     # made for the first clause that needs them
         ground = is_ground(label)
         for clause in self.kb.candidates("schema", 3, label) or []:
             if clause.library:
@@ -212,6 +212,8 @@ class Instantiator:
                     known = self._read.get(id(clause))
                     return label, known or read_schema(clause.head, pos=clause.pos, allow_unbound=False)
                 continue
+            if goal_list is None:
+                goal_list, goal_post = Var("L"), Var("P")
             b = Bindings()
             head, body = clause.renamed()
             if not b.unify(head, Struct("schema", (label, goal_list, goal_post))):
