@@ -52,9 +52,12 @@ def _warn(kb, trees, unused: bool) -> None:
 
     from ..errors import SchemalogError
     from ..run.lint import error_finding, facts_of, lint_knowledge
+    from .common import uncollected
 
     try:
-        findings = lint_knowledge(kb, trees, facts_of(kb), unused)
+        facts = facts_of(kb)             # may run Prolog: with the collector on
+        with uncollected():              # lint's passes over the tree make no cycles
+            findings = lint_knowledge(kb, trees, facts, unused)
     except SchemalogError as err:
         findings = (error_finding(err),)
     for finding in findings:
