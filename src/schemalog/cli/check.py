@@ -22,12 +22,13 @@ def run(args: argparse.Namespace) -> int:
     from ..task.compress import original_of
     from ..task.schema import check_schemas, schema_clauses
     from ..task.tree import count_nodes, depth
-    from .common import choose_tasks, instantiate_task, load_files
+    from .common import choose_tasks, instantiate_task, load_files, uncollected
 
     kb = load_files(args)[0]   # not the documents too: their clauses would stay in memory
     clauses = schema_clauses(kb)
     # read once: instantiating takes a ground fact's schema from here instead of reading it again
-    read = {id(c): schema for c, schema in zip(clauses, check_schemas(kb))}
+    with uncollected():                  # reading schemas runs no Prolog and makes no cycles
+        read = {id(c): schema for c, schema in zip(clauses, check_schemas(kb))}
     schemas = len(read)
     tasks = choose_tasks(kb, args.task, every=True)
     files = ", ".join(args.files)
