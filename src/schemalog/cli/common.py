@@ -50,13 +50,15 @@ def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]
 
 @contextmanager
 def uncollected() -> Iterator[None]:
-    """No garbage collection while a file is read, and what was read frozen after it.
+    """No garbage collection in the block, and everything alive frozen after it (gc.freeze).
 
-    Reading builds millions of small immutable terms and no cycles; the collector would scan
-    them in each young collection they survive and again in the older generation (0.7-0.9 s
-    of `schemalog check` of 97,656 behaviours). Frozen (gc.freeze), they are never scanned
-    again; reference counting still frees them. Only what reading makes runs without the
-    collector: directives run later, in to_kb, with it on."""
+    For work that runs no Prolog and makes no reference cycles: reading a file (millions of
+    small immutable terms), reading its schemas, lint's passes over a tree. The collector would
+    scan what they build in each young collection it survives and again in the older generation
+    (0.7-0.9 s of `schemalog check` of 97,656 behaviours); frozen, it is never scanned again,
+    and reference counting still frees it. Directives (to_kb) and instantiation, which may run
+    Prolog, run with the collector on. What is frozen is never collected as a cycle: right for
+    a command that ends after its work, as the command line's do (main ends with os._exit)."""
     enabled = gc.isenabled()
     gc.disable()
     try:
