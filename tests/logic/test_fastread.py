@@ -19,7 +19,7 @@ from schemalog.errors import SchemalogError
 from schemalog.logic import fastread
 from schemalog.logic.fastread import parse_text
 from schemalog.logic.parse import MAX_NESTING, Clause, Directive, _reader, parse_text_by_lark
-from schemalog.logic.terms import Atom, Float, Int, Str, Struct, Var, term_to_text, variable_names
+from schemalog.logic.terms import INFIX_OPS, Atom, Float, Int, Str, Struct, Var, term_to_text, variable_names
 
 ROOT = Path(__file__).resolve().parents[2]
 KB_FILES = sorted((ROOT / "kb").rglob("*.pl"))
@@ -133,6 +133,51 @@ def test_clauses_of_soup_read_or_fail_alike(parts):
     # Mostly good clauses around a bad one: the error is the first bad clause's.
     assert_same("".join(part + ".\n" for part in parts))
     assert_same("ok(1).\n" + "".join(part + ". " for part in parts) + "\nok(2).\n")
+
+
+# Runs of tokens the fast reader matches at once (fastread.LANES: `f(a)`, `a.b`), next to
+# what would make them other tokens: operator words, "(" after the second word, prefix
+# operators before them, layout, quotes, digits and variables inside them.
+LANE_TOKENS = st.sampled_from([
+    "f", "b3", "cup", "not", "dynamic", "table", "is", "mod", "and", "or", "notx", "tablet", "a_1", "X", "_",
+    "1", "'q'", "(", ")", ".", ". ", ".\n", ",", " ", "[", "]", "|", "-", "- ", "\\+", ":-", "done", "(a)",
+    "f(a)", "b3(cup)", "a.b", "cup.taken", "not(a)", "f(not)", "a.not", "not.a", "x(table)", "a.b(c)",
+    "(b3(cup), true)", "(f(a),x.y)", "( f(a) ,\n a.b )", "(f(a), not)", "(f(a), not.b)", "(f(a), a.not)",
+    "(f(a), b", "(f(a),", "(f(a) %c\n, b)", "(f(a), b /* c */)", "(f(a), is)", "(f(a), a.b.c)", "(f(a), b(c))"])
+
+
+@SETTINGS
+@given(st.lists(LANE_TOKENS, max_size=20).map("".join))
+def test_runs_read_at_once_read_or_fail_alike(text):
+    assert_same(text)
+    assert_same(f"x({text}).\n")
+    assert_same(f"schema(t, [({text}, true)], t.done).\n")
+
+
+INFIX = st.sampled_from(sorted(INFIX_OPS))
+PRIMARY = st.sampled_from(["a", "f(a)", "X", "1", "[]", "(a, b)", "'q r'", "a.b"])
+
+
+@SETTINGS
+@given(st.lists(st.tuples(PRIMARY, INFIX), min_size=2, max_size=3), PRIMARY, st.sampled_from([" ", ""]))
+def test_runs_of_two_operators_arrange_alike(pairs, last, space):
+    # three primaries and two infix operators take a short cut past arrange (fastread._finish)
+    run = "".join(f"{primary}{space}{op} " for primary, op in pairs) + last
+    assert_same(f"x :- {run}.\n")
+    assert_same(f"y(({run})).\n")
+    assert_same(f"z([{run}]).\n")
+
+
+def test_runs_read_at_once_are_on():
+    # The lanes are used only for the grammar they were checked against (fastread.LANES_GRAMMAR);
+    # after a change to grammar/schemalog.lark, check that what the lanes match is still read
+    # token by token as their comment says, then update the fingerprint.
+    assert "(?P<CALL>" in fastread.scanners()[0].pattern
+    for text in ("schema(b2(cup), [(b3(cup), true), (b4(cup), b3.done)], b2.done).\n",
+                 "x :- - (f(a), b), \\+ (f(a), b.c), -(f(a), b), [(f(a),b)|(g(c), not)], ( f(a) ,\n a.b ).\n",
+                 "x :- - f(a), - a.b, \\+ a.b.c, a.b(c), f(not), x(dynamic), a.is, [f(a)|a.b].\n",
+                 "y(not.a). z(a.not b). w(f(a)(b)).\n"):
+        assert_same(text)
 
 
 # ---------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import gc
 
 from ..logic.terms import term_to_text
 from .options import TOGETHER, Parents
@@ -21,12 +22,13 @@ def run(args: argparse.Namespace) -> int:
     from ..task.compress import original_of
     from ..task.schema import check_schemas, schema_clauses
     from ..task.tree import count_nodes, depth
-    from .common import choose_tasks, instantiate_task, load_files
+    from .common import choose_tasks, instantiate_task, load_files, uncollected
 
     kb = load_files(args)[0]   # not the documents too: their clauses would stay in memory
     clauses = schema_clauses(kb)
     # read once: instantiating takes a ground fact's schema from here instead of reading it again
-    read = {id(c): schema for c, schema in zip(clauses, check_schemas(kb))}
+    with uncollected():                  # reading schemas runs no Prolog and makes no cycles
+        read = {id(c): schema for c, schema in zip(clauses, check_schemas(kb))}
     schemas = len(read)
     tasks = choose_tasks(kb, args.task, every=True)
     files = ", ".join(args.files)
@@ -37,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
         trees.append(original_of(tree))      # a compressed file: lint its original
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
     del read                             # the trees hold what they need of it
+    gc.freeze()                          # the trees live to the end: lint's collections skip them
     _warn(kb, trees, unused=args.task is None)
     summary = f"ok: {files}: {schemas} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
@@ -50,9 +53,12 @@ def _warn(kb, trees, unused: bool) -> None:
 
     from ..errors import SchemalogError
     from ..run.lint import error_finding, facts_of, lint_knowledge
+    from .common import uncollected
 
     try:
-        findings = lint_knowledge(kb, trees, facts_of(kb), unused)
+        facts = facts_of(kb)             # may run Prolog: with the collector on
+        with uncollected():              # lint's passes over the tree make no cycles
+            findings = lint_knowledge(kb, trees, facts, unused)
     except SchemalogError as err:
         findings = (error_finding(err),)
     for finding in findings:

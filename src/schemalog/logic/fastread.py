@@ -16,12 +16,13 @@ hands to lark for that one clause, so every error is lark's, with its file:line:
 from __future__ import annotations
 
 import functools
+import hashlib
 import re
 
 from ..errors import SourcePos
 from .parse import (_LAYOUT, MAX_NESTING, Clause, Directive, _atom_name, _BadEscape, _LineIndex, _Operand,
                     _reader, _unescape, arrange, clause_item, float_of_token, int_of_token, lark_clause)
-from .terms import NIL, Atom, Int, Str, Struct, Var, make_list
+from .terms import INFIX_OPS, NIL, Atom, Int, Str, Struct, Var, make_list
 
 # Terminal names of grammar/schemalog.lark (lark names "(" LPAR, and so on).
 OPERAND_TERMINALS = frozenset({"PREFIX", "NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING",
@@ -40,6 +41,32 @@ def _give_up(token, name):
     return _Fallback()
 
 
+# Runs of tokens matched at once in operand mode, without layout inside: `name(word)`
+# (a behaviour and its object, `b3(cup)`) and `word.word` (a condition, `cup.taken`). Token
+# by token, with lark's terminals as below, `f(a)` is FUNCTOR, then NAME (or SYMATOM for an
+# operator word: the same atom), then RPAR; `a.b` is NAME, DOT, NAME unless a word is a
+# prefix operator (then PREFIX) or the second is followed by "(" (FUNCTOR): both left out.
+# And a schema's entry `(name(word), word)` or `(name(word), word.word)`, with white space
+# (layout, no comment) between its tokens: LPAR, the first run, COMMA, NAME or SYMATOM (a
+# word before ")" is an atom) or the second run, RPAR.
+_WORD = r"[a-z][A-Za-z0-9_]*"
+_PREFIX_WORD = r"(?:dynamic|discontiguous|multifile|initialization|table|not)(?![A-Za-z0-9_])"
+LANES = (rf"(?P<ENTRY>\(\s*(?P<entry_name>{_WORD})\((?P<entry_arg>{_WORD})\)\s*,\s*"
+         rf"(?:(?!{_PREFIX_WORD})(?P<entry_left>{_WORD})\.)?(?P<entry_right>{_WORD})\s*\))",
+         rf"(?P<CALL>(?P<call_name>{_WORD})\((?P<call_arg>{_WORD})\))",
+         rf"(?P<DOTTED>(?!{_PREFIX_WORD})(?P<dot_left>{_WORD})\.(?!{_PREFIX_WORD})(?P<dot_right>{_WORD})"
+         rf"(?![A-Za-z0-9_(]))")
+# That argument rests on lark's terminals (which may start at a letter, at "." or at ")", and in
+# which order): the lanes are used only while the grammar compiles to the very terminals it was
+# made for, this fingerprint of their names and regexes in lark's order. Should the grammar
+# change, they are left out (tests/logic/test_fastread.py then asks to check them again).
+LANES_GRAMMAR = "bd0c1bcebdb40c98"
+
+
+def _fingerprint(terminals) -> str:
+    return hashlib.sha256(repr([(t.name, t.pattern.to_regexp()) for t in terminals]).encode()).hexdigest()[:16]
+
+
 @functools.lru_cache(maxsize=None)
 def scanners() -> tuple[re.Pattern, re.Pattern] | None:
     """The operand-mode and operator-mode token regexes, built from the terminals of lark's
@@ -52,13 +79,15 @@ def scanners() -> tuple[re.Pattern, re.Pattern] | None:
     ordered = root.terminals  # lark's order: priority, then width, then length, then name
     layout = "|".join(f"(?:{t.pattern.to_regexp()})" for t in ordered if t.name in root.ignore_types)
 
-    def scanner(names: frozenset) -> re.Pattern:
-        alternatives = "|".join(f"(?P<{t.name}>{t.pattern.to_regexp()})" for t in ordered if t.name in names)
+    def scanner(names: frozenset, lanes: tuple[str, ...] = ()) -> re.Pattern:
+        alternatives = "|".join([*lanes, *(f"(?P<{t.name}>{t.pattern.to_regexp()})"
+                                           for t in ordered if t.name in names)])
         # Layout is skipped first, never backtracked into: a lookahead group is atomic, and
         # lark tries the ignored terminals where no token may start.
         return re.compile(f"(?=(?P<_layout>(?:{layout})*))(?P=_layout)(?:{alternatives})", root.g_regex_flags)
 
-    return scanner(OPERAND_TERMINALS), scanner(OPERATOR_TERMINALS)
+    lanes = LANES if _fingerprint(ordered) == LANES_GRAMMAR else ()
+    return scanner(OPERAND_TERMINALS, lanes), scanner(OPERATOR_TERMINALS)
 
 
 def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
@@ -73,16 +102,17 @@ def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
     # (b3(cup), b3.done), for the whole text: a file of 100,000 schemas names each sub-task
     # twice and repeats a few names (schema, true, done, its objects) a million times. Terms
     # are immutable, so what is equal may be one object.
-    atoms: dict[str, Atom] = {}
+    atoms: dict[str, Atom] = {"[]": NIL}  # by name; `[]` is NIL itself, as `[ ]` is
+    quoted: dict[str, Atom] = {}      # by token, for a quoted or symbol atom
     names: dict[str, str] = {}
-    shared: dict[Struct, Struct] = {}
+    shared: dict[tuple, Struct] = {}  # see _shared
     offset, size = 0, len(text)
     while True:
         start = _LAYOUT.match(text, offset).end()
         if start == size:
             return items
         try:
-            term, offset = _read_term(text, start, operand, operator, atoms, names, shared)
+            term, offset = _read_term(text, start, operand, operator, atoms, quoted, names, shared)
         except (_Fallback, _BadEscape, ValueError, OverflowError):
             read, offset = lark_clause(text, offset, file, line_at)
             items.extend(read)
@@ -102,12 +132,35 @@ def _all_by_lark(text: str, file: str, line_at: _LineIndex) -> list[Clause | Dir
 
 
 def _shared(name: str, args: tuple, shared: dict) -> Struct:
-    """Struct(name, args), the one already made if its arguments are atoms or integers."""
-    for arg in args:
-        if type(arg) is not Atom and type(arg) is not Int:
+    """Struct(name, args), the one already made if its arguments are atoms or integers.
+
+    Keyed by the atoms' identities (the reader makes one Atom per name) and the integers'
+    values, in a tuple Python hashes itself: hashing a Struct calls Struct.__hash__ and each
+    Atom's dataclass __hash__, which cost more than the rest of the look-up."""
+    if len(args) == 1:
+        arg = args[0]
+        kind = type(arg)
+        if kind is Atom:
+            key = (name, id(arg))
+        elif kind is Int:
+            key = (name, (arg.value,))
+        else:
             return Struct(name, args)
-    made = Struct(name, args)
-    return shared.setdefault(made, made)
+    else:
+        parts = [name]
+        for arg in args:
+            kind = type(arg)
+            if kind is Atom:
+                parts.append(id(arg))
+            elif kind is Int:
+                parts.append((arg.value,))
+            else:
+                return Struct(name, args)
+        key = tuple(parts)
+    made = shared.get(key)
+    if made is None:
+        made = shared[key] = Struct(name, args)
+    return made
 
 
 def _finish(run: list, shared: dict):
@@ -118,10 +171,23 @@ def _finish(run: list, shared: dict):
             return item
     elif len(run) == 3 and type(run[0]) is not _Operand and type(run[2]) is not _Operand:
         return _shared(run[1], (run[0], run[2]), shared)  # two primaries (priority 0) fit any operator
+    elif len(run) == 5 and type(run[0]) is not _Operand and type(run[2]) is not _Operand \
+            and type(run[4]) is not _Operand:
+        # Three primaries, two operators (`b3(cup), b2.done`): what arrange does with them.
+        # Either the first operator binds first (its priority fits the second's left
+        # argument), or the second does, and its priority must fit the first's right argument.
+        left, first, middle, second, right = run
+        p1, kind1 = INFIX_OPS[first]
+        p2, kind2 = INFIX_OPS[second]
+        if p1 <= (p2 if kind2 == "yfx" else p2 - 1):
+            return _shared(second, (_shared(first, (left, middle), shared), right), shared)
+        if p2 > (p1 if kind1 == "xfy" else p1 - 1):
+            raise _Fallback      # a priority clash: lark's error
+        return _shared(first, (left, _shared(second, (middle, right), shared)), shared)
     return arrange(run, _give_up)[0]
 
 
-def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict, shared: dict):
+def _read_term(text: str, pos: int, operand, operator, atoms: dict, quoted: dict, names: dict, shared: dict):
     """The clause term from `pos` to its final "." and the offset after it (else _Fallback)."""
     varmap: dict[str, Var] = {}
     stack: list[tuple] = []
@@ -136,6 +202,50 @@ def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict,
         pos = m.end()
         if typ == "NAME":
             token = m[typ]
+            value = atoms.get(token)
+            if value is None:
+                value = atoms[token] = Atom(names.setdefault(token, token))
+        elif typ == "ENTRY":  # "(" FUNCTOR "(" NAME ")" "," NAME [DOT NAME] ")" (see LANES)
+            if depth + 2 > MAX_NESTING:
+                raise _Fallback
+            token = m["entry_arg"]
+            arg = atoms.get(token)
+            if arg is None:
+                arg = atoms[token] = Atom(names.setdefault(token, token))
+            token = m["entry_name"]
+            behaviour = _shared(names.setdefault(token, token), (arg,), shared)
+            token = m["entry_right"]
+            releaser = atoms.get(token)
+            if releaser is None:
+                releaser = atoms[token] = Atom(names.setdefault(token, token))
+            token = m["entry_left"]
+            if token is not None:
+                left = atoms.get(token)
+                if left is None:
+                    left = atoms[token] = Atom(names.setdefault(token, token))
+                releaser = _shared(names.setdefault(".", "."), (left, releaser), shared)
+            value = _shared(names.setdefault(",", ","), (behaviour, releaser), shared)
+        elif typ == "CALL":  # FUNCTOR "(" NAME ")" (see LANES)
+            if depth >= MAX_NESTING:
+                raise _Fallback
+            token = m["call_arg"]
+            arg = atoms.get(token)
+            if arg is None:
+                arg = atoms[token] = Atom(names.setdefault(token, token))
+            token = m["call_name"]
+            value = _shared(names.setdefault(token, token), (arg,), shared)
+        elif typ == "DOTTED":  # NAME DOT NAME (see LANES): the left one and "." join the run here
+            token = m["dot_left"]
+            left = atoms.get(token)
+            if left is None:
+                left = atoms[token] = Atom(names.setdefault(token, token))
+            if prefixes is not None:
+                run.append(_Operand([*prefixes, left]))
+                prefixes = None
+            else:
+                run.append(left)
+            run.append(names.setdefault(".", "."))
+            token = m["dot_right"]
             value = atoms.get(token)
             if value is None:
                 value = atoms[token] = Atom(names.setdefault(token, token))
@@ -176,9 +286,13 @@ def _read_term(text: str, pos: int, operand, operator, atoms: dict, names: dict,
                 raise _Fallback
         elif typ == "QATOM" or typ == "SYMATOM":
             token = m[typ]
-            value = atoms.get(token)
+            value = quoted.get(token)
             if value is None:
-                value = atoms[token] = Atom(_atom_name(token))
+                atom_name = _atom_name(token)
+                value = atoms.get(atom_name)
+                if value is None:
+                    value = atoms[atom_name] = Atom(names.setdefault(atom_name, atom_name))
+                quoted[token] = value
         elif typ == "FLOAT":
             value = float_of_token(m[typ])
         elif typ == "STRING":

@@ -195,8 +195,7 @@ class _Flat:
                 open_.append(i)
                 stack.append((node, -1, True))
                 stack.extend((c, i, False) for c in reversed(node.children))
-        self.post_lits = [tuple(dict.fromkeys((lit.atom, lit.positive) for lit in cond.literals(n.post)))
-                          for n in self.nodes]
+        self.post_lits = [_literal_keys(n.post) for n in self.nodes]
 
     def __len__(self) -> int:
         return len(self.nodes)
@@ -211,6 +210,20 @@ class _Flat:
         return self.nodes[p].source if p >= 0 else self.nodes[i].source
 
 
+_NO_LITERALS: tuple = ()
+
+
+def _literal_keys(c: cond.Condition) -> tuple[tuple[Term, bool], ...]:
+    """The distinct (atom, positive) of the literals of `c`, left to right; without a
+    generator and a dict for the common conditions, one literal or none."""
+    kind = type(c)
+    if kind is cond.Lit:
+        return ((c.atom, c.positive),)
+    if kind is cond.Const:
+        return _NO_LITERALS
+    return tuple(dict.fromkeys((lit.atom, lit.positive) for lit in cond.literals(c)))
+
+
 class _Reachability:
     """The relaxed executive (the module's docstring): which behaviours may ever run and which
     literals may ever hold, by a worklist over the literals each condition reads (linear)."""
@@ -222,16 +235,33 @@ class _Reachability:
         n = len(flat)
         self.runnable = [False] * n
         nnf_of: dict = {}
-        self.pre = [nnf_of.setdefault(node.pre, cond.nnf(node.pre)) for node in flat.nodes]
+        self.pre = pres = []
+        for node in flat.nodes:
+            pre = node.pre         # made anew by each call: once per node, and NNF once per distinct one
+            if type(pre) is cond.Lit or type(pre) is cond.Const:
+                pres.append(pre)   # its own NNF
+                continue
+            found = nnf_of.get(pre)
+            if found is None:
+                found = nnf_of[pre] = cond.nnf(pre)
+            pres.append(found)
         watch_pre: dict[tuple, list[int]] = {}
         watch_post: dict[tuple, list[int]] = {}
         for i, c in enumerate(self.pre):
-            for lit in dict.fromkeys((x.atom, x.positive) for x in cond.literals(c)):
-                watch_pre.setdefault(lit, []).append(i)
+            for lit in _literal_keys(c):
+                watching = watch_pre.get(lit)
+                if watching is None:
+                    watch_pre[lit] = [i]
+                else:
+                    watching.append(i)
         self.missing = [0] * n
         for i, lits in enumerate(flat.post_lits):
             for lit in lits:
-                watch_post.setdefault(lit, []).append(i)
+                watching = watch_post.get(lit)
+                if watching is None:
+                    watch_post[lit] = [i]
+                else:
+                    watching.append(i)
                 if not self.possible(lit):
                     self.missing[i] += 1
         self.done_children = [0] * n

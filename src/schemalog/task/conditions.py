@@ -80,6 +80,8 @@ _FALSE_WORDS = {"false", "fail"}
 
 def from_term(term: Term) -> Condition:
     """Read a condition from its term, or raise NotACondition."""
+    if type(term) is Struct and term.name == "." and len(term.args) == 2:
+        return Lit(term)    # `cup.taken`, the most common condition: what the checks below give it
     if isinstance(term, Var):
         raise NotACondition("a variable is not a condition (is the schema instantiated?)")
     if isinstance(term, (Int, Float)):
@@ -207,6 +209,8 @@ def literals(c: Condition) -> list[Lit]:
 
 def is_conjunction_of_literals(c: Condition) -> bool:
     """Whether `c` is `true`, a literal, or an AND of literals (what a post-condition must be)."""
+    if type(c) is Lit:
+        return True         # never equal to FALSE, a Const
     if isinstance(c, (Lit, Const)):
         return c != FALSE
     return isinstance(c, And) and all(isinstance(i, Lit) for i in c.items)

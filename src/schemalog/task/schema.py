@@ -88,11 +88,14 @@ class _Text:
         return self.make()
 
 
+_DEFAULT_WEIGHT = Int(DEFAULT_IMPORTANCE)   # an entry's weight when it gives none (a term: immutable)
+
+
 def read_entry(term: Term, where: str) -> Entry:
     """Read `(Sub, Releaser)`, `(Sub, Releaser, Importance)` or SEED's `[Sub, Importance, Releasers]`."""
     if isinstance(term, Struct) and term.name == "," and len(term.args) == 2:
         sub, rest = term.args
-        importance: Term = Int(DEFAULT_IMPORTANCE)
+        importance: Term = _DEFAULT_WEIGHT
         # (Sub, Releaser, W): a releaser is never a number, so a final number is the weight.
         if isinstance(rest, Struct) and rest.name == "," and len(rest.args) == 2 \
                 and isinstance(rest.args[1], (Int, Float)):
@@ -144,9 +147,9 @@ def read_schema(head: Term, body: Term = TRUE, pos: SourcePos | None = None,
         if isinstance(subs, Var) and allow_unbound and body is not TRUE:
             return SchemaDef(task, (), cond.TRUE, body, pos)  # computed by the body: read when run
         items, tail = list_items(subs)
-        if tail != NIL:
+        if tail is not NIL and tail != NIL:
             raise SchemalogError(f"{where}: the sub-task list must be a list, not {term_to_text(subs)}")
-        entries = tuple(read_entry(item, where) for item in items)
+        entries = tuple([read_entry(item, where) for item in items]) if items else ()
         if isinstance(post, Var) and allow_unbound and body is not TRUE:
             post_c = cond.TRUE
         else:

@@ -71,7 +71,10 @@ class Behaviour:
     @property
     def pre(self) -> Condition:
         """The pre-condition: propagated context AND own releaser."""
-        return cond.conjoin([self.context, self.releaser])
+        releaser = self.releaser
+        if self.context is cond.TRUE and (releaser is cond.TRUE or type(releaser) is cond.Lit):
+            return releaser      # what conjoin gives, without its list and comparisons
+        return cond.conjoin([self.context, releaser])
 
     @property
     def k(self) -> int:
@@ -159,6 +162,9 @@ class _Frame:
     built: list[Behaviour] = field(default_factory=list)
 
 
+_UNSEEN = object()   # not looked up yet (None: looked up, no schema)
+
+
 class Instantiator:
     """Looks behaviours up in one knowledge base (schemas, agents, objects)."""
 
@@ -194,18 +200,20 @@ class Instantiator:
 
     def _find(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
         """The schema of `label`, or None when no clause applies (a body that raises is an error)."""
-        goal_list, goal_post = Var("L"), Var("P")
+        goal_list = goal_post = None     # made for the first clause that needs them
         ground = is_ground(label)
         for clause in self.kb.candidates("schema", 3, label) or []:
             if clause.library:
                 continue
-            if ground and clause.body == TRUE and is_ground(clause.head):
+            if ground and (clause.body is TRUE or clause.body == TRUE) and is_ground(clause.head):
                 # A ground fact matches a ground label when equal, and is its own answer:
                 # no copy to rename, unify and resolve.
                 if clause.head.args[0] == label:
                     known = self._read.get(id(clause))
                     return label, known or read_schema(clause.head, pos=clause.pos, allow_unbound=False)
                 continue
+            if goal_list is None:
+                goal_list, goal_post = Var("L"), Var("P")
             b = Bindings()
             head, body = clause.renamed()
             if not b.unify(head, Struct("schema", (label, goal_list, goal_post))):
@@ -329,9 +337,10 @@ class Instantiator:
     # -- the walk -------------------------------------------------------------
     def _lookup_once(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
         """`_find`, once per distinct sub-task of one instantiation (a rule's body runs once)."""
-        if label not in self._lookups:
-            self._lookups[label] = self._find(label, used_at)
-        return self._lookups[label]
+        found = self._lookups.get(label, _UNSEEN)    # one look-up: a term's hash is Python code
+        if found is _UNSEEN:
+            found = self._lookups[label] = self._find(label, used_at)
+        return found
 
     def _sub_schema(self, parent: Term, schema: SchemaDef, entry: Entry) -> tuple[Term, SchemaDef] | None:
         """The schema of one sub-task of `parent`; None for one SEED leaves out (a warning says so)."""
