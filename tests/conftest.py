@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 import threading
 from pathlib import Path
 
@@ -17,6 +18,12 @@ from schemalog.cli.main import tune_gc
 # The tests run with the garbage-collector setting the schemalog command uses, so that
 # the 100k-behaviour cases measure schemalog, not Python's default GC thresholds.
 tune_gc()
+
+# A shell runs a background job with SIGINT ignored, and a child inherits an ignored signal:
+# the Ctrl-C tests would then test nothing a user can meet (`.ci/run &` failed them). A
+# handler of this process's own resets to the default in every command the tests start.
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 ROOT = Path(__file__).resolve().parents[1]
 MIX = ROOT / "kb" / "tasks" / "mix_with_spoon.pl"
