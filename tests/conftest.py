@@ -12,6 +12,8 @@ from schemalog.logic.engine import Engine
 from schemalog.logic.kb import KnowledgeBase
 from schemalog.logic.parse import parse_term
 from schemalog.logic.terms import term_to_text
+from schemalog.run.execute import enabled_leaves, replay
+from schemalog.run.world import World
 
 from schemalog.cli.main import tune_gc
 
@@ -79,3 +81,55 @@ def read_fifo_in_thread(fifo):
     reader = threading.Thread(target=lambda: got.append(open(fifo, "rb").read()), daemon=True)
     reader.start()
     return reader, got
+
+
+# --- verification: counterexamples replayed as runs --------------------------------
+
+def settled(tree, states):
+    world = World(tree)
+    found = []
+    for atoms in states:
+        world.reset(atoms)
+        if world.atoms not in found:
+            found.append(world.atoms)
+    return found
+
+
+def assert_replays(original, compressed, ce, initial, sound_run=True):
+    """A counterexample is a real run: each decision an enabled leaf of the compressed tree
+    doing those actions, each action one the original takes (`sound_run`), ending in the
+    reported state."""
+    assert ce.initial in initial
+    world = World(original)
+    world.load(ce.initial)
+    trace = []
+    for step in ce.path:
+        leaf = next((n for n in enabled_leaves(compressed, world) if n.label == step.behaviour), None)
+        assert leaf is not None, f"{term_to_text(step.behaviour)} is not enabled"
+        for label, post in _constituents(leaf):
+            if not world.holds(post):
+                world.perform(post)
+                trace.append(label)
+        assert tuple(trace[len(trace) - len(step.actions):]) == step.actions
+    if sound_run:
+        assert replay(original, ce.initial, trace).valid, "a step before the counterexample is not a run of the original"
+    if ce.action is not None:                     # soundness: the original refuses the last action
+        leaf = next(n for n in enabled_leaves(compressed, world) if n.label == ce.behaviour)
+        done = []
+        for label, post in _constituents(leaf):
+            if world.holds(post):
+                continue
+            if label == ce.action:
+                break
+            world.perform(post)
+            done.append(label)
+        assert tuple(done) == ce.done_first and world.atoms == ce.state
+        result = replay(original, ce.initial, [*trace, *done, ce.action])
+        assert not result.valid and result.index == len(trace) + len(done)
+    else:
+        assert world.atoms == ce.state
+
+
+def _constituents(leaf):
+    return [(o.label, o.post) for o in leaf.origins] if len(leaf.origins) > 1 else \
+        [(leaf.origins[0].label if leaf.origins else leaf.label, leaf.post)]

@@ -11,8 +11,7 @@ from hypothesis import HealthCheck, assume, given, settings, strategies as st
 from schemalog.evaluate.generate import generate
 from schemalog.formats.documents import load_kb
 from schemalog.logic.parse import parse_term
-from schemalog.logic.terms import term_to_text
-from schemalog.run.execute import enabled_leaves, replay
+from schemalog.run import parts
 from schemalog.run.symbolic import OutOfNodes, Unsupported, monotone_settling
 from schemalog.run.verify import Verifier, all_states, constraints, free_atoms, verify_by_parts, verify_symbolic
 from schemalog.run.world import World, initial_state
@@ -20,116 +19,14 @@ from schemalog.task import conditions as cond
 from schemalog.task.compress import compress
 from schemalog.task.tree import Behaviour, instantiate
 
-from conftest import COFFEE, MIX
+from conftest import COFFEE, MIX, assert_replays, settled
+from strategies import starts, trees
 
 EXAMPLES = int(os.environ.get("SCHEMALOG_VERIFY_EXAMPLES", "300"))
 
 
 def c(text):
     return cond.from_term(parse_term(text))
-
-
-@st.composite
-def trees(draw):
-    """Depth 2-6, 1-4 children, at most ~40 behaviours: chains (a sibling's done), branches (two
-    siblings released by one), toggling posts (hand.free) and releasers that read them."""
-    levels = draw(st.integers(2, 6))
-    budget = [draw(st.integers(4, 40))]
-    ids = iter(range(10_000))
-
-    def node(level, releaser, n):
-        name = f"b{n}"
-        count = 0
-        if level < levels and budget[0] > 0:
-            count = min(draw(st.integers(0 if level > 1 else 1, 4)), budget[0])
-            budget[0] -= count
-        names = [next(ids) for _ in range(count)]
-        kids = []
-        for i in range(count):
-            choice = draw(st.integers(0, 5))
-            if i and choice <= 2:
-                rel = f"b{draw(st.sampled_from(names[:i]))}.done"      # a chain, or a branch
-            elif choice == 3:
-                rel = "hand.free"
-            elif choice == 4:
-                rel = "not hand.free"
-            else:
-                rel = "true"
-            kids.append(node(level + 1, rel, names[i]))
-        post = f"{name}.done"
-        if not kids:
-            post += draw(st.sampled_from(["", "", " and not hand.free", " and hand.free"]))
-        obj = draw(st.sampled_from(["cup", "spoon"]))
-        return Behaviour(label=parse_term(f"{name}({obj})" if level > 1 else name), objects=(parse_term(obj),),
-                         releaser=c(releaser), post=c(post), children=tuple(kids))
-
-    return node(1, "true", next(ids))
-
-
-@st.composite
-def starts(draw, tree):
-    """One to three initial states: hand.free and a few done markers, some true."""
-    leaves = sorted({lit.atom for n in _walk(tree) for lit in cond.literals(n.post)}, key=term_to_text)
-    pool = [parse_term("hand.free"), *leaves[:6]]
-    return draw(st.lists(st.lists(st.sampled_from(pool), max_size=3), min_size=1, max_size=3))
-
-
-def _walk(tree):
-    stack = [tree]
-    while stack:
-        n = stack.pop()
-        yield n
-        stack.extend(n.children)
-
-
-def settled(tree, states):
-    world = World(tree)
-    found = []
-    for atoms in states:
-        world.reset(atoms)
-        if world.atoms not in found:
-            found.append(world.atoms)
-    return found
-
-
-def assert_replays(original, compressed, ce, initial, sound_run=True):
-    """A counterexample is a real run: each decision an enabled leaf of the compressed tree
-    doing those actions, each action one the original takes (`sound_run`), ending in the
-    reported state."""
-    assert ce.initial in initial
-    world = World(original)
-    world.load(ce.initial)
-    trace = []
-    for step in ce.path:
-        leaf = next((n for n in enabled_leaves(compressed, world) if n.label == step.behaviour), None)
-        assert leaf is not None, f"{term_to_text(step.behaviour)} is not enabled"
-        for label, post in _constituents(leaf):
-            if not world.holds(post):
-                world.perform(post)
-                trace.append(label)
-        assert tuple(trace[len(trace) - len(step.actions):]) == step.actions
-    if sound_run:
-        assert replay(original, ce.initial, trace).valid, "a step before the counterexample is not a run of the original"
-    if ce.action is not None:                     # soundness: the original refuses the last action
-        leaf = next(n for n in enabled_leaves(compressed, world) if n.label == ce.behaviour)
-        done = []
-        for label, post in _constituents(leaf):
-            if world.holds(post):
-                continue
-            if label == ce.action:
-                break
-            world.perform(post)
-            done.append(label)
-        assert tuple(done) == ce.done_first and world.atoms == ce.state
-        result = replay(original, ce.initial, [*trace, *done, ce.action])
-        assert not result.valid and result.index == len(trace) + len(done)
-    else:
-        assert world.atoms == ce.state
-
-
-def _constituents(leaf):
-    return [(o.label, o.post) for o in leaf.origins] if len(leaf.origins) > 1 else \
-        [(leaf.origins[0].label if leaf.origins else leaf.label, leaf.post)]
 
 
 def both(original, compressed, initial):
@@ -187,7 +84,8 @@ def test_a_generated_task_beyond_the_explorer_is_proved():
     compressed = compress(tree).tree
     world = World(tree)
     report = verify_by_parts(tree, compressed, world, [world.atoms], method="symbolic")
-    assert report.exhaustive and report.sound and report.complete and report.parts == 20
+    assert report.exhaustive and report.sound and report.complete
+    assert report.parts == len(parts.parts_of(parts.decompose(tree, compressed, world.atoms))) > 100
     assert not Verifier(tree, compressed, World(tree), max_states=2_000).verify([world.atoms]).exhaustive
 
 
@@ -267,18 +165,21 @@ def test_verify_proves_symbolically_by_default_and_explicitly_on_request():
 
 
 def test_a_blow_up_says_where_and_proves_nothing(tmp_path):
+    """Under the paper's propagation a chain of sub-tasks is explored as one part (docs/semantics.md,
+    "Sequential phases"): 40 atoms, past 300 nodes."""
     task = tmp_path / "g.pl"
     assert schemalog("generate", "--depth", "5", "--children", "3", "--rd", "0.5", "--seed", "1",
                      "-o", str(task)).returncode == 0
-    out = schemalog("verify", str(task), "--max-bdd-nodes", "300", "--method", "symbolic")
+    pre = ("--propagate", "pre", "--max-bdd-nodes", "300")
+    out = schemalog("verify", str(task), *pre, "--method", "symbolic")
     assert out.returncode == 3 and "Traceback" not in out.stderr
-    assert "in the independent part of" in out.stdout and "grew past 300 nodes" in out.stdout
+    assert "in the part of b1 made of b2(obj1) (40 atoms)" in out.stdout and "grew past 300 nodes" in out.stdout
     assert "result: no proof" in out.stdout
-    whole = schemalog("verify", str(task), "--max-bdd-nodes", "300", "--no-split", "--method", "symbolic")
+    whole = schemalog("verify", str(task), *pre, "--no-split", "--method", "symbolic")
     assert whole.returncode == 3 and "grew past 300 nodes while" in whole.stdout
-    assert "in the independent part" not in whole.stdout
-    auto = schemalog("verify", str(task), "--max-bdd-nodes", "300")     # auto: the explorer takes over
-    assert auto.returncode == 0 and "note: explored one state at a time: in the independent part" in auto.stdout
+    assert "in the part" not in whole.stdout
+    auto = schemalog("verify", str(task), *pre)     # auto: the explorer takes over
+    assert auto.returncode == 0 and "note: explored one state at a time: in the part of" in auto.stdout
 
 
 def test_symbolic_refuses_what_it_cannot_encode_and_auto_falls_back(tmp_path):

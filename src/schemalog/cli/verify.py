@@ -49,7 +49,7 @@ def register(sub, parents: Parents) -> None:
                    help="symbolic: stop past N decision-diagram nodes alive at once, with no proof "
                         "(exit 3; default 5,000,000, about 160 MB)")
     p.add_argument("--no-split", action="store_true",
-                   help="explore the whole task even where it splits into independent parts")
+                   help="explore the whole task even where it splits into independent parts or sequential phases")
     p.add_argument("--sample", type=sample_runs, metavar="RUNS",
                    help=f"check RUNS random runs (at most {defaults.MAX_SAMPLE:,}) instead of every state: "
                         f"finds violations, proves nothing (exit 3 when none is found); within the work "
@@ -224,7 +224,7 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str,
                f"{report.nodes:,} decision-diagram nodes) in {report.seconds:.2f} s" if report.method == "symbolic" else
                f"explored {report.compressed_states:,} states of the compressed tree and "
                f"{report.original_states:,} of the original in {report.seconds:.2f} s")
-              + (f", in {report.parts} independent parts" if report.parts > 1 else "")
+              + (f", in {report.parts} parts" if report.parts > 1 else "")
               + ("" if report.exhaustive else f" (stopped at the limit of {report.limit}: NOT a proof)")),
              *([f"note: {report.note}"] if report.note else []), ""]
     titles = {"soundness": "soundness (no perceptual aliasing)", "completion": "completion",

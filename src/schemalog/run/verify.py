@@ -21,13 +21,14 @@ from __future__ import annotations
 import itertools
 import time
 from collections import Counter, deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from .. import defaults
 from ..task import conditions as cond
 from ..task.conditions import Condition
 from ..errors import SchemalogError
 from .execute import Executive, Plan, blocked_reasons, enabled_indices
+from . import parts
 from .scene import NO_SCENE, Scene
 from ..logic.terms import Atom, Struct, Term, Var, term_to_text
 from ..task.tree import Behaviour
@@ -266,6 +267,8 @@ class Report:
     method: str = "explicit" # how the states were explored: one by one, or as sets ("symbolic")
     nodes: int = 0           # symbolic: the most decision-diagram nodes alive at once
     note: str = ""           # why the method asked for was not used ("" if it was)
+    original_completes: bool | None = None   # by parts, one initial state: whether the original can
+                                             # complete from it, as the proof found (None: not known)
 
     @property
     def sound(self) -> bool:
@@ -890,204 +893,204 @@ def _word(parent, node) -> list[Term]:
 
 
 # ---------------------------------------------------------------------------
-# Independent parts: an exact reduction (docs/semantics.md, "Independent parts")
-
-def _atoms_of(node: Behaviour) -> set[Term]:
-    """Every atom a condition of `node`'s subtree reads or sets."""
-    found: set[Term] = set()
-    stack = [node]
-    while stack:
-        n = stack.pop()
-        for c in (n.pre, n.post):
-            found.update(lit.atom for lit in cond.literals(c))
-        stack.extend(n.children)
-    return found
-
-
-def _written_inside(node: Behaviour) -> set[Term]:
-    """The atoms the post-conditions below `node` set (its own post excluded)."""
-    found: set[Term] = set()
-    stack = list(node.children)
-    while stack:
-        n = stack.pop()
-        found.update(lit.atom for lit in cond.literals(n.post))
-        stack.extend(n.children)
-    return found
-
-
-def _read_inside(node: Behaviour) -> set[Term]:
-    found: set[Term] = set()
-    for child in node.children:
-        found |= _atoms_of(child)
-    return found
-
+# Parts and phases: exact reductions (run/parts.py; docs/semantics.md, "Independent parts",
+# "Sequential phases"). Each Part is explored; what it found is combined up the pieces.
 
 @dataclass
-class Part:
-    """One independent part: the original behaviours and their compressed counterparts."""
+class Facts:
+    """What exploring a piece found, in its own states: a state of a piece is its start with
+    its own atoms changed, so it reads the same in every piece around it."""
 
-    label: Term
-    original: Behaviour
-    compressed: Behaviour
     atoms: frozenset
+    start: State
+    soundness: Verdict                  # its counterexample a run from `start`
+    quiet: State | None                 # reachable, not ended, nothing enabled in the compressed tree
+    done: State | None                  # reachable and ended
+    stuck: State | None                 # a quiet state where the original enables something
+    offered: str                        # ... what the original could take there
+    dead: State | None                  # reachable; the original can end from it, the compressed tree cannot
+    can: State | None                   # reachable, and the original can end from it
+    o_init: bool                        # the original can end from `start`
+    c_init: bool                        # the compressed tree can
+    path: object                        # state -> the compressed tree's run from `start` to it
+    states: int
+    o_states: int
+    exhaustive: bool
+    limit: str = ""
+    nodes: int = 0
+    parts: int = 1
 
 
-def independent_parts(original: Behaviour, compressed: Behaviour, initial: list[State]) -> list[Part] | None:
-    """Split a task into parts that share no atom, recursively, where that is exact; None when
-    the task does not split.
-
-    At a behaviour X (the root, then an unmerged behaviour alone in its part), the children are
-    grouped by shared atoms. Splitting is exact when X's post-condition is set only by X's
-    completion and read by none of its descendants, and X's pre-condition is set by none of them,
-    holds, and X's post does not, in every covered initial state: then X stays active until all
-    its children are accomplished, each group runs on its own atoms, and a group whose children
-    are all accomplished is frozen. Compression merges only siblings that share an atom, so each
-    compressed child falls in one group."""
-    parts: list[Part] = []
-    if not _split(original, compressed, initial, parts, depth=0):
-        return None
-    return parts if len(parts) > 1 else None
+def _view(state: State, f: Facts) -> State:
+    """A state of an enclosing piece as a state of `f`."""
+    return (f.start - f.atoms) | (state & f.atoms)
 
 
-def _split(o: Behaviour, c: Behaviour, initial: list[State], parts: list[Part], depth: int) -> bool:
-    # X stands for itself in both trees: the same conditions, active in every initial state
-    if cond.canonical(o.pre) != cond.canonical(c.pre) or cond.canonical(o.post) != cond.canonical(c.post):
-        return False
-    if not all(cond.holds(o.pre, s) for s in initial):
-        return False
-    post_atoms = {lit.atom for lit in cond.literals(o.post)}
-    inside = _read_inside(o)
-    if not o.children or post_atoms & inside or {lit.atom for lit in cond.literals(o.pre)} & _written_inside(o):
-        return False
-    if any(cond.holds(o.post, s) for s in initial):
-        return False
-    atoms = [_atoms_of(child) for child in o.children]
-    group = list(range(len(o.children)))
-
-    def find(i: int) -> int:
-        while group[i] != i:
-            group[i] = group[group[i]]
-            i = group[i]
-        return i
-
-    owner: dict[Term, int] = {}
-    for i, found in enumerate(atoms):
-        for atom in found:
-            if atom in owner:
-                group[find(i)] = find(owner[atom])
-            else:
-                owner[atom] = i
-    members: dict[int, list[int]] = {}
-    for i in range(len(o.children)):
-        members.setdefault(find(i), []).append(i)
-    mapped: dict[int, list[Behaviour]] = {}
-    for child in c.children:
-        positions = {origin.position for origin in child.origins if origin.slot == 0}
-        if not child.origins or len(positions) != len(child.origins):
-            return False
-        roots = {find(p) for p in positions if p < len(o.children)}
-        if len(roots) != 1:
-            return False
-        mapped.setdefault(roots.pop(), []).append(child)
-    if len(members) == 1 and depth > 0:
-        return False
-    for root, indices in members.items():
-        o_kids = tuple(o.children[i] for i in indices)
-        c_kids = tuple(mapped.get(root, ()))
-        group_atoms = frozenset().union(*(atoms[i] for i in indices))
-        if len(o_kids) == 1 and len(c_kids) == 1 and len(c_kids[0].origins) == 1:
-            projected = list(dict.fromkeys(frozenset(s & group_atoms) for s in initial))
-            nested: list[Part] = []
-            if _split(o_kids[0], c_kids[0], projected, nested, depth + 1):
-                parts.extend(nested)
-                continue
-        post = cond.conjoin([k.post for k in o_kids])
-        parts.append(Part(o.label, Behaviour(o.label, post=post, children=o_kids),
-                          Behaviour(o.label, post=post, children=c_kids, origins=c.origins[:1]), group_atoms))
-    return True
+def _put(state: State, f: Facts, inner: State) -> State:
+    """`state` with `f`'s atoms as in `inner`, a state of `f`."""
+    return (state - f.atoms) | (inner & f.atoms)
 
 
-def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
-                    scene: Scene | None = None, task: Term | None = None,
-                    max_states: int = DEFAULT_MAX_STATES, method: str = "explicit",
-                    max_nodes: int = DEFAULT_MAX_NODES) -> Report | None:
-    """Verify each independent part on its own and combine exactly (None if the task does not
-    split, or when more than one initial state is covered). `method` "symbolic" explores each
-    part as sets of states (raising symbolic.Unsupported where that would not be exact)."""
-    if len(initial) != 1:
-        return None
-    parts = independent_parts(original, compressed, initial)
-    if parts is None:
-        return None
-    started = time.perf_counter()
-    whole_initial = initial[0]
-    facts = []
-    limit = ""
-    nodes = 0
-    for part in parts:
-        part_world = World(part.original)
-        part_world.reset(whole_initial & part.atoms)
-        start = frozenset(part_world.atoms)
-        if method == "symbolic":
-            facts.append(_symbolic_part(part, part_world, start, max_states, max_nodes))
-            nodes = max(nodes, facts[-1]["nodes"])
-            continue
-        v = Verifier(part.original, part.compressed, part_world, max_states)
-        v.meter.limit = v.max_work
-        parent, succ, order, unsound, stuck, exhaustive = v._explore_compressed([start])
-        good_o, o_states, o_exhaustive = v._can_complete_original(order)
-        v.meter.limit = None
-        if not (exhaustive and o_exhaustive):
-            limit = limit or v.limit_text()
-        good_c = _backward(order, succ, v._decoded(v.compressed.accomplished))
-        decode, encode = v.codec.decode, v.codec.encode
-        quiet = next((decode(q) for q in order if not v.compressed.enabled(decode(q))), None)
-        facts.append({
-            "part": part, "verifier": v, "parent": parent, "start": start, "states": len(order),
-            "o_states": o_states, "exhaustive": exhaustive and o_exhaustive,
-            "soundness": v._soundness(unsound, parent, exhaustive, len(order)),
-            "quiet": quiet,                                        # a reachable quiescent state
-            "stuck": next((decode(q) for q in stuck if v.original.enabled(decode(q))), None),
-            "dead": next((decode(q) for q in order if q in good_o and q not in good_c), None),
-            "can": next((decode(q) for q in order if q in good_o), None),
-            "o_init": encode(start) in good_o, "c_init": encode(start) in good_c,
-            "path": lambda state, v=v, parent=parent: v._path(parent, state)[1]})
-    whole = Verifier(original, compressed, world, max_states)
-    exhaustive = all(f["exhaustive"] for f in facts)
-    props: dict[str, Verdict] = {}
-    failed = next((f for f in facts if f["soundness"].holds is False), None)
-    if failed is not None:
-        v = failed["soundness"]
-        props["soundness"] = Verdict("soundness", False, v.summary, _lift(v.counterexample, failed["part"], whole_initial))
+def _moved(ce: Counterexample, f: Facts, base: State, start: State, before: tuple) -> Counterexample:
+    """A counterexample found in `f` as a run of the enclosing piece: from `start`, the runs
+    `before` that bring the other pieces to `base`, then `f`'s run."""
+    return replace(ce, initial=start, path=(*before, *ce.path), state=_put(base, f, ce.state))
+
+
+def _facts(piece, method: str, max_states: int, max_nodes: int) -> Facts:
+    if isinstance(piece, parts.Group):
+        return _group([_facts(p, method, max_states, max_nodes) for p in piece.pieces], piece)
+    if isinstance(piece, parts.Chain):
+        return _chain([_facts(p, method, max_states, max_nodes) for p in piece.phases], piece)
+    if method == "symbolic":
+        return _symbolic_part(piece, max_nodes, max_states)
+    return _explicit_part(piece, max_states)
+
+
+def _group(facts: list[Facts], piece) -> Facts:
+    """Independent pieces: every combination of their reachable states is reachable, the
+    group has ended when each has, it is quiet where each is quiet or has ended."""
+    start = piece.start
+
+    def at(chosen: dict[int, State]) -> State:
+        state = start
+        for k, f in enumerate(facts):
+            state = _put(state, f, chosen.get(k, f.start))
+        return state
+
+    def path(state: State) -> tuple[Step, ...]:
+        return tuple(step for f in facts for step in f.path(_view(state, f)))
+
+    soundness = next((f.soundness for f in facts if f.soundness.holds is False), None)
+    if soundness is not None:
+        k = next(k for k, f in enumerate(facts) if f.soundness is soundness)
+        ce = _moved(soundness.counterexample, facts[k], start, start, ())
+        soundness = Verdict("soundness", False, soundness.summary, ce)
     else:
-        props["soundness"] = Verdict("soundness", True if exhaustive else None,
-                                     f"holds in each of {len(parts)} independent parts"
-                                     + ("" if exhaustive else " (within the state limit: not a proof)"))
-    props["completion"] = _combined_completion(facts, whole_initial, exhaustive, len(parts))
-    props["flexibility"] = whole._flexibility(initial)
-    props["traces"] = Verdict("traces", None, f"not counted: the task was verified in {len(parts)} "
-                                              f"independent parts, whose interleavings are not enumerated")
-    props["selection"] = whole._selection(initial, scene)
-    return Report(task if task is not None else compressed.label, initial, props,
-                  sum(f["states"] for f in facts), sum(f["o_states"] for f in facts),
-                  time.perf_counter() - started, exhaustive, parts=len(parts), limit=limit,
-                  method=method, nodes=nodes)
+        exhaustive = all(f.soundness.holds for f in facts)
+        soundness = Verdict("soundness", True if exhaustive else None,
+                            "holds in every part" + ("" if exhaustive else " explored (a limit was reached: not a proof)"))
+    resting = [f.quiet if f.quiet is not None else f.done for f in facts]     # an empty state is a state
+    quiet = stuck = dead = None
+    offered = ""
+    if all(r is not None for r in resting):
+        if any(f.quiet is not None for f in facts):
+            quiet = at(dict(enumerate(resting)) | {k: f.quiet for k, f in enumerate(facts) if f.quiet is not None})
+        k = next((k for k, f in enumerate(facts) if f.stuck is not None), None)
+        if k is not None:
+            stuck, offered = at(dict(enumerate(resting)) | {k: facts[k].stuck}), facts[k].offered
+    done = at({k: f.done for k, f in enumerate(facts)}) if all(f.done is not None for f in facts) else None
+    can = at({k: f.can for k, f in enumerate(facts)}) if all(f.can is not None for f in facts) else None
+    k = next((k for k, f in enumerate(facts) if f.dead is not None), None)
+    if k is not None and all(f.can is not None for j, f in enumerate(facts) if j != k):
+        dead = at({j: f.can for j, f in enumerate(facts) if j != k} | {k: facts[k].dead})
+    return Facts(piece.atoms, start, soundness, quiet, done, stuck, offered, dead, can,
+                 all(f.o_init for f in facts), all(f.c_init for f in facts), path,
+                 sum(f.states for f in facts), sum(f.o_states for f in facts), all(f.exhaustive for f in facts),
+                 next((f.limit for f in facts if f.limit), ""), max(f.nodes for f in facts),
+                 sum(f.parts for f in facts))
 
 
-def _symbolic_part(part: Part, world: World, start: State, max_states: int, max_nodes: int) -> dict:
-    """The facts verify_by_parts combines, for one part explored as sets of states."""
+def _chain(facts: list[Facts], piece) -> Facts:
+    """Sequential phases: phase i runs from the end of phase i - 1 (it is reachable when every
+    earlier phase can end), the others stay as they are; the chain ends with its last phase,
+    and it can end from a state of phase i when phase i can and every later phase can from
+    its start (what a phase does never depends on how the earlier ones ended)."""
+    start = piece.start
+    bases: list[State] = [start]          # the state at the start of each reachable phase
+    runs: list[tuple] = [()]              # ... and the run to it
+    for f in facts:
+        if f.done is None:
+            break
+        bases.append(_put(bases[-1], f, f.done))
+        runs.append(runs[-1] + f.path(f.done))
+    reachable = facts[:len(bases)]
+
+    def later_can(i: int) -> bool:
+        return all(f.o_init for f in facts[i + 1:])
+
+    def first(field: str, also=lambda i: True) -> State | None:
+        for i, f in enumerate(reachable):
+            found = getattr(f, field)
+            if found is not None and also(i):
+                return _put(bases[i], f, found)
+        return None
+
+    def path(state: State) -> tuple[Step, ...]:
+        steps: tuple = ()
+        for f, d in zip(facts, piece.ends):
+            steps += f.path(_view(state, f))
+            if d not in state:
+                break
+        return steps
+
+    i = next((i for i, f in enumerate(reachable) if f.soundness.holds is False), None)
+    if i is not None:
+        found = reachable[i].soundness
+        soundness = Verdict("soundness", False, found.summary,
+                            _moved(found.counterexample, reachable[i], bases[i], start, runs[i]))
+    else:
+        exhaustive = all(f.soundness.holds for f in reachable)
+        soundness = Verdict("soundness", True if exhaustive else None,
+                            "holds in every phase" + ("" if exhaustive else " explored (a limit was reached: not a proof)"))
+    i = next((i for i, f in enumerate(reachable) if f.stuck is not None), None)
+    stuck = _put(bases[i], reachable[i], reachable[i].stuck) if i is not None else None
+    return Facts(piece.atoms, start, soundness, first("quiet"),
+                 bases[-1] if len(bases) == len(facts) + 1 else None,
+                 stuck, reachable[i].offered if i is not None else "",
+                 first("dead", later_can), first("can", later_can),
+                 all(f.o_init for f in facts), all(f.c_init for f in facts), path,
+                 sum(f.states for f in facts), sum(f.o_states for f in facts), all(f.exhaustive for f in facts),
+                 next((f.limit for f in facts if f.limit), ""), max(f.nodes for f in facts),
+                 sum(f.parts for f in facts))
+
+
+def _offered(o: "Model", state: State) -> str:
+    return ", ".join(dict.fromkeys(term_to_text(o.label(i)) for i in o.enabled(state)))
+
+
+def _explicit_part(part, max_states: int) -> Facts:
+    world = World(part.original)
+    world.reset(part.start)
+    start = frozenset(world.atoms)
+    v = Verifier(part.original, part.compressed, world, max_states)
+    v.meter.limit = v.max_work
+    parent, succ, order, unsound, stuck, exhaustive = v._explore_compressed([start])
+    good_o, o_states, o_exhaustive = v._can_complete_original(order)
+    v.meter.limit = None
+    decode, encode = v.codec.decode, v.codec.encode
+    good_c = _backward(order, succ, v._decoded(v.compressed.accomplished))
+    stuck_state = next((decode(q) for q in stuck if v.original.enabled(decode(q))), None)
+    return Facts(
+        part.atoms, start, v._soundness(unsound, parent, exhaustive, len(order)),
+        next((decode(q) for q in stuck), None),
+        next((decode(q) for q in order if v.compressed.accomplished(decode(q))), None),
+        stuck_state, _offered(v.original, stuck_state) if stuck_state is not None else "",
+        next((decode(q) for q in order if q in good_o and q not in good_c), None),
+        next((decode(q) for q in order if q in good_o), None),
+        encode(start) in good_o, encode(start) in good_c,
+        lambda state, v=v, parent=parent: v._path(parent, state)[1],
+        len(order), o_states, exhaustive and o_exhaustive,
+        "" if exhaustive and o_exhaustive else v.limit_text())
+
+
+def _symbolic_part(part, max_nodes: int, max_states: int) -> Facts:
+    """A part explored as sets of states (run/symbolic.py)."""
     from . import symbolic
 
+    world = World(part.original)
+    world.reset(part.start)
+    start = frozenset(world.atoms)
     try:
         m = symbolic.SymbolicModel(part.original, part.compressed, world, start, max_nodes)
         found = symbolic.explore(m, [start])
     except symbolic.OutOfNodes as blowup:
         names = ", ".join(term_to_text(k.label) for k in part.original.children[:4])
         more = ", ..." if len(part.original.children) > 4 else ""
-        raise symbolic.OutOfNodes(f"in the independent part of {term_to_text(part.label)} made of {names}{more} "
+        raise symbolic.OutOfNodes(f"in the part of {term_to_text(part.label)} made of {names}{more} "
                                   f"({len(part.atoms):,} atoms), {blowup.message}") from None
     v = Verifier(part.original, part.compressed, world, max_states)
-    bdd = m.bdd
+    bdd, c = m.bdd, m.c
 
     def one(u):
         return None if u == bdd.false else m.pick(u)
@@ -1101,11 +1104,108 @@ def _symbolic_part(part: Part, world: World, start: State, max_states: int, max_
     else:
         first, steps, s = _run_to(symbolic, m, v.compressed, [start], found.unsound)
         soundness = _first_refused(v, first, steps, s)
-    return {"part": part, "verifier": v, "start": start, "states": m.count(found.reachable), "o_states": 0,
-            "exhaustive": True, "soundness": soundness,
-            "quiet": one(found.reachable & ~m.c.any_enabled), "stuck": one(found.stuck), "dead": one(found.dead),
-            "can": one(found.reachable & found.can_o), "o_init": m.member(start, found.can_o),
-            "c_init": m.member(start, found.can_c), "path": path, "nodes": found.peak_nodes}
+    stuck = one(found.stuck)
+    return Facts(part.atoms, start, soundness,
+                 one(found.reachable & ~c.any_enabled & ~c.accomplished), one(found.reachable & c.accomplished),
+                 stuck, _offered(v.original, stuck) if stuck is not None else "",
+                 one(found.dead), one(found.reachable & found.can_o),
+                 m.member(start, found.can_o), m.member(start, found.can_c), path,
+                 m.count(found.reachable), 0, True, nodes=found.peak_nodes)
+
+
+def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
+                    scene: Scene | None = None, task: Term | None = None,
+                    max_states: int = DEFAULT_MAX_STATES, method: str = "explicit",
+                    max_nodes: int = DEFAULT_MAX_NODES) -> Report | None:
+    """Verify each part on its own and combine exactly (None if the task does not split, or
+    when more than one initial state is covered). `method` "symbolic" explores each part as
+    sets of states (raising symbolic.Unsupported where that would not be exact)."""
+    if len(initial) != 1:
+        return None
+    piece = parts.decompose(original, compressed, initial[0])
+    if piece is None:
+        return None
+    started = time.perf_counter()
+    whole_initial = initial[0]
+    top = _facts(piece, method, max_states, max_nodes)
+    whole = Verifier(original, compressed, world, max_states)
+    props: dict[str, Verdict] = {}
+    count = top.parts
+    if top.soundness.holds is False:
+        props["soundness"] = _refused_in_whole(whole, whole_initial, top.soundness.counterexample)
+    else:
+        props["soundness"] = Verdict("soundness", top.soundness.holds,
+                                     f"holds in each of {count} parts" + ("" if top.exhaustive else
+                                                                          " (within the state limit: not a proof)"))
+    props["completion"] = _completion_of(top, whole, whole_initial, count)
+    props["flexibility"] = whole._flexibility(initial)
+    props["traces"] = Verdict("traces", None, f"not counted: the task was verified in {count} parts, whose "
+                                              f"interleavings are not enumerated")
+    props["selection"] = whole._selection(initial, scene)
+    return Report(task if task is not None else compressed.label, initial, props, top.states, top.o_states,
+                  time.perf_counter() - started, top.exhaustive, parts=count, limit=top.limit,
+                  method=method, nodes=top.nodes, original_completes=top.o_init if top.exhaustive else None)
+
+
+def _replay(v: "Verifier", initial: State, path: tuple[Step, ...]) -> State:
+    """Where a run of the compressed tree found in the parts leads in the whole task's model
+    (whose world also completes the ancestors the parts leave out)."""
+    c = v.compressed
+    state = initial
+    for step in path:
+        for leaf in c.enabled(state):
+            if c.label(leaf) == step.behaviour:
+                actions, states = c.step(state, leaf)
+                if tuple(a for a, _ in actions) == step.actions:
+                    state = states[-1] if states else state
+                    break
+        else:
+            raise AssertionError(f"the parts' run takes {term_to_text(step.behaviour)}, which the whole "
+                                 f"task does not enable there")
+    return state
+
+
+def _refused_in_whole(v: "Verifier", initial: State, ce: Counterexample) -> Verdict:
+    """A part's soundness counterexample, replayed and explained in the whole task."""
+    s = _replay(v, initial, ce.path)
+    c, o = v.compressed, v.original
+    for leaf in c.enabled(s):
+        if c.label(leaf) != ce.behaviour:
+            continue
+        actions, states = c.step(s, leaf)
+        before = s
+        for j, action in enumerate(actions):
+            if not o.allows(before, action):
+                return v._unsound(initial, ce.path, s, leaf, j, before)
+            before = states[j]
+    raise AssertionError("the whole task allows the step a part refuses")
+
+
+def _completion_of(top: Facts, whole: "Verifier", initial: State, count: int) -> Verdict:
+    """Completion of the whole from the top piece's facts."""
+    if not top.exhaustive:
+        return Verdict("completion", None, "not decided: a part reached the state limit (not a proof)")
+    if top.stuck is not None:
+        path = top.path(top.stuck)
+        state = _replay(whole, initial, path)
+        world = whole.world
+        world.load(state)
+        blocked = blocked_reasons(whole.compressed.plan, world, set(), Counter())
+        ce = Counterexample(initial, path, state,
+                            reasons=(f"the original could still take: {_offered(whole.original, state)}", *blocked))
+        return Verdict("completion", False, "the compressed tree gets stuck where the original does not", ce)
+    if top.dead is not None:
+        path = top.path(top.dead)
+        ce = Counterexample(initial, path, _replay(whole, initial, path), reasons=(
+            "from this state the original can still complete the task, the compressed tree cannot "
+            "(every continuation loops or gets stuck)",))
+        return Verdict("completion", False, "the compressed tree reaches a state it cannot complete from, "
+                                            "where the original can", ce)
+    if top.o_init != top.c_init:
+        return Verdict("completion", False, "the initial state completes with one tree only",
+                       Counterexample(initial, (), initial))
+    return Verdict("completion", True, f"holds, from the {count} parts combined; the initial state "
+                                       f"{'can' if top.o_init else 'cannot'} complete, in both trees")
 
 
 def _run_to(symbolic, *args):
@@ -1128,59 +1228,8 @@ def _first_refused(v: "Verifier", first: State, path: tuple[Step, ...], s: State
     raise AssertionError("the symbolic and the explicit model disagree on soundness")
 
 
-def _combined_completion(facts: list[dict], initial: State, exhaustive: bool, count: int) -> Verdict:
-    """Completion of the whole from its parts' facts. Parts are independent, so every
-    combination of their reachable states is reachable: the whole is stuck where every part is
-    quiescent (nothing enabled); it can complete from a state when every part can."""
-    def run_to(chosen: dict[int, State]) -> Counterexample:
-        path: list[Step] = []
-        state = set(initial)
-        for k, f in enumerate(facts):
-            target = chosen.get(k, f["start"])
-            path.extend(f["path"](target))
-            state = (state - f["part"].atoms) | target
-        return Counterexample(initial, tuple(path), frozenset(state))
-
-    if not exhaustive:
-        return Verdict("completion", None, "not decided: a part reached the state limit (not a proof)")
-    stuck = next((k for k, f in enumerate(facts) if f["stuck"] is not None), None)
-    if stuck is not None and all(f["quiet"] is not None for f in facts):
-        chosen = {k: f["quiet"] for k, f in enumerate(facts)}
-        chosen[stuck] = facts[stuck]["stuck"]
-        ce = run_to(chosen)
-        o = facts[stuck]["verifier"].original
-        offered = ", ".join(dict.fromkeys(term_to_text(o.label(i)) for i in o.enabled(chosen[stuck])))
-        ce = Counterexample(ce.initial, ce.path, ce.state, reasons=(f"the original could still take: {offered}",))
-        return Verdict("completion", False, "the compressed tree gets stuck where the original does not", ce)
-    dead = next((k for k, f in enumerate(facts) if f["dead"] is not None), None)
-    if dead is not None and all(f["can"] is not None for k, f in enumerate(facts) if k != dead):
-        chosen = {k: f["can"] for k, f in enumerate(facts)}
-        chosen[dead] = facts[dead]["dead"]
-        ce = run_to(chosen)
-        ce = Counterexample(ce.initial, ce.path, ce.state, reasons=(
-            "from this state the original can still complete the task, the compressed tree cannot "
-            "(every continuation loops or gets stuck)",))
-        return Verdict("completion", False, "the compressed tree reaches a state it cannot complete from, "
-                                            "where the original can", ce)
-    o_init = all(f["o_init"] for f in facts)
-    if o_init != all(f["c_init"] for f in facts):
-        return Verdict("completion", False, "the initial state completes with one tree only",
-                       Counterexample(initial, (), initial))
-    return Verdict("completion", True, f"holds, from the {count} independent parts combined; the initial "
-                                       f"state {'can' if o_init else 'cannot'} complete, in both trees")
-
-
-def _lift(ce: Counterexample | None, part: Part, whole: State) -> Counterexample | None:
-    """A part's counterexample as a run of the whole task: the other parts stay as they were."""
-    if ce is None:
-        return None
-    outside = whole - part.atoms
-    return Counterexample(whole, ce.path, outside | ce.state, ce.behaviour, ce.where, ce.done_first,
-                          ce.action, ce.reasons)
-
-
 __all__ = ["Verifier", "Report", "Verdict", "Counterexample", "Step", "Model", "free_atoms", "constraints",
-           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts", "independent_parts", "Part",
+           "all_states", "state_text", "DEFAULT_MAX_STATES", "verify_by_parts",
            "verify_symbolic", "METHODS", "DEFAULT_MAX_NODES"]
 
 

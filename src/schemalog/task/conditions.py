@@ -542,6 +542,24 @@ def holds(c: Condition, state: set | frozenset) -> bool:
     return any(holds(i, state) for i in c.items)
 
 
+def assign(c: Condition, values: dict[Term, bool]) -> Condition:
+    """`c` with the atoms of `values` replaced by their truth value, constants folded: it agrees
+    with `c` on every state that gives those atoms those values.
+
+    >>> assign(from_term(Struct("and", (Atom("a"), Struct("not", (Atom("b"),))))), {Atom("a"): True})
+    Lit(atom=Atom(name='b'), positive=False)
+    """
+    if isinstance(c, Const):
+        return c
+    if isinstance(c, Lit):
+        value = values.get(c.atom)
+        return c if value is None else Const(value == c.positive)
+    if isinstance(c, Not):
+        return negate(assign(c.item, values))
+    items = [assign(i, values) for i in c.items]
+    return conjoin(items) if isinstance(c, And) else disjoin(items)
+
+
 Check = Callable[[AbstractSet[Term]], bool]
 
 
@@ -549,6 +567,9 @@ def compile_check(c: Condition, limit: int = 64) -> Check:
     """A function deciding `holds(c, state)` with set operations: each DNF clause becomes
     `positives <= state and negatives.isdisjoint(state)`, done in C, so the cost barely
     grows with the number of literals. Falls back to `holds` beyond `limit` clauses."""
+    if type(c) is Lit:                 # most conditions of a large tree: `b12.done`
+        atom = c.atom
+        return (lambda state: atom in state) if c.positive else (lambda state: atom not in state)
     dnf = to_dnf(c, limit)
     if dnf is None:
         return lambda state: holds(c, state)
