@@ -134,35 +134,43 @@ def _same(a: Condition, b: Condition, fixed: Fixed) -> bool:
     return a == b or cond.canonical(a) == cond.canonical(b)
 
 
-def _owned(part: Part, fixed: Fixed) -> None:
-    """Check that the compressed side of a part reads only its own atoms and fixed ones, and
-    writes only its own: otherwise what it does would depend on, or change, another piece."""
+def _owned(part: Part) -> None:
+    """Check that the compressed side of a part reads and writes only the part's own atoms:
+    otherwise what it does would depend on, or change, another piece."""
     own = part.atoms
     stack = [part.compressed]
     while stack:
         n = stack.pop()
         for c in (n.pre, n.post):
             for lit in cond.literals(c):
-                if lit.atom not in own and lit.atom not in fixed:
+                if lit.atom not in own:
                     raise _NotExact
         if not n.children:
             for origin in n.origins:
                 for lit in cond.literals(origin.post):
-                    if lit.atom not in own or lit.atom in fixed:
+                    if lit.atom not in own:
                         raise _NotExact
         stack.extend(n.children)
 
 
 def _part(label: Term, original: Behaviour, compressed: Behaviour, atoms: frozenset, start: State,
           fixed: Fixed) -> Part:
-    part = Part(label, original, compressed, frozenset(atoms), start)
-    _owned(part, {a: v for a, v in fixed.items() if a not in atoms_of_root(original)})
+    """A part with the fixed atoms' values written into its conditions (they keep them while
+    it runs): what is left reads and sets only its own atoms, which is checked."""
+    fixed = {a: v for a, v in fixed.items() if a not in _atoms(original.post)}
+    original, compressed = _fix(original, fixed), _fix(compressed, fixed)
+    own = frozenset(a for a in atoms if a not in fixed)
+    part = Part(label, original, compressed, own, frozenset(a for a in start if a in own))
+    _owned(part)
     return part
 
 
-def atoms_of_root(node: Behaviour) -> set[Term]:
-    """The atoms of a part's own root post-condition: its world sets them, they are not fixed."""
-    return _atoms(node.post)
+def _fix(node: Behaviour, fixed: Fixed) -> Behaviour:
+    """`node`'s subtree with the fixed atoms' values in every condition."""
+    if not fixed:
+        return node
+    return replace(node, releaser=cond.assign(node.releaser, fixed), context=cond.assign(node.context, fixed),
+                   post=cond.assign(node.post, fixed), children=tuple(_fix(k, fixed) for k in node.children))
 
 
 def _start(start: State, atoms: frozenset, fixed: Fixed) -> State:
@@ -366,4 +374,57 @@ def _phase_tree(x: Behaviour, position: int, kid: Behaviour, c_kids: tuple[Behav
                    origins=(replace(y.origins[slot], slot=0),))
 
 
-__all__ = ["Part", "Group", "Chain", "Piece", "decompose", "parts_of", "atoms_of"]
+# ---------------------------------------------------------------------------
+# Shapes: parts that are one another up to names
+
+Shape = tuple     # a part with its atoms and behaviour labels numbered in order of appearance
+
+
+def shape_of(part: Part) -> tuple[Shape, list[Term], list[Term]]:
+    """The part's shape, and its atoms and labels in the order the shape numbers them.
+
+    Two parts with the same shape are the same verification problem up to a one-to-one
+    renaming of atoms and of labels: both trees (every condition, every child in order, every
+    constituent's label, post-condition and place) and the start state correspond under it,
+    and verifying reads nothing else (a constituent's releaser is provenance only)."""
+    atoms: dict[Term, int] = {}
+    labels: dict[Term, int] = {}
+
+    def atom(a: Term) -> int:
+        found = atoms.get(a)
+        if found is None:
+            found = atoms[a] = len(atoms)
+        return found
+
+    def label(t: Term) -> int:
+        found = labels.get(t)
+        if found is None:
+            found = labels[t] = len(labels)
+        return found
+
+    def condition(c: Condition) -> tuple | int | bool:
+        kind = type(c)
+        if kind is cond.Lit:
+            return atom(c.atom) if c.positive else -1 - atom(c.atom)
+        if kind is cond.Const:
+            return c.value
+        if kind is cond.Not:
+            return ("not", condition(c.item))
+        return ("and" if kind is cond.And else "or", *(condition(i) for i in c.items))
+
+    def tree(root: Behaviour) -> tuple:
+        out: list = []
+        stack = [root]
+        while stack:
+            n = stack.pop()
+            out.append((label(n.label), condition(n.pre), condition(n.post), len(n.children),
+                        tuple((label(o.label), condition(o.post), o.position, o.slot) for o in n.origins)))
+            stack.extend(reversed(n.children))
+        return tuple(out)
+
+    shape = (tree(part.original), tree(part.compressed),
+             tuple(sorted(atom(a) for a in part.start)))
+    return shape, list(atoms), list(labels)
+
+
+__all__ = ["Part", "Group", "Chain", "Piece", "decompose", "parts_of", "atoms_of", "shape_of"]
