@@ -16,7 +16,8 @@ One run, two tables:
    explicit explorer (by parts) beside the symbolic method (by parts, run/symbolic.py), each
    cell in its own process: states (symbolic: the reachable states counted from the sets,
    approximate above 2^53), decision-diagram nodes, seconds, peak RSS.
-4. Growth of the symbolic method from 1,365 to 97,656 behaviours.
+4. Growth from 1,365 to 97,656 behaviours: independent parts alone (the method before
+   sequential phases) beside parts and phases, and the whole `schemalog verify` command.
 
     python benchmarks/bench_verify.py --only grid --only growth
 """
@@ -97,11 +98,13 @@ def generated_table(max_states: int, runs: int) -> None:
 
 
 GRID = [(d, b, rd) for d in (4, 5, 6) for b in (2, 3, 4) for rd in (0.0, 0.3, 0.5, 0.7)]
-GROWTH = [(6, 4), (6, 6), (8, 5)]    # 1,365, 9,331 and 97,656 behaviours
+GROWTH = [(6, 4), (7, 4), (7, 5), (8, 5)]    # 1,365, 5,461, 19,531 and 97,656 behaviours
+BASELINE = {(6, 4), (7, 4)}                  # where independent parts alone finish in minutes
 TIMEOUT = 600                        # seconds per cell
 
 
-def one_cell(depth: int, branching: int, rd: float, method: str, max_states: int, propagate: str) -> dict:
+def one_cell(depth: int, branching: int, rd: float, method: str, max_states: int, propagate: str,
+             phases: bool = True) -> dict:
     """Verify one generated task as `schemalog verify --method METHOD` would (by parts where it
     splits); run in a child process, so that its peak memory is its own."""
     import resource
@@ -112,7 +115,8 @@ def one_cell(depth: int, branching: int, rd: float, method: str, max_states: int
     compressed = compress(tree, propagate).tree
     initial = [World(tree).atoms]
     started = time.perf_counter()
-    report = verify_by_parts(tree, compressed, World(tree), initial, max_states=max_states, method=method)
+    report = verify_by_parts(tree, compressed, World(tree), initial, max_states=max_states, method=method,
+                             phases=phases)
     if report is None:
         report = (verify_symbolic(tree, compressed, World(tree), initial) if method == "symbolic" else
                   Verifier(tree, compressed, World(tree), max_states).verify(initial))
@@ -157,16 +161,47 @@ def grid_table(max_states: int) -> None:
 
 
 def growth_table(max_states: int) -> None:
-    print("## Growth: symbolic, RD 0.5, full propagation (explicit beside it at 1k)\n")
+    print("## Growth: RD 0.5, full propagation; symbolic by independent parts alone (the method before\n"
+          "## phases) beside symbolic by parts and phases, and `schemalog verify` as a user runs it\n")
     print("| depth | children | Bi | method | parts | states | BDD nodes | s | MB | result |")
     print("|---:|---:|---:|---|---:|---:|---:|---:|---:|---|")
     for depth, branching in GROWTH:
-        for method in (("explicit", "symbolic") if depth == 6 and branching == 4 else ("symbolic",)):
-            r = in_child(depth, branching, 0.5, method, max_states, "full")
-            print(f"| {depth} | {branching} | {r['behaviours']:,} | {method} | {r['parts']} | {r['states']:,} "
+        runs = [("parts + phases", True)]
+        if (depth, branching) in BASELINE:
+            runs.insert(0, ("parts only", False))
+        for name, phases in runs:
+            r = in_child(depth, branching, 0.5, "symbolic", max_states, "full", phases)
+            print(f"| {depth} | {branching} | {r['behaviours']:,} | {name} | {r['parts']} | {r['states']:,} "
                   f"| {r['nodes']:,} | {r['seconds']:.2f} | {r['peak_mb']:.0f} | {r['result']} |")
             sys.stdout.flush()
+        r = whole_command(depth, branching)
+        print(f"| {depth} | {branching} | {r['behaviours']:,} | `schemalog verify` (read, compress, prove, "
+              f"diagnostics) | | | | {r['seconds']:.2f} | {r['peak_mb']:.0f} | {r['result']} |")
+        sys.stdout.flush()
     print()
+
+
+def whole_command(depth: int, branching: int) -> dict:
+    """`schemalog verify` on the generated file, timed from outside with its peak RSS."""
+    import os
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "task.pl")
+        subprocess.run([sys.executable, "-m", "schemalog", "generate", "--depth", str(depth), "--children",
+                        str(branching), "--rd", "0.5", "--seed", "1", "-o", path], check=True, capture_output=True)
+        # a fresh interpreter whose only child is the command: its children's peak RSS is the command's
+        probe = ("import resource, subprocess, sys, time; t = time.perf_counter(); "
+                 "r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL).returncode; "
+                 "print(time.perf_counter() - t, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, r)")
+        out = subprocess.run([sys.executable, "-c", probe, sys.executable, "-m", "schemalog", "verify", path],
+                             capture_output=True, text=True, timeout=TIMEOUT, check=True)
+    seconds, peak_kb, code = out.stdout.split()
+    seconds, peak = float(seconds), int(peak_kb) / 1024
+    result = {0: "proved", 1: "counterexample", 3: "no proof"}.get(int(code), f"exit {code}")
+    return {"behaviours": sum(branching ** level for level in range(depth)), "seconds": seconds,
+            "peak_mb": peak, "result": result}
 
 
 def main() -> None:

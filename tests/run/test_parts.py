@@ -225,3 +225,40 @@ def test_a_stuck_second_phase_gives_a_run_through_the_first():
     report = assert_same_verdicts(tree, edited, [World(tree).atoms], "explicit")
     if report is not None:
         assert report.sound
+
+
+# --- shapes: a part explored once stands for every part of its shape ----------------
+
+@pytest.mark.parametrize("method", ["explicit", "symbolic"])
+def test_facts_of_a_shape_renamed_are_real_runs_of_each_part(method):
+    from schemalog.run.verify import Counterexample, _Explored
+
+    tree = generate(5, 3, 0.5, seed=1)
+    compressed = compress(tree).tree
+    piece = parts.decompose(tree, compressed, World(tree).atoms)
+    explored = _Explored(method, 5_000, 1_000_000)
+    found = [(part, explored.facts(part)) for part in parts.parts_of(piece)]
+    assert explored.explored == len(explored.shapes) < len(found)      # parts share shapes
+    for part, facts in found:
+        assert facts.done is not None and facts.o_init and facts.c_init
+        ce = Counterexample(facts.start, facts.path(facts.done), facts.done)
+        assert_replays(part.original, part.compressed, ce, [facts.start])
+        direct = explored.explore(part)
+        assert (direct.states, direct.o_init, direct.c_init) == (facts.states, facts.o_init, facts.c_init)
+        assert (direct.quiet is None, direct.can is None) == (facts.quiet is None, facts.can is None)
+
+
+def test_a_violation_is_explored_in_its_own_part_not_renamed():
+    """Two sub-tasks of one shape under `none`: the aliasing of each is found in its own names."""
+    first = chain_of_subtasks()
+    second = Behaviour(t("q"), post=c("q.done"), children=tuple(
+        replace(k, label=t(f"x{i}(pan)"), objects=(t("pan"),), releaser=c("true") if i == 0 else c("x0.done"),
+                post=c(f"x{i}.done"), children=tuple(
+                    replace(a, label=t(f"y{i}{j}(pan)"), objects=(t("pan"),),
+                            releaser=c("true") if j == 0 else c(f"y{i}0.done"), post=c(f"y{i}{j}.done"))
+                    for j, a in enumerate(k.children)))
+        for i, k in enumerate(first.children)))
+    tree = Behaviour(t("top"), post=c("top.done"), children=(replace(first, label=t("p"), post=c("p.done")), second))
+    compressed = compress(tree, "none").tree
+    report = assert_same_verdicts(tree, compressed, [World(tree).atoms], "explicit")
+    assert report is not None and not report.sound

@@ -57,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
                f"RD = (Bi - Bm) / (Bi - D) = {result.reduction_degree:.2f}")
     report = _verify_compression(kb, result, args) if args.verify else None
     vacuity = None if report is None else vacuity_of(result.original, World(result.original),
-                                                     report.initial_states, defaults.MAX_STATES)
+                                                     report.initial_states, defaults.MAX_STATES,
+                                                     report.original_completes)
     code = 0 if report is None else exit_status(report, vacuity)
     how = f"propagate {result.propagate}"
     what = (f"{term_to_text(task)} compressed ({how}): {result.nodes_after} behaviours from "

@@ -310,7 +310,8 @@ class Workspace:
         Vacuity that says whether the original itself can complete from it."""
         world = World(view.original, self.initial)
         report = prove(view.original, view.compressed, world, [world.atoms], None, view.task)
-        return report, vacuity_of(view.original, World(view.original), report.initial_states, DEFAULT_MAX_STATES)
+        return report, vacuity_of(view.original, World(view.original), report.initial_states, DEFAULT_MAX_STATES,
+                                  report.original_completes)
 
 
 def emphases(plan: Plan, atoms: frozenset, scene: Scene) -> list[float]:

@@ -87,10 +87,10 @@ def run(args: argparse.Namespace) -> int:
     world = World(original)
     initial = _initial_states(args, kb, world, task)
     scene = scene_of(argparse.Namespace(**{**vars(args), "seed": None}), original)  # --seed samples here
-    verifier = Verifier(original, compressed, world, max_states=args.max_states)
     report = None
     if args.sample:
         tty = sys.stderr.isatty()
+        verifier = Verifier(original, compressed, world, max_states=args.max_states)
         report = verifier.sample(initial, args.sample, args.seed or 0, scene, task,
                                  progress=_progress if tty else None)
         if tty:
@@ -98,7 +98,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         report = prove(original, compressed, world, initial, scene, task, args.method, args.max_states,
                        args.max_bdd_nodes, split=not args.no_split)
-    vacuity = vacuity_of(original, World(original), report.initial_states, args.max_states)
+    vacuity = vacuity_of(original, World(original), report.initial_states, args.max_states,
+                         report.original_completes)
     if args.json:
         emit(json.dumps(verify_json(report, how, count_nodes(original), count_nodes(compressed), vacuity),
                         indent=2) + "\n", args.output, inputs_of(args, inputs), _verdict_words(report, "JSON", vacuity))

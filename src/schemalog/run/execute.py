@@ -489,15 +489,15 @@ class Executive:
     def __init__(self, tree: Behaviour, world: World, scene: Scene = NO_SCENE, *,
                  robot: RobotManager | None = None, selector: str = "incremental",
                  retries: int = DEFAULT_RETRIES, max_decisions: int | None = None,
-                 detect_loops: bool = True, recovery: str = RECOVERIES[0]) -> None:
+                 detect_loops: bool = True, recovery: str = RECOVERIES[0], plan: Plan | None = None) -> None:
         if recovery not in RECOVERIES:
             raise SchemalogError(f"unknown recovery {recovery!r} (choose {' or '.join(RECOVERIES)})")
         self.tree, self.world, self.scene = tree, world, scene
         self.given_tree = tree                   # self.tree changes when a merged leaf is decompressed
         self.recovery = recovery
         self.robot = robot or RobotManager(scene)
-        self.plan = Plan.of(tree)
-        started = time.perf_counter()
+        self.plan = plan if plan is not None and plan.nodes[0] is tree else Plan.of(tree)   # `plan`: of `tree`, made
+        started = time.perf_counter()                                                       # once by the caller
         self.selector = make_selector(selector, self.plan, world, scene)
         self.selector_name = selector
         self.setup_seconds = time.perf_counter() - started

@@ -76,11 +76,11 @@ def parts_of(piece: Piece) -> list[Part]:
     return found
 
 
-def decompose(original: Behaviour, compressed: Behaviour, start: State) -> Piece | None:
+def decompose(original: Behaviour, compressed: Behaviour, start: State, phases: bool = True) -> Piece | None:
     """The task split into pieces from the initial state `start`, or None where it does not
-    split (or splitting would not be exact)."""
+    split (or splitting would not be exact); without `phases`, into independent parts only."""
     try:
-        piece = _at(original, compressed, start, {}, top=True)
+        piece = _at(original, compressed, start, {}, top=True, phases=phases)
     except _NotExact:
         return None
     return None if piece is None or isinstance(piece, Part) else piece
@@ -181,7 +181,8 @@ def _start(start: State, atoms: frozenset, fixed: Fixed) -> State:
 # ---------------------------------------------------------------------------
 # Independent parts: the children of a behaviour X grouped by shared atoms
 
-def _at(o: Behaviour, c: Behaviour, start: State, fixed: Fixed, top: bool = False) -> Piece | None:
+def _at(o: Behaviour, c: Behaviour, start: State, fixed: Fixed, top: bool = False,
+        phases: bool = True) -> Piece | None:
     """The pieces of X = (o, c) from `start`, or None where X does not split.
 
     X splits when it stands for itself in both trees (the same pre- and post-condition where
@@ -237,8 +238,8 @@ def _at(o: Behaviour, c: Behaviour, start: State, fixed: Fixed, top: bool = Fals
         group_start = _start(start, group_atoms, below)
         piece = None
         if len(o_kids) == 1 and len(c_kids) == 1 and len(c_kids[0].origins) == 1:
-            piece = _at(o_kids[0], c_kids[0], group_start, below)
-        elif len(o_kids) > 1:
+            piece = _at(o_kids[0], c_kids[0], group_start, below, phases=phases)
+        elif len(o_kids) > 1 and phases:
             piece = _chain(o, indices, c_kids, group_start, below)
         if piece is None:
             post = cond.conjoin([k.post for k in o_kids])

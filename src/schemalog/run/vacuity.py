@@ -35,12 +35,16 @@ class Vacuity:
         return [s for s, c in zip(self.states, self.completes) if c is False]
 
 
-def vacuity_of(original, world, states: list, max_states: int) -> Vacuity:
+def vacuity_of(original, world, states: list, max_states: int, known: bool | None = None) -> Vacuity:
     """Search, from each initial state, for a run of the original that completes the task (any
-    choice of enabled behaviour, bounded by --max-states); explain with lint when none does."""
+    choice of enabled behaviour, bounded by --max-states); explain with lint when none does.
+    `known`: for one state, the answer a proof already found (Report.original_completes)."""
     from .lint import Facts, lint_tree, task_cannot_complete
 
-    completes = tuple(original_completes(original, world, s, max_states) for s in states)
+    if known is not None and len(states) == 1:
+        completes: tuple = (known,)
+    else:
+        completes = tuple(original_completes(original, world, s, max_states) for s in states)
     cause = None
     if completes and all(c is False for c in completes):
         always = frozenset.intersection(*map(frozenset, states))

@@ -687,12 +687,13 @@ class Verifier:
     def _selection(self, initial, scene: Scene | None) -> Verdict:
         scene = scene or NO_SCENE
         rows = []
+        was = self.world.atoms          # the runs move the world: it is put back after them
         for s in initial:
             traces = []
-            for tree in (self.original.tree, self.compressed.tree):
-                world = World(self.original.tree)
+            for model in (self.original, self.compressed):
+                world = self.world            # the original's world, put in `s` for each run
                 world.load(s)
-                ex = Executive(tree, world, scene)
+                ex = Executive(model.tree, world, scene, plan=model.plan)
                 ex.run()
                 traces.append((ex.trace, ex.outcome.status.value))
             (t_o, st_o), (t_c, st_c) = traces
@@ -702,6 +703,7 @@ class Verifier:
                          "first_difference": diff, "original": [term_to_text(a) for a in t_o],
                          "compressed": [term_to_text(a) for a in t_c],
                          "original_status": st_o, "compressed_status": st_c})
+        self.world.load(was)
         same = sum(1 for r in rows if r["same"])
         where = ("with no scene (every distance neutral)" if scene is NO_SCENE
                  else f"in scene {scene.name}")
@@ -1172,13 +1174,13 @@ def _symbolic_part(part, max_nodes: int, max_states: int) -> Facts:
 def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, initial: list[State],
                     scene: Scene | None = None, task: Term | None = None,
                     max_states: int = DEFAULT_MAX_STATES, method: str = "explicit",
-                    max_nodes: int = DEFAULT_MAX_NODES) -> Report | None:
+                    max_nodes: int = DEFAULT_MAX_NODES, phases: bool = True) -> Report | None:
     """Verify each part on its own and combine exactly (None if the task does not split, or
     when more than one initial state is covered). `method` "symbolic" explores each part as
     sets of states (raising symbolic.Unsupported where that would not be exact)."""
     if len(initial) != 1:
         return None
-    piece = parts.decompose(original, compressed, initial[0])
+    piece = parts.decompose(original, compressed, initial[0], phases)
     if piece is None:
         return None
     started = time.perf_counter()
