@@ -258,7 +258,20 @@ def _escape(text: str, escapes: tuple) -> str:
     for char, escape in escapes:
         if char in text:
             text = text.replace(char, escape)
+    if not text.isprintable():
+        # What is left unprintable (other control characters, format characters such as U+200B,
+        # separators other than space) is written \xHEX\ as SWI-Prolog's writeq does, so the
+        # text holds no raw control character (XML refuses them; a terminal acts on them).
+        text = _UNPRINTABLE.sub(_hex_escape, text)
     return text
+
+
+_UNPRINTABLE = re.compile(r"[^\x20-\x7e]")
+
+
+def _hex_escape(match: re.Match) -> str:
+    char = match.group()
+    return char if char.isprintable() else f"\\x{ord(char):X}\\"
 
 
 def quote_atom(name: str) -> str:
