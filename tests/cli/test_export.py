@@ -99,3 +99,87 @@ def test_the_written_xml_runs_in_bt_cpp(tmp_path):
     initial = World(original, initial_state(kb)).atoms
     outcome = run_btcpp(xml.read_text(), original, initial)
     assert outcome.status == "completed" and replay(original, initial, outcome.trace).valid
+
+
+# Issue 32: names that reach the exported files, and files that must not be written over.
+
+INJECTED_TASK = 'a""" if __import__("os").system("touch PWNED") else """b'
+TINY = "task({t}).\nschema({t}, [(x1, true), (x2, x1.done)], {t}.done).\nschema(x1, [], x1.done).\nschema(x2, [], x2.done).\n"
+
+
+def quoted(name: str) -> str:
+    from schemalog.logic.terms import Atom, term_to_text
+    return term_to_text(Atom(name))
+
+
+@pytest.mark.parametrize("task, file_name", [
+    (INJECTED_TASK, "k.pl"),
+    ("t", 'a"""+__import__("os").system("touch PWNED2")+""".pl'),
+    ('x"""\n\\', 'b"""\n\\.pl'),
+], ids=["task name", "file name", "quotes, newline, backslash"])
+def test_a_py_trees_export_runs_no_code_a_name_brings(tmp_path, task, file_name):
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / file_name).write_text(TINY.format(t=quoted(task)))
+    r = subprocess.run([sys.executable, "-m", "schemalog", "export", file_name, "--to", "py_trees", "-o", "out.py"],
+                       cwd=work, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    imported = subprocess.run([sys.executable, "-c", "import runpy; runpy.run_path('out.py')"], cwd=work,
+                              capture_output=True, text=True, timeout=120)
+    assert imported.returncode == 0, imported.stderr
+    ran = subprocess.run([sys.executable, "out.py"], cwd=work, capture_output=True, text=True, timeout=120)
+    assert ran.returncode == 0, ran.stderr
+    assert sorted(p.name for p in work.iterdir()) == sorted(["out.py", file_name])   # no PWNED
+    assert ran.stdout.startswith(f"[-] {quoted(task)}\n")                          # it printed its tree
+
+
+@pytest.mark.parametrize("task, file_name", [("---", "k.pl"), ("t", "x --- y.pl"), ("a\x01b", "k\x01.pl"),
+                                             ("t", "k-.pl")],
+                         ids=["task ---", "file ---", "control characters", "file ending in -"])
+def test_an_exported_document_is_well_formed_whatever_the_names(tmp_path, task, file_name):
+    import xml.dom.minidom
+
+    (tmp_path / file_name).write_text(TINY.format(t=quoted(task)))
+    r = subprocess.run([sys.executable, "-m", "schemalog", "export", file_name, "-o", "tree.xml"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    xml.dom.minidom.parse(str(tmp_path / "tree.xml"))
+    back = run("convert", tmp_path / "tree.xml", "-o", tmp_path / "back.pl")
+    assert back.returncode == 0, back.stderr
+    shown = [json.loads(run("show", f, "--json").stdout) for f in (tmp_path / file_name, tmp_path / "back.pl")]
+    assert shown[0]["task"] == shown[1]["task"] == quoted(task)
+    assert shown[0]["tree"] == shown[1]["tree"]
+
+
+def test_actions_named_outside_bt_cpp_identifiers_come_back_unchanged(tmp_path):
+    names = ["Ω", "a&b", "-->", "SubTree", "Action", "acted"]
+    entries, previous = [], "true"
+    for name in names:
+        entries.append(f"({quoted(name)}, {previous})")
+        previous = f"{quoted(name)}.done" if quoted(name)[0] in "'abcdefghijklmnopqrstuvwxyz" else f"({name}).done"
+    source = tmp_path / "odd.pl"
+    source.write_text(f"task(t).\nschema(t, [{', '.join(entries)}], t.done).\n"
+                      + "".join(f"schema({quoted(n)}, [], {p}).\n" for n, p in
+                                zip(names, [e.split(', ', 1)[1][:-1] for e in entries[1:]] + [previous])))
+    xml, back = tmp_path / "odd.xml", tmp_path / "back.pl"
+    assert run("export", source, "-o", xml).returncode == 0
+    r = run("convert", xml, "-o", back)
+    assert r.returncode == 0, r.stderr
+    shown = [json.loads(run("show", f, "--json").stdout) for f in (source, back)]
+    assert shown[0]["tree"] == shown[1]["tree"]
+
+
+def test_convert_never_writes_over_a_file_the_document_includes(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "main.xml").write_text('<root BTCPP_format="4" main_tree_to_execute="Main">\n'
+                                       '  <include path="sub/inc.xml"/>\n'
+                                       '  <BehaviorTree ID="Main"><Sequence><SubTree ID="Sub"/></Sequence></BehaviorTree>\n'
+                                       '</root>\n')
+    included = ('<root BTCPP_format="4">\n  <BehaviorTree ID="Sub"><Sequence><OpenDoor/><PassDoor/></Sequence>'
+                '</BehaviorTree>\n</root>\n')
+    (tmp_path / "sub" / "inc.xml").write_text(included)
+    for target in ("sub/inc.xml", "sub/../sub/inc.xml"):
+        r = subprocess.run([sys.executable, "-m", "schemalog", "convert", "main.xml", "-o", target], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=120)
+        assert r.returncode == 2 and "would overwrite an input file" in r.stderr
+        assert (tmp_path / "sub" / "inc.xml").read_text() == included

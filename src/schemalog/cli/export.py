@@ -51,12 +51,16 @@ def run(args: argparse.Namespace) -> int:
     atoms = sorted(start, key=term_to_text)
     title = (f"{term_to_text(tree.label)} from {', '.join(args.files)}: {kind} tree of "
              f"{count_nodes(tree)} behaviours, exported by schemalog")
-    if target == "btcpp":
-        from ..formats.btcpp import export_btcpp
-        text = export_btcpp(tree, atoms, title)
-    else:
-        from ..formats.pytrees import export_pytrees
-        text = export_pytrees(tree, atoms, title)
+    from ..formats.quoting import Unquotable
+    try:
+        if target == "btcpp":
+            from ..formats.btcpp import export_btcpp
+            text = export_btcpp(tree, atoms, title)
+        else:
+            from ..formats.pytrees import export_pytrees
+            text = export_pytrees(tree, atoms, title)
+    except Unquotable as err:
+        raise Unquotable(f"cannot export {term_to_text(tree.label)} to {target}: {err.message}") from None
     what = "BehaviorTree.CPP v4 XML" if target == "btcpp" else "a py_trees module"
     emit(text, args.output, inputs_of(args, kb.files),
          f"{term_to_text(tree.label)}, {kind} tree of {count_nodes(tree)} behaviours ({what})")
@@ -98,7 +102,7 @@ def convert_xml(args: argparse.Namespace) -> int:
     out = to_yaml(doc) if yaml else to_pl(doc, header=f"Converted by schemalog from the BehaviorTree.CPP "
                                                       f"document {args.input}.")
     from ..task.tree import count_nodes
-    emit(out, args.output, inputs_of(args),
+    emit(out, args.output, inputs_of(args, imported.includes),
          f"{term_to_text(imported.tree.label)}: {count_nodes(imported.tree)} behaviours as "
          f"{'YAML' if yaml else 'schema text'}")
     return 0

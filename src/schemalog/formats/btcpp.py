@@ -34,15 +34,15 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from xml.sax.saxutils import quoteattr
 
 from .. import defaults
 from ..errors import SchemalogError, SourcePos
-from ..logic.terms import Atom, Float, Int, Str, Struct, Term, is_ground, list_items, make_list, term_to_text
+from ..logic.terms import Atom, Float, Int, Str, Struct, Term, is_ground, list_items, make_list, quote_atom, term_to_text
 from ..task import conditions as cond
 from ..task.conditions import Condition
 from ..task.schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE
 from ..task.tree import Behaviour, Origin, walk
+from .quoting import Unquotable, xml_attribute, xml_comment
 
 MAIN_TREE = "schemalog_run"
 ACTED = "acted"
@@ -261,10 +261,33 @@ def parse_assignments(text: str) -> list[tuple[Term, bool]]:
 # ---------------------------------------------------------------------------
 # Export
 
+GENERIC_ACTION = "SchemalogAction"
+
+
 def action_id(label: Term) -> str:
-    """The node type of an action: its functor when that is a BT.CPP name, else `Action`."""
+    """The node type of an action: its functor when that is a BT.CPP name, else SchemalogAction
+    (`'Ω'`, `'a&b'`, `SubTree`: the name attribute keeps the label exactly)."""
     name = label.name if isinstance(label, (Atom, Struct)) else ""
-    return name if _KEY.fullmatch(name or "") and name not in BUILTIN_NODES and name != ACTED else "Action"
+    return name if _KEY.fullmatch(name or "") and name not in BUILTIN_NODES and name != ACTED else GENERIC_ACTION
+
+
+def agent_text(agent: str) -> str:
+    """An agent name as an attribute: itself, or quoted as an atom when it would not read back
+    as itself (`'my arm'` stays; a name with a control character or a leading quote is quoted)."""
+    return agent if agent.isprintable() and not agent.startswith("'") else quote_atom(agent)
+
+
+def agent_of(text: str) -> str:
+    """The agent name an attribute holds (the inverse of agent_text)."""
+    if text.startswith("'"):
+        from ..logic.parse import parse_term
+        try:
+            term = parse_term(text, "<agent>")
+        except SchemalogError:
+            return text
+        if isinstance(term, Atom):
+            return term.name
+    return text
 
 
 def steps_of(leaf: Behaviour) -> tuple[tuple[Term, Condition], ...]:
@@ -298,7 +321,7 @@ def _meta(node: Behaviour, port_style: bool) -> list[tuple[str, str]]:
     if node.importance != DEFAULT_IMPORTANCE:
         out.append((prefix + "importance", _number(node.importance)))
     if node.agent != DEFAULT_AGENT:
-        out.append((prefix + "agent", node.agent))
+        out.append((prefix + "agent", agent_text(node.agent)))
     out.append(("_objects", term_to_text(make_list(node.objects))))
     if node.context != cond.TRUE:
         out.append(("_context", to_script(node.context)))
@@ -310,7 +333,7 @@ def _meta(node: Behaviour, port_style: bool) -> list[tuple[str, str]]:
 
 
 def _attrs(pairs: list[tuple[str, str]]) -> str:
-    return "".join(f" {k}={quoteattr(v)}" for k, v in pairs)
+    return "".join(f" {k}={xml_attribute(v)}" for k, v in pairs)
 
 
 class _Exporter:
@@ -372,7 +395,20 @@ class _Exporter:
 
 
 def export_btcpp(tree: Behaviour, initial=(), title: str = "") -> str:
-    """A BT.CPP v4 document that runs `tree` (original or compressed) from state `initial`."""
+    """A BT.CPP v4 document that runs `tree` (original or compressed) from state `initial`,
+    parsed back before it is returned: it must import as `tree` and `initial` (Unquotable: refused)."""
+    text = _document(tree, initial, title)
+    try:
+        back = import_btcpp(text, "<export>")
+    except SchemalogError as err:
+        raise Unquotable(f"the document does not read back: {err.message}") from None
+    if back.tree != tree or set(back.initial) != set(initial):
+        raise Unquotable("the document does not read back as the tree exported")
+    return text
+
+
+def _document(tree: Behaviour, initial, title: str) -> str:
+    """The text of export_btcpp's document."""
     exporter = _Exporter()
     task = exporter.element(tree, "          ")
     true_atoms = set(initial)
@@ -381,11 +417,11 @@ def export_btcpp(tree: Behaviour, initial=(), title: str = "") -> str:
                                                for a in atoms])
     lines = ['<?xml version="1.0" encoding="UTF-8"?>']
     if title:
-        lines.append(f"<!-- {title.replace('--', '- -')} -->")
+        lines.append(xml_comment(title))
     lines += [f'<root BTCPP_format="4" main_tree_to_execute="{MAIN_TREE}">',
               f'  <BehaviorTree ID="{MAIN_TREE}">',
               '    <Sequence name="run">',
-              f'      <Script name="initial state" code={quoteattr(state)}/>',
+              f'      <Script name="initial state" code={xml_attribute(state)}/>',
               '      <ForceSuccess name="until no decision is taken">',
               '        <KeepRunningUntilFailure name="one decision per tick">',
               '          <Sequence name="decision">',
@@ -395,7 +431,7 @@ def export_btcpp(tree: Behaviour, initial=(), title: str = "") -> str:
               '          </Sequence>',
               '        </KeepRunningUntilFailure>',
               '      </ForceSuccess>',
-              f'      <ScriptCondition name="accomplished" code={quoteattr(to_script(tree.post))}/>',
+              f'      <ScriptCondition name="accomplished" code={xml_attribute(to_script(tree.post))}/>',
               '    </Sequence>',
               '  </BehaviorTree>']
     for tree_id, body in exporter.bodies:
@@ -500,6 +536,7 @@ class Imported:
     tree: Behaviour
     initial: tuple[Term, ...] = ()
     notes: tuple[str, ...] = ()
+    includes: tuple[str, ...] = ()     # the files read through <include>, in the order read
 
 
 def import_btcpp(text: str, file: str = "<xml>", read=None) -> Imported:
@@ -535,6 +572,7 @@ class _Importer:
         self.on_path: list[str] = []
         self.used_posts: dict[Term, int] = {}
         self.count = 0
+        self.includes: list[str] = []
 
     def pos(self, node: XNode) -> SourcePos:
         return SourcePos(node.file or self.file, node.line, node.column)
@@ -557,10 +595,10 @@ class _Importer:
             initial = tuple(self._assignments(state_script, want_initial=True))
             self.on_path.append(main)
             tree = self.exported(task_node)
-            return Imported(tree, initial)
+            return Imported(tree, initial, includes=tuple(self.includes))
         self.on_path.append(main)
         tree = self.plain(body, cond.TRUE, None)
-        return Imported(tree, ())
+        return Imported(tree, (), includes=tuple(self.includes))
 
     def _collect(self, root: XNode, file: str, chain: list[str]) -> None:
         """Register the BehaviorTrees of `root` (a document read from `file`) and of its includes."""
@@ -597,6 +635,7 @@ class _Importer:
                 target = os.path.normpath(os.path.join(os.path.dirname(file), path))
                 if target in chain:
                     fail(child, f"recursive include: {' -> '.join([*chain, target])}")
+                self.includes.append(target)
                 try:
                     text = self.read(target)
                 except SchemalogError as err:
@@ -680,7 +719,7 @@ class _Importer:
             objects = tuple(list_items(parse_term(a.get("_objects", "[]"), "<objects>"))[0])
         except SchemalogError as err:
             self.fail(node, f"_objects: {err.message}")
-        return dict(label=self._label(node, a["name"]), agent=a.get(prefix + "agent", DEFAULT_AGENT),
+        return dict(label=self._label(node, a["name"]), agent=agent_of(a.get(prefix + "agent", DEFAULT_AGENT)),
                     objects=objects, releaser=releaser, post=skip.items[1], context=context,
                     importance=importance, origins=self._origins(node), source=self.pos(node))
 
@@ -804,7 +843,7 @@ class _Importer:
                 return self._with(inner, self._plain_label(node, tree_id, {"_autoremap"}), releaser, node)
             from dataclasses import replace
             return replace(inner, releaser=releaser, importance=self._weight(node),
-                           agent=node.attrs.get("agent", inner.agent), source=self.pos(node))
+                           agent=agent_of(node.attrs["agent"]) if "agent" in node.attrs else inner.agent, source=self.pos(node))
         if tag in ("Sequence", "SequenceWithMemory", "ReactiveSequence", "Parallel", "ParallelAll"):
             if not node.children:
                 self.fail(node, f"<{tag}> needs at least one child")
@@ -832,7 +871,7 @@ class _Importer:
             if not children:
                 self.fail(node, f"<{tag}> holds only conditions: nothing for them to release")
             return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=self._post_of(label),
-                             children=tuple(children), importance=self._weight(node), agent=node.attrs.get("agent", DEFAULT_AGENT),
+                             children=tuple(children), importance=self._weight(node), agent=agent_of(node.attrs.get("agent", DEFAULT_AGENT)),
                              source=self.pos(node))
         if tag == "Script":
             try:
@@ -855,7 +894,7 @@ class _Importer:
         ident = node.attrs.get("ID", tag) if tag == "Action" else tag
         label = self._plain_label(node, ident)
         return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=self._post_of(label),
-                         importance=self._weight(node), agent=node.attrs.get("agent", DEFAULT_AGENT),
+                         importance=self._weight(node), agent=agent_of(node.attrs.get("agent", DEFAULT_AGENT)),
                          source=self.pos(node))
 
     def _weight(self, node: XNode):
@@ -871,7 +910,7 @@ class _Importer:
         from dataclasses import replace
         post = self._post_of(label)
         return replace(inner, label=label, objects=_objects(label), releaser=releaser, post=post,
-                       importance=self._weight(node), agent=node.attrs.get("agent", inner.agent), source=self.pos(node))
+                       importance=self._weight(node), agent=agent_of(node.attrs["agent"]) if "agent" in node.attrs else inner.agent, source=self.pos(node))
 
 
 def _objects(label: Term) -> tuple[Term, ...]:

@@ -4,14 +4,19 @@
     load_module(source)                  -> module   with create_tree(holds, perform) and run(...)
     run_pytrees(source, original, initial) -> BtRun  ticked against the World of `original`
 
-The module holds the tree as data (TREE: nested tuples name, pre, post, steps, children,
-conditions as ("lit", "hand.free"), ("not", c), ("and", ...), ("or", ...), True, False) and
-builds it from py_trees' own composites: every behaviour is a Sequence(memory=False) of an
+The module holds the tree as data (NODES: one tuple (name, pre, post, steps, children) per
+behaviour, the root first, children as indices into NODES, so that no depth of tree nests the
+source deeper than Python's parser allows; conditions as ("lit", "hand.free"), ("not", c),
+("and", ...), ("or", ...), True, False) and builds it from py_trees' own composites: every behaviour is a Sequence(memory=False) of an
 `Active` guard (its pre-condition holds and its post-condition does not) and either a
 Selector(memory=False) over its children or, for a leaf, an `Act` that performs its actions,
 skipping those already accomplished. A behaviour returns SUCCESS exactly when it acted, so a
 Selector stops at the first child that acted: one tick is one decision, the first enabled
 leaf in tree order, the same order as the BT.CPP export (docs/formats.md).
+
+Every name (the task's, a behaviour's, an atom's, the files') is embedded as a Python literal
+through formats.quoting, and the module is parsed back before it is returned: its data must
+evaluate to exactly what was meant, or the export is refused (Unquotable).
 """
 
 from __future__ import annotations
@@ -21,8 +26,9 @@ import types
 from ..logic.terms import Term, term_to_text
 from ..task import conditions as cond
 from ..task.conditions import Condition
-from ..task.tree import Behaviour, walk
+from ..task.tree import Behaviour, depth, walk
 from .btcpp import BtRun, steps_of
+from .quoting import Unquotable, python_literal
 
 _RUNTIME = '''
 import py_trees
@@ -71,9 +77,9 @@ class Act(py_trees.behaviour.Behaviour):
         return Status.SUCCESS
 
 
-def build(node, holds, perform):
-    """The py_trees subtree of one behaviour of TREE."""
-    name, pre, post, steps, children = node
+def build(index, holds, perform):
+    """The py_trees subtree of behaviour NODES[index]."""
+    name, pre, post, steps, children = NODES[index]
     guard = Active("active", compile_condition(pre, holds), compile_condition(post, holds))
     if children:
         body = py_trees.composites.Selector(name="first that acts", memory=False,
@@ -85,20 +91,38 @@ def build(node, holds, perform):
 
 def create_tree(holds, perform):
     """The live tree: `holds(atom_text)` perceives, `perform(action_text)` acts; one tick, one decision."""
-    return py_trees.trees.BehaviourTree(build(TREE, holds, perform))
+    return py_trees.trees.BehaviourTree(build(0, holds, perform))
+
+
+def deep_enough():
+    """A context in which py_trees can tick this tree: it ticks by recursion, a few frames a
+    level, and a tree a few hundred levels deep needs more than Python's default limit."""
+    import contextlib
+    import sys
+
+    @contextlib.contextmanager
+    def raised():
+        saved = sys.getrecursionlimit()
+        sys.setrecursionlimit(max(saved, 8 * DEPTH + 1000))
+        try:
+            yield
+        finally:
+            sys.setrecursionlimit(saved)
+    return raised()
 
 
 def run(holds, perform, max_ticks=None):
     """Tick until the task is accomplished ("completed"), nothing acts ("stuck") or max_ticks."""
     tree = create_tree(holds, perform)
-    done = compile_condition(TREE[2], holds)
+    done = compile_condition(NODES[0][2], holds)
     limit = max_ticks if max_ticks is not None else 4 * LEAVES + 8
-    for _ in range(limit):
-        if done():
-            return "completed"
-        tree.tick()
-        if tree.root.status != Status.SUCCESS:
-            return "completed" if done() else "stuck"
+    with deep_enough():
+        for _ in range(limit):
+            if done():
+                return "completed"
+            tree.tick()
+            if tree.root.status != Status.SUCCESS:
+                return "completed" if done() else "stuck"
     return "completed" if done() else "tick limit"
 
 
@@ -119,33 +143,60 @@ def condition_data(c: Condition):
     return ("and" if isinstance(c, cond.And) else "or", *(condition_data(i) for i in c.items))
 
 
-def tree_data(root: Behaviour):
-    """The tree as nested tuples (name, pre, post, steps, children), built bottom-up."""
-    built: dict[int, tuple] = {}
-    stack: list[tuple[Behaviour, bool]] = [(root, False)]
-    while stack:
-        node, ready = stack.pop()
-        if node.children and not ready:
-            stack.append((node, True))
-            stack.extend((c, False) for c in node.children)
-            continue
-        steps = () if node.children else tuple((term_to_text(a), condition_data(p)) for a, p in steps_of(node))
-        built[id(node)] = (node.name, condition_data(node.pre), condition_data(node.post), steps,
-                           tuple(built.pop(id(c)) for c in node.children))
-    return built[id(root)]
+def tree_data(root: Behaviour) -> tuple:
+    """The tree as NODES: (name, pre, post, steps, child indices) per behaviour, in pre-order."""
+    order = list(walk(root))
+    index = {id(node): i for i, node in enumerate(order)}
+    return tuple((node.name, condition_data(node.pre), condition_data(node.post),
+                  () if node.children else tuple((term_to_text(a), condition_data(p)) for a, p in steps_of(node)),
+                  tuple(index[id(c)] for c in node.children))
+                 for node in order)
+
+
+_DOCSTRING = '''"""A task tree exported by schemalog, as a py_trees 2.x tree (TITLE says which).
+
+    create_tree(holds, perform) -> py_trees.trees.BehaviourTree   one tick, one decision
+    run(holds, perform, max_ticks=None) -> "completed" | "stuck" | "tick limit"
+
+holds(atom) is the robot's perception ("hand.free" -> bool); perform(action) executes
+one action ("a1(spoon)"). `python this_file.py` prints the tree.
+"""
+'''
+_DATA = ("TITLE", "TASK", "INITIAL", "LEAVES", "DEPTH", "NODES")
 
 
 def export_pytrees(tree: Behaviour, initial=(), title: str = "") -> str:
-    """The source of a module that builds `tree` with py_trees 2.x and runs it."""
-    leaves = sum(1 for n in walk(tree) if not n.children)
-    head = f'"""{title or "A task tree exported by schemalog"}, as a py_trees 2.x tree.\n\n' \
-           '    create_tree(holds, perform) -> py_trees.trees.BehaviourTree   one tick, one decision\n' \
-           '    run(holds, perform, max_ticks=None) -> "completed" | "stuck" | "tick limit"\n\n' \
-           'holds(atom) is the robot\'s perception ("hand.free" -> bool); perform(action) executes\n' \
-           'one action ("a1(spoon)"). `python this_file.py` prints the tree.\n"""\n'
-    data = (f"TASK = {tree.name!r}\nINITIAL = {sorted(term_to_text(a) for a in initial)!r}\n"
-            f"LEAVES = {leaves}\nTREE = {tree_data(tree)!r}\n")
-    return head + data + _RUNTIME
+    """The source of a module that builds `tree` with py_trees 2.x and runs it (Unquotable: refused)."""
+    nodes = tree_data(tree)
+    data = {"TITLE": title or "a task tree exported by schemalog", "TASK": tree.name,
+            "INITIAL": sorted(term_to_text(a) for a in initial),
+            "LEAVES": sum(1 for n in nodes if not n[4]), "DEPTH": depth(tree), "NODES": nodes}
+    source = _DOCSTRING + "".join(f"{k} = {python_literal(data[k])}\n" for k in _DATA) + _RUNTIME
+    check_module(source, data)
+    return source
+
+
+def check_module(source: str, data: dict) -> None:
+    """Parse an exported module back: it must compile, and its data assignments (and nothing else
+    before the fixed runtime) must evaluate to `data`; else Unquotable."""
+    import ast
+
+    try:
+        module = ast.parse(source)
+        compile(module, "<export>", "exec")
+    except (SyntaxError, ValueError, MemoryError, RecursionError) as err:
+        raise Unquotable(f"the module would not compile: {err}") from None
+    body = module.body
+    if not (body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant)):
+        raise Unquotable("the module's docstring does not read back")
+    assigned = {}
+    for statement in body[1:1 + len(_DATA)]:
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1
+                and isinstance(statement.targets[0], ast.Name)):
+            raise Unquotable("the module's data does not read back as assignments")
+        assigned[statement.targets[0].id] = ast.literal_eval(statement.value)
+    if assigned != data:
+        raise Unquotable("the module's data does not read back as the tree exported")
 
 
 def load_module(source: str, name: str = "schemalog_pytrees_tree") -> types.ModuleType:
@@ -190,26 +241,28 @@ def run_pytrees(source: str, original: Behaviour, initial=(), max_ticks: int | N
     spent = [0.0]
     holds, perform = world_adapters(original, world, trace, spent)
     tree = module.create_tree(holds, perform)
-    done = module.compile_condition(module.TREE[2], holds)
+    done = module.compile_condition(module.NODES[0][2], holds)
     limit = max_ticks if max_ticks is not None else 4 * module.LEAVES + 8
     ticks, status = 0, "tick limit"
     each = []
     started = time.perf_counter()
-    while ticks < limit:
-        if done():
-            status = "completed"
-            break
-        before, began = spent[0], time.perf_counter()
-        tree.tick()
-        each.append(time.perf_counter() - began - (spent[0] - before))
-        ticks += 1
-        if tree.root.status != module.Status.SUCCESS:
-            status = "completed" if done() else "stuck"
-            break
-    else:
-        if done():
-            status = "completed"
+    with module.deep_enough():
+        while ticks < limit:
+            if done():
+                status = "completed"
+                break
+            before, began = spent[0], time.perf_counter()
+            tree.tick()
+            each.append(time.perf_counter() - began - (spent[0] - before))
+            ticks += 1
+            if tree.root.status != module.Status.SUCCESS:
+                status = "completed" if done() else "stuck"
+                break
+        else:
+            if done():
+                status = "completed"
     return BtRun(status, trace, ticks, time.perf_counter() - started, spent[0], tuple(each))
 
 
-__all__ = ["export_pytrees", "load_module", "run_pytrees", "tree_data", "condition_data", "world_adapters"]
+__all__ = ["export_pytrees", "check_module", "load_module", "run_pytrees", "tree_data", "condition_data",
+           "world_adapters"]
