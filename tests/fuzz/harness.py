@@ -341,11 +341,14 @@ def output_format(name: str, argv) -> str:
 
 
 def complete(data: bytes, name: str, argv=()) -> bool:
-    """Whether `data` is a whole document of the kind the command line promises (JSON, YAML, .pl)."""
+    """Whether `data` is a whole document of the kind the command line promises (JSON, YAML, .pl,
+    BT.CPP XML that imports back, a Python module that compiles)."""
     text = data.decode("utf-8", "replace")
     kind = output_format(name, argv)
     if argv and argv[0] in ("run", "verify") and "--json" not in argv:
         return True   # a report in text: run and verify take JSON from --json only, not from -o's suffix
+    if argv and argv[0] != "export" and kind in ("xml", "py"):
+        kind = "pl"   # only export writes XML or Python; convert writes schema text under any other suffix
     if kind == "json":
         try:
             json.loads(text)
@@ -357,6 +360,22 @@ def complete(data: bytes, name: str, argv=()) -> bool:
         try:
             yaml.safe_load(text)
         except yaml.YAMLError:
+            return False
+        return True
+    if kind in ("xml", "btcpp"):
+        # an export must be well-formed and import back (convert reads it)
+        from schemalog.errors import SchemalogError
+        from schemalog.formats.btcpp import import_btcpp
+        try:
+            import_btcpp(data.decode("utf-8"), name)
+        except (SchemalogError, UnicodeDecodeError):
+            return False
+        return True
+    if kind in ("py", "py_trees"):
+        import ast
+        try:
+            compile(ast.parse(data), name, "exec")
+        except (SyntaxError, ValueError, RecursionError, MemoryError):
             return False
         return True
     if kind == "pl":

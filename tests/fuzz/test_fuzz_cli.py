@@ -64,6 +64,8 @@ KNOWLEDGE_COMMANDS = {
     "query": ["query", "k.pl", "--max-nodes", "3000", "--max-steps", "20000", "sequential(X, Y)"],
     "query-schema": ["query", "k.pl", "--max-steps", "20000", "schema(T, S, P), node(N)"],
     "convert": ["convert", "k.pl", "--max-nodes", "3000", "--max-steps", "200000", "-o", "out.yaml"],
+    "export-btcpp": ["export", "k.pl", "--max-nodes", "3000", "--max-steps", "200000", "--compressed", "-o", "out.xml"],
+    "export-py_trees": ["export", "k.pl", "--max-nodes", "3000", "--max-steps", "200000", "-o", "out.py"],
     "simulate-demo": ["simulate-demo", "k.pl", "--max-steps", "200000", "--scene", "mix_with_spoon.yaml", "--rate", "5",
                       "-o", "d.csv"],
 }
@@ -559,6 +561,160 @@ def test_signals_during_output(command, signum, delay, wait):
                                  f"(and send {signal_name(signum)} {delay:.3f} s after it starts)"])
 
 
+# Issue 32: hostile names in exported files, and BT.CPP documents that include others.
+
+# Text that has broken generated files: quotes that end a docstring, comment markers, markup,
+# escapes, control characters, BT.CPP's own names; file names add undecodable bytes.
+HOSTILE_PIECES = ['"""', "'''", "\\", "\n", "\0", "-->", "--", "---", "<!--", "]]>", "&", "{x}", "\x01", "\x7f",
+                  "\u2028", "\u200b", "Ω", 'if __import__("os").system("touch PWNED") else', "SubTree", "Action",
+                  "acted", "q__", "__", " ", "'", '"', "%", "(", ")", "."]
+HOSTILE_NAME = st.lists(st.one_of(st.sampled_from(HOSTILE_PIECES), st.text(max_size=6)), min_size=1, max_size=5) \
+    .map("".join).filter(lambda s: s.strip() != "")
+FILE_NAME = st.tuples(HOSTILE_NAME, st.sampled_from(["", "\udcff", "\udce9"])).map(
+    lambda p: (p[0] + p[1]).replace("/", "|").replace("\0", "0")[:120] + ".pl").filter(
+    lambda n: n not in (".pl", "..pl") and not n.startswith("-"))
+EXPORT_COMMANDS = {
+    "btcpp": ["--to", "btcpp", "-o", "out.xml"],
+    "btcpp-compressed": ["--to", "btcpp", "--compressed", "-o", "out.xml"],
+    "py_trees": ["--to", "py_trees", "-o", "out.py"],
+    "py_trees-compressed": ["--to", "py_trees", "--compressed", "-o", "out.py"],
+}
+
+
+def hostile_knowledge(task: str, actions: list[str], obj: str, agent: str) -> bytes:
+    """A task of `actions` in sequence, the last acting on `obj`, the first done by `agent`."""
+    from schemalog.logic.terms import Atom, Struct, term_to_text as q
+
+    labels = [Atom(a) for a in actions[:-1]] + [Struct(actions[-1], (Atom(obj),))]
+    entries, previous = [], Atom("true")
+    for label in labels:
+        entries.append(f"({q(label)}, {q(previous)})")
+        previous = Struct(".", (label, Atom("done")))
+    lines = [f"task({q(Atom(task))}).", f"object({q(Atom(obj))}).", f"agent({q(labels[0])}, {q(Atom(agent))}).",
+             f"schema({q(Atom(task))}, [{', '.join(entries)}], {q(Struct('.', (Atom(task), Atom('done'))))})."]
+    lines += [f"schema({q(label)}, [], {q(Struct('.', (label, Atom('done'))))})." for label in labels]
+    return ("\n".join(lines) + "\n").encode()
+
+
+def module_runs_nothing_else(source: bytes) -> list[str]:
+    """Import an exported module in a subprocess inside an empty folder: it must import, and
+    create nothing (a name that ran code would)."""
+    import subprocess
+    import sys
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="schemalog-fuzz-module-") as tmp:
+        Path(tmp, "tree.py").write_bytes(source)
+        done = subprocess.run([sys.executable, "-c", "import runpy; runpy.run_path('tree.py', run_name='fuzz')"],
+                              cwd=tmp, capture_output=True, text=True, timeout=60)
+        found = [] if done.returncode == 0 else [f"exported module does not import: {_last(done.stderr)}"]
+        made = sorted(set(os.listdir(tmp)) - {"tree.py", "__pycache__"})
+        return found + ([f"importing the exported module created {', '.join(made)}"] if made else [])
+
+
+def _last(text: str) -> str:
+    lines = [line for line in text.splitlines() if line.strip()]
+    return lines[-1][:300] if lines else ""
+
+
+def probe_exports(command, names, file_name, old):
+    task, first, last, obj, agent = names
+    argv = ["export", file_name, *EXPORT_COMMANDS[command]]
+    case = Case(tuple(argv), files=((file_name, hostile_knowledge(task, [first, last], obj, agent)),),
+                output=output_of(argv), old_output=b"OLD\n" if old else None)
+    return case, invoke(case, GUARD)
+
+
+def export_kept(case, outcome, **_) -> list[str]:
+    """The promises, and an export the runtime takes: the XML imports back (harness.complete),
+    the module imports and runs no code."""
+    found = violations(case, outcome)
+    if outcome.status == 0 and case.output.endswith(".py") and outcome.output_after is not None:
+        found += module_runs_nothing_else(outcome.output_after)
+    return found
+
+
+EXPORTS = dict(command=st.sampled_from(sorted(EXPORT_COMMANDS)),
+               names=st.lists(HOSTILE_NAME, min_size=5, max_size=5, unique=True), file_name=FILE_NAME,
+               old=st.booleans())
+
+
+@profile(12)
+@given(**EXPORTS)
+def test_exports_of_hostile_names(command, names, file_name, old):
+    case, outcome = probe_exports(command, names, file_name, old)
+    found = export_kept(case, outcome)
+    assert not found, "\n".join([*found, f"exit status: {outcome.status}", f"stderr: {outcome.stderr[-800:]}",
+                                 case.reproducer()])
+
+
+INCLUDED = ('<root BTCPP_format="4">{include}\n  <BehaviorTree ID="{id}"><Sequence><OpenDoor/>{inner}</Sequence>'
+            '</BehaviorTree>\n</root>\n')
+
+
+@st.composite
+def include_graphs(draw):
+    """A main document including others (in sub-folders, through `..`, in a cycle, one missing),
+    and an -o naming one of them, the main document, or a new file."""
+    count = draw(st.integers(1, 4))
+    folders = draw(st.lists(st.sampled_from(["", "sub/", "sub/deeper/", "other/"]), min_size=count, max_size=count))
+    names = [f"{folder}inc{i}.xml" for i, folder in enumerate(folders)]
+    files = {}
+    for i, name in enumerate(names):
+        target = draw(st.sampled_from([None, *range(count)]))
+        include = "" if target is None else f'<include path="{"../" * name.count("/")}{names[target]}"/>'
+        inner = f'<SubTree ID="T{target}"/>' if target is not None and target != i and draw(st.booleans()) else ""
+        files[name] = INCLUDED.format(include=include, id=f"T{i}", inner=inner).encode()
+    included = draw(st.lists(st.sampled_from(names), min_size=1, max_size=count, unique=True))
+    main = "".join(f'<include path="{n}"/>' for n in included)
+    if draw(st.booleans()):
+        main += '<include path="missing.xml"/>'
+    files["main.xml"] = (f'<root BTCPP_format="4" main_tree_to_execute="Main">{main}<BehaviorTree ID="Main">'
+                         f'<Sequence><SubTree ID="T0"/></Sequence></BehaviorTree></root>\n').encode()
+    around = [f"{n.split('/')[0]}/../{n}" for n in names if "/" in n]     # sub/../sub/inc1.xml
+    output = draw(st.sampled_from([*names, *around, "main.xml", "./" + names[0], "new.pl"]))
+    to = draw(st.sampled_from([(), ("--to", "yaml"), ("--to", "pl")]))
+    return tuple(files.items()), output, to
+
+
+def probe_includes(graph, old):
+    files, output, to = graph
+    argv = ["convert", "main.xml", "-o", output, *to]
+    existing = dict(files).get(os.path.normpath(output))
+    case = Case(tuple(argv), files=files, output=output,
+                old_output=existing if existing is not None else (b"OLD\n" if old else None))
+    return case, invoke(case, GUARD)
+
+
+def includes_kept(case, outcome, **_) -> list[str]:
+    """The promises, and no file the document includes (nor the document) written over."""
+    import re
+    found = violations(case, outcome)
+    files = dict(case.files)
+    read, todo = {}, ["main.xml"]
+    while todo:                      # the files convert reads: main.xml and what it includes, transitively
+        name = todo.pop()
+        if name in files and name not in read:
+            read[name] = files[name]
+            todo += [os.path.normpath(os.path.join(os.path.dirname(name), p))
+                     for p in re.findall(rb'<include path="([^"]+)"', files[name]) for p in [p.decode()]]
+    target = os.path.normpath(case.output)
+    if target in read and outcome.output_after != read[target]:
+        found.append(f"convert wrote over {target}, a file it read (exit {outcome.status})")
+    return found
+
+
+INCLUDES = dict(graph=include_graphs(), old=st.booleans())
+
+
+@profile(25)
+@given(**INCLUDES)
+def test_includes_are_never_written_over(graph, old):
+    case, outcome = probe_includes(graph, old)
+    found = includes_kept(case, outcome)
+    assert not found, "\n".join([*found, f"exit status: {outcome.status}", f"stderr: {outcome.stderr[-800:]}",
+                                 case.reproducer()])
+
+
 def kept(case, outcome, **_) -> list[str]:
     return violations(case, outcome)
 
@@ -573,4 +729,6 @@ PROBES = {
     "command-lines": (COMMAND_LINES_DRAWN, probe_command_lines, kept),
     "repl": (REPL, probe_repl, kept),
     "signals": (SIGNALS, probe_signals, check_signalled),
+    "exports": (EXPORTS, probe_exports, export_kept),
+    "includes": (INCLUDES, probe_includes, includes_kept),
 }
