@@ -97,12 +97,29 @@ def test_lint_over_several_files_finds_schemas_that_shadow_others():
         or any(f["code"] == "load" for f in data["findings"])
 
 
-def test_check_warns_with_the_findings_and_keeps_its_exit_status(typo):
+def test_check_fails_on_lints_errors_with_one_severity_everywhere(typo):
+    # issue 35: a finding is an error in check as in lint, and check's last line never says ok over it
     r = run("check", typo)
-    assert r.returncode == 0 and r.stdout.startswith("ok:")
-    assert "warning: add(tea) can never be released: water.usd never holds" in r.stderr
+    assert r.returncode == 1
+    assert "error: add(tea) can never be released: water.usd never holds" in r.stderr
+    assert "warning" not in r.stderr and "ok" not in r.stdout.split(":")[0]
+    assert r.stdout.startswith(f"failed: {typo}: ") and "lint found 1 error above" in r.stdout
+    assert "--no-lint" in r.stdout
+    linted = run("lint", typo)
+    assert linted.returncode == 1 and "error: add(tea) can never be released" in linted.stdout
+    unlinted = run("check", typo, "--no-lint")
+    assert unlinted.returncode == 0 and unlinted.stdout.startswith("ok:") and "not linted (--no-lint)" in unlinted.stdout
+    assert unlinted.stderr == ""
     clean = run("check", MIX)
-    assert clean.returncode == 0 and "warning" not in clean.stderr
+    assert clean.returncode == 0 and clean.stdout.startswith("ok:") and clean.stderr == ""
+
+
+def test_check_prints_warnings_as_warnings_and_passes(tmp_path):
+    path = tmp_path / "twice.pl"
+    path.write_text("task(t).\ntask(t).\nschema(t, [(a, true)], a.done).\nschema(a, [], a.done).\n")
+    r = run("check", path)
+    assert r.returncode == 0 and r.stdout.startswith("ok:")
+    assert "warning: the task t is declared twice" in r.stderr
 
 
 def test_verify_says_the_typoed_task_cannot_complete_and_why(typo):
@@ -185,4 +202,4 @@ def test_a_free_rule_that_raises_is_a_finding_and_check_still_passes(tmp_path):
     r = run("lint", path)
     assert r.returncode == 1 and f"{path}:2:1: error: asking free/1 failed: oops" in r.stdout
     checked = run("check", path)
-    assert checked.returncode == 0 and "warning: asking free/1 failed" in checked.stderr
+    assert checked.returncode == 1 and "error: asking free/1 failed" in checked.stderr

@@ -193,3 +193,46 @@ def test_a_wide_task_lints_clean_and_linear_passes_see_every_sibling():
     assert lint_tree(tree, Facts(frozenset(), frozenset())) != []         # `go` is never true
     from schemalog.logic.parse import parse_term
     assert lint_tree(tree, Facts(frozenset({parse_term("go")}), frozenset())) == []
+
+
+# Issue 35: actions that never run.
+
+BREAD = """task(place(bread)).
+object(bread). object(plate).
+agent(gripper(_), gripper).
+initial(hand.free).
+schema(place(bread), [(subtask(take, bread), hand.free), (subtask(put, bread), bread.taken)], bread.placed).
+schema(subtask(take, bread), [(a1(bread), true), (a2(bread), a1.done){close}], bread.taken).
+schema(subtask(put, bread), [(a3(plate), true), (a4(plate), a3.done), (gripper(open), a4.done)], bread.placed).
+schema(a1(bread), [], a1.done). schema(a2(bread), [], a2.done).
+schema(a3(plate), [], a3.done). schema(a4(plate), [], a4.done).
+schema(gripper(open), [], hand.free).
+schema(gripper(close), [], not hand.free).
+"""
+
+
+def test_an_action_accomplished_from_the_start_and_a_take_without_its_close_are_warned():
+    found = lint_text(BREAD.format(close=""))
+    assert codes(found) == ["no-gripper-command", "dead-behaviour"]
+    assert all(f.severity == WARNING for f in found)
+    missing, dead = found
+    assert "the learned sub-task subtask(take,bread) commands no gripper" in missing.message
+    assert missing.pos.line == 6
+    assert "gripper(open) never runs: its post-condition hand.free holds from the start" in dead.message
+    line = BREAD.splitlines()[6]
+    assert (dead.pos.line, dead.pos.column) == (7, line.index("gripper(open)") + 1)
+    # the take closes the gripper: the open has something to undo, and both warnings go
+    assert lint_text(BREAD.format(close=", (gripper(close), a2.done)")) == ()
+
+
+def test_a_task_accomplished_from_the_start_is_one_warning_not_one_per_behaviour():
+    found = lint_text(BREAD.format(close=", (gripper(close), a2.done)").replace(
+        "initial(hand.free).", "initial(hand.free).\ninitial(bread.placed)."))
+    assert codes(found) == ["dead-behaviour"]
+    assert "the task place(bread) is accomplished from the start" in found[0].message
+
+
+def test_a_post_that_may_be_false_at_the_start_is_no_dead_behaviour():
+    # free/1: hand.free may or may not hold, so the open may have work to do
+    found = lint_text(BREAD.format(close="").replace("initial(hand.free).", "free(hand.free)."))
+    assert codes(found) == ["no-gripper-command"]

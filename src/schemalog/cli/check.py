@@ -14,11 +14,13 @@ def register(sub, parents: Parents) -> None:
     p = sub.add_parser("check", parents=[parents.limits, parents.resources], help="parse and validate knowledge files")
     p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files to check, {TOGETHER}")
     p.add_argument("--task", help="instantiate this task (default: every task/1)")
+    p.add_argument("--no-lint", action="store_true",
+                   help="only parse, validate and instantiate: skip lint's findings (which fail check on an error)")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Parse, read every schema, and instantiate the tasks."""
+    """Parse, read every schema, instantiate the tasks and lint them; 1 when lint finds an error."""
     from ..task.compress import original_of
     from ..task.schema import check_schemas, schema_clauses
     from ..task.tree import count_nodes, depth
@@ -40,19 +42,24 @@ def run(args: argparse.Namespace) -> int:
         report.append(f"{term_to_text(task)} ({count_nodes(tree)} behaviours, depth {depth(tree)})")
     del read                             # the trees hold what they need of it
     gc.freeze()                          # the trees live to the end: lint's collections skip them
-    _warn(kb, trees, unused=args.task is None)
-    summary = f"ok: {files}: {schemas} schemas"
+    errors = 0 if args.no_lint else _lint(kb, trees, unused=args.task is None)
+    summary = f"{files}: {schemas} schemas"
     summary += f"; tasks: {', '.join(report)}" if report else "; no task/1 declared (nothing instantiated)"
-    print(summary)
+    if errors:
+        print(f"failed: {summary}; lint found {errors} error{'s' if errors != 1 else ''} above "
+              f"(`schemalog check --no-lint` checks without lint)")
+        return 1
+    print(f"ok: {summary}" + ("; not linted (--no-lint)" if args.no_lint else ""))
     return 0
 
 
-def _warn(kb, trees, unused: bool) -> None:
-    """Print lint's findings as warnings, as SWI-Prolog warns while it consults (exit unchanged)."""
+def _lint(kb, trees, unused: bool) -> int:
+    """Print lint's findings with the severity lint gives them, as SWI-Prolog prints what it
+    finds while it consults; the number of errors."""
     import sys
 
     from ..errors import SchemalogError
-    from ..run.lint import error_finding, facts_of, lint_knowledge
+    from ..run.lint import ERROR, error_finding, facts_of, lint_knowledge
     from .common import uncollected
 
     try:
@@ -62,7 +69,5 @@ def _warn(kb, trees, unused: bool) -> None:
     except SchemalogError as err:
         findings = (error_finding(err),)
     for finding in findings:
-        print(finding.text("warning"), file=sys.stderr)
-    if findings:
-        print(f"({len(findings)} warning{'s' if len(findings) != 1 else ''}: schemalog lint explains them, "
-              f"and fails on its errors)", file=sys.stderr)
+        print(finding.text(), file=sys.stderr)
+    return sum(1 for f in findings if f.severity == ERROR)

@@ -149,6 +149,8 @@ def lint_tree(tree: Behaviour, facts: Facts, declares_objects: bool = False) -> 
     found += undone_posts(flat)
     found += posts_not_produced(flat)
     found += shared_posts(flat)
+    found += dead_behaviours(flat, reach)
+    found += missing_gripper_commands(flat)
     if declares_objects:
         found += undeclared_objects(flat)
     if not any(f.severity == ERROR for f in found) and not reach.accomplishable(0):
@@ -440,6 +442,71 @@ def posts_not_produced(flat: _Flat) -> list[Finding]:
                     f"{flat.nodes[k].name}, the last that sets {term_to_text(atom)}, sets it the other way",
                     "write the post-condition its behaviours leave true, or reorder them"))
     return found
+
+
+def dead_behaviours(flat: _Flat, reach: _Reachability) -> list[Finding]:
+    """A behaviour whose post-condition holds from the start and can never be undone: it is
+    accomplished whenever it could be released, so it never runs (the topmost such one)."""
+    found = []
+    i = 0
+    while i < len(flat):
+        lits = flat.post_lits[i]
+        forever = lits and reach.runnable[i] and all(
+            atom in reach.stuck_true if positive else atom not in reach.can_true for atom, positive in lits)
+        if not forever:
+            i += 1
+            continue
+        node = flat.nodes[i]
+        post = cond.to_text(node.post)
+        if flat.parent[i] < 0:
+            found.append(Finding(node.source, WARNING, "dead-behaviour",
+                                 f"the task {node.name} is accomplished from the start: {post} holds initially "
+                                 f"and nothing makes it false, so nothing runs",
+                                 "check initial/1 against the task's post-condition"))
+        else:
+            parent = flat.nodes[flat.parent[i]]
+            found.append(Finding(
+                _locate(parent.source, node.name), WARNING, "dead-behaviour",
+                f"{node.name} never runs: its post-condition {post} holds from the start and nothing before or "
+                f"after it makes it false, so it is accomplished whenever it could be released",
+                f"a behaviour of {parent.name} should undo {post} first (a take ends with gripper(close)), "
+                f"or the initial state is wrong"))
+        i = flat.end[i]            # what is inside a behaviour that never runs never runs either
+    return found
+
+
+def missing_gripper_commands(flat: _Flat) -> list[Finding]:
+    """A learned sub-task (its actions in a chain, docs/syntax.md) that commands no gripper, in a
+    task whose other learned sub-tasks do: its actions leave the gripper as they found it."""
+    from ..task.schema import DEFAULT_AGENT
+
+    learned = [p for p in range(len(flat)) if _is_learned_chain(flat, p)]
+    commanding = {p for p in learned if any(flat.nodes[k].agent != DEFAULT_AGENT for k in flat.children[p])}
+    if not commanding:
+        return []            # a task with no gripper commands at all is not learned the paper's way
+    agents = sorted({flat.nodes[k].agent for p in commanding for k in flat.children[p]} - {DEFAULT_AGENT})
+    found = []
+    for p in learned:
+        if p in commanding:
+            continue
+        node = flat.nodes[p]
+        found.append(Finding(
+            _locate(node.source, node.name), WARNING, "no-gripper-command",
+            f"the learned sub-task {node.name} commands no {' or '.join(agents)}: its {len(flat.children[p])} "
+            f"actions leave the gripper as they found it, unlike the task's other learned sub-tasks",
+            "end a take with gripper(close) and a pour or a mix with gripper(open) (docs/syntax.md, "
+            "Learned sub-tasks)"))
+    return found
+
+
+def _is_learned_chain(flat: _Flat, p: int) -> bool:
+    """Whether node p is a learned sub-task: two or more actions, the first released by `true`,
+    each next one by the post-condition of the one before."""
+    kids = flat.children[p]
+    if len(kids) < 2 or any(flat.children[k] for k in kids):
+        return False
+    nodes = [flat.nodes[k] for k in kids]
+    return nodes[0].releaser == cond.TRUE and all(b.releaser == a.post for a, b in zip(nodes, nodes[1:]))
 
 
 def shared_posts(flat: _Flat) -> list[Finding]:
