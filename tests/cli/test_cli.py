@@ -856,3 +856,18 @@ def test_a_command_writing_a_file_says_on_stderr_what_it_wrote(tmp_path, args, s
     # to standard output, the data alone: nothing is said
     r = run(*(a for a in args if "{out}" not in str(a) and a not in ("-o", "--scene")))
     assert "wrote" not in r.stderr
+
+
+def test_the_readmes_commands_write_each_output_once():
+    # issue 35: `convert tree.xml -o task.pl` overwrote the task.pl that `convert task.pl -o
+    # task.yaml` was meant to read, and fig2.png was written twice. (`--out` names a folder, where
+    # bench --paper writes results.* and bench --runtimes runtimes.*.)
+    import collections
+    import re
+
+    block = (ROOT / "README.md").read_text().split("## What you can do", 1)[1].split("```sh", 1)[1].split("```", 1)[0]
+    commands = [re.sub(r"'[^']*'", "''", line.split("  #", 1)[0]) for line in block.splitlines()]  # not a query's >
+    outputs = [m.group(1) for command in commands for m in re.finditer(r"(?:-o|--plot|--motions|>)\s+(\S+)", command)]
+    assert len(outputs) > 15 and "fig2.png" in outputs
+    twice = [name for name, n in collections.Counter(outputs).items() if n > 1]
+    assert twice == []
