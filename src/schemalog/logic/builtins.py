@@ -68,18 +68,72 @@ NondetBuiltin = Callable[[Machine, tuple, Bindings], Iterator[None]]
 _CONTROL_ARGS = {(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1)}
 
 
-def check_body(goal: Term, b: Bindings) -> None:
-    """A meta-called goal is checked whole first, as SWI-Prolog compiles it: a number or
-    string where a goal should be (`call((fail, 1))`) is type_error(callable, Goal)."""
-    stack = [goal]
-    seen: set[int] = set()  # a cyclic body, G = (a, G), is checked once round
+def body_term(goal: Term, b: Bindings) -> Term:
+    """A meta-called goal as call/1 runs it (ISO 7.6.2, converting a term to a body): checked
+    whole first, as SWI-Prolog compiles it, so a number or string where a goal should be
+    (`call((fail, 1))`) is type_error(callable, Goal); and every variable in a control position
+    (an argument of `,` `;` `->` `*->` `\\+`) that is bound now replaced by its value, so that
+    `C = !, call((member(X, L), C))` cuts member/2's alternatives and `C = (A -> B), call((C ; D))`
+    is an if-then-else. A variable still unbound stays one and runs as call(V) when reached: its
+    cut is local, as in a clause body, whose variable goals were converted when it was read."""
+    root = b.walk(goal)
+    if isinstance(root, (Int, Float, Str)):
+        raise type_error("callable", b.resolve_finite(goal))
+    if not _is_control(root):
+        return root
+    built: dict[int, Term] = {}      # the converted control terms, by the id of the original
+    open_: set[int] = set()          # those whose arguments are being converted
+    stack: list[tuple[Struct, bool]] = [(root, False)]   # depth first, without recursion
+    while stack:
+        t, leaving = stack.pop()
+        if leaving:
+            open_.discard(id(t))
+            args = tuple(built.get(id(v), v) for v in map(lambda a: _bound_value(a, b), t.args))
+            built[id(t)] = t if all(x is y for x, y in zip(args, t.args)) else Struct(t.name, args)
+            continue
+        if id(t) in built:
+            continue
+        if id(t) in open_:           # a cyclic body, G = (a, G): checked once round, run as it is
+            _check_cyclic(root, goal, b)
+            return root
+        open_.add(id(t))
+        stack.append((t, True))
+        for arg in t.args:
+            value = _bound_value(arg, b)
+            if isinstance(value, (Int, Float, Str)):
+                raise type_error("callable", b.resolve_finite(goal))
+            if _is_control(value) and id(value) not in built:
+                stack.append((value, False))
+    return built[id(root)]
+
+
+def _bound_value(arg: Term, b: Bindings) -> Term:
+    """A control argument's value now: a bound variable's, else the argument itself."""
+    if type(arg) is not Var:
+        return arg
+    value = b.walk(arg)
+    return arg if type(value) is Var else value
+
+
+def _is_control(t: Term) -> bool:
+    return type(t) is Struct and (t.name, len(t.args)) in _CONTROL_ARGS
+
+
+def _check_cyclic(root: Term, goal: Term, b: Bindings) -> None:
+    """Check a cyclic body's control skeleton once round (type_error for a number in it)."""
+    stack, seen = [root], set()
     while stack:
         t = b.walk(stack.pop())
         if isinstance(t, (Int, Float, Str)):
             raise type_error("callable", b.resolve_finite(goal))
-        if isinstance(t, Struct) and (t.name, len(t.args)) in _CONTROL_ARGS and id(t) not in seen:
+        if _is_control(t) and id(t) not in seen:
             seen.add(id(t))
             stack.extend(t.args)
+
+
+def check_body(goal: Term, b: Bindings) -> None:
+    """Check a meta-called goal whole, as body_term does, without converting it."""
+    body_term(goal, b)
 
 
 

@@ -28,7 +28,7 @@ from typing import Callable, Iterator
 
 from .. import defaults
 from ..errors import SchemalogError
-from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin, check_body as _check_body
+from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin, body_term
 from .exceptions import (PrologError, StepLimitExceeded, existence_error, instantiation_error, iso_error,
                          type_error)
 from .eclipse import ECLIPSE
@@ -157,7 +157,7 @@ class Engine:
     def solve(self, goal: Term, bindings: Bindings | None = None) -> Iterator[Bindings]:
         """Yield once per proof of `goal`; the bindings hold that answer while yielded."""
         b = bindings if bindings is not None else Bindings()
-        _check_body(goal, b)
+        goal = body_term(goal, b)
         self.steps = 0
         return self._run(goal, b)
 
@@ -255,7 +255,7 @@ class Engine:
                         term = b.walk(term)
                         if isinstance(term, Var):
                             raise instantiation_error()
-                        _check_body(term, b)
+                        term = body_term(term, b)
                         cutb = len(cps)
                         if isinstance(term, Atom):
                             name, args = term.name, ()
@@ -410,8 +410,7 @@ class Engine:
                         target = b.walk(args[0])
                         if arity > 1:
                             target = _add_args(target, args[1:])
-                        _check_body(target, b)
-                        goals = (target, len(cps), rest)
+                        goals = (body_term(target, b), len(cps), rest)
                         continue
                     if arity == 3 and name == "catch":
                         height = len(cps)
@@ -512,14 +511,13 @@ class Engine:
     def call_goal(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
         """Solve `goal` in a sub-machine sharing the bindings, keeping them after it: what
         setup_call_cleanup/3 runs its setup and goal in (the caller undoes)."""
-        _check_body(goal, b)
-        return self._run(goal, b)
+        return self._run(body_term(goal, b), b)
 
     def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
         """Solve `goal` in a sub-machine sharing the bindings (findall, forall)."""
         mark = b.mark()
         try:
-            for _ in self._run(goal, b):
+            for _ in self._run(body_term(goal, b), b):
                 yield b
         finally:
             b.undo(mark)
