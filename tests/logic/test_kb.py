@@ -293,3 +293,10 @@ def test_ensure_loaded_does_not_read_a_loaded_file_again(tmp_path):
     c, = _files(tmp_path, c=":- ensure_loaded(a).\n")
     kb.consult(c)
     assert _answers(kb, "p(X)") == ["p(2)"]
+
+
+def test_a_table_directive_is_refused_naming_tabling():
+    # issue 37: tabling is out of scope; a bare existence-error warning said nothing of why
+    kb = KnowledgeBase()
+    with pytest.raises(SchemalogError, match=r"t.pl:1:1: error: :- table fib/2: tabling is not supported"):
+        kb.consult_text(":- table fib/2.\nfib(0, 0).\n", "t.pl")

@@ -54,6 +54,8 @@ class Machine(Protocol):
 
     kb: Database
     write: Callable[[str], None]
+    steps: int
+    since: dict[str, int]
 
     def sub_solve(self, goal: Term, b: Bindings) -> Iterator[Bindings]: ...
     def call_goal(self, goal: Term, b: Bindings) -> Iterator[Bindings]: ...
@@ -237,6 +239,8 @@ def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
     if not isinstance(term, Var):
         whole = b.walk(a[1])
+        if whole == NIL:
+            return False                      # a =.. []: [] is a list, just not this term's (ISO 8.5.3)
         if not isinstance(whole, Var) and not (isinstance(whole, Struct) and whole.name == CONS
                                                and len(whole.args) == 2):
             raise type_error("list", whole)   # f(a) =.. foo, as SWI says

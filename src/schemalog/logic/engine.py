@@ -149,6 +149,7 @@ class Engine:
         # Steps taken by the current query, sub-machines (findall, forall) and the work
         # built-ins charge (`charge`) included: one budget bounds the query's whole time.
         self.steps = 0
+        self.since: dict[str, int] = {}   # statistics/2: runtime and walltime at their last call
         self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
         self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
         self._special = _special_goals(self.builtins, self.nondet)   # 3 us: built per engine

@@ -609,6 +609,10 @@ class KnowledgeBase:
                     elif goal.name == "multifile":
                         self.multifile.add((s.args[0].name, s.args[1].value))
             return
+        if isinstance(goal, Struct) and goal.name == "table" and len(goal.args) == 1:
+            raise SchemalogError(f":- {term_to_text(goal)}: tabling is not supported by schemalog's engine "
+                                 f"(docs/syntax.md); without the directive the predicate runs untabled, "
+                                 f"which may not end where tabling would", d.pos)
         if isinstance(goal, Struct) and goal.name == "op" and len(goal.args) == 3:
             self.warnings.append(f"{d.pos}: warning: op/3 ignored: schemalog's operator table is "
                                  f"fixed (see docs/syntax.md)")

@@ -10,6 +10,7 @@ Prolog (permutation/2, predsort/3, nth0/4, aggregate_all/3...) are in prelude.pl
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Iterator
 
@@ -53,6 +54,35 @@ def _natural(t: Term) -> int | None:
 
 
 # -- arithmetic relations --------------------------------------------------------
+
+_STARTED = time.monotonic()   # when this process started running Prolog: walltime's origin
+
+
+def _statistics(e: Machine, a: tuple, b: Bindings) -> bool:
+    """statistics(Key, Value) for the keys a program times itself with, as SWI-Prolog gives them:
+    runtime and walltime as [milliseconds since start, since the last such call], cputime and
+    process_cputime in seconds, real_time in whole seconds since the epoch, inferences (steps)."""
+    key = b.walk(a[0])
+    if isinstance(key, Var):
+        raise instantiation_error()
+    if not isinstance(key, Atom):
+        raise type_error("atom", key)
+    name = key.name
+    if name in ("runtime", "walltime"):
+        now = int((time.process_time() if name == "runtime" else time.monotonic() - _STARTED) * 1000)
+        since = e.since.get(name, 0)
+        e.since[name] = now
+        value: Term = make_list([Int(now), Int(now - since)])
+    elif name in ("cputime", "process_cputime"):
+        value = Float(time.process_time())
+    elif name == "real_time":
+        value = make_list([Int(int(time.time())), Int(0)])
+    elif name == "inferences":
+        value = Int(e.steps)
+    else:
+        raise iso_error(Struct("domain_error", (Atom("statistics_key"), key)))
+    return b.unify(a[1], value)
+
 
 def _succ(e: Machine, a: tuple, b: Bindings) -> bool:
     """succ(?X, ?Y): Y = X + 1, both natural numbers."""
@@ -777,6 +807,7 @@ EXTRA = {
     ("consult", 1): _consult,
     ("[|]", 2): _consult,
     ("succ", 2): _succ,
+    ("statistics", 2): _statistics,
     ("plus", 3): _plus,
     ("char_code", 2): _char_code,
     ("upcase_atom", 2): _convert(Atom, str.upper),
