@@ -175,3 +175,33 @@ def test_the_headline_says_too_noisy_rather_than_missed_when_runs_disagree():
     assert "-90%" in said["steady"] and "target at least 87%: met" in said["steady"]
     assert "-90%" in said["noisy"] and "target at least 87%: too noisy to judge" in said["noisy"]
     assert "target at least 87%: MISSED" in said["slow"]
+
+
+def test_figure_4s_legends_cover_no_point():
+    from schemalog.evaluate.figures import figure4_figure, plt
+
+    plan = BenchPlan(shapes=(), runs=3)
+    results = Results(plan)
+    for depth in (4, 5, 6):
+        for children in (2, 3, 4):
+            behaviours = sum(children ** level for level in range(depth))
+            for rd in (0.0, 0.3, 0.5, 0.7):
+                cell = Cell(f"d{depth}c{children}", depth, children, behaviours, rd, rd, 0, 0.0)
+                ms = behaviours * (1 - rd) * 0.01          # the largest trees on top, at every RD
+                tree = "compressed" if rd else "original"
+                for selector in ("scan", "incremental"):
+                    cell.timing(tree, selector).per_run.extend([ms / 1e3] * 3)
+                    cell.timing(tree, selector).decisions.extend([10] * 3)
+                results.cells.append(cell)
+    fig = figure4_figure(results)
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        for ax in fig.axes:
+            legend = ax.get_legend().get_window_extent(renderer)
+            assert not legend.overlaps(ax.get_window_extent(renderer))     # outside the plot: no point hidden
+            for line in ax.get_lines():
+                for x, y in ax.transData.transform(line.get_xydata()):
+                    assert not legend.contains(x, y)
+    finally:
+        plt.close(fig)

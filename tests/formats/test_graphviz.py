@@ -6,6 +6,7 @@ refusals (no `dot` on PATH, a picture suffix that cannot be made) leaving no fil
 """
 
 import os
+import re
 import struct
 import subprocess
 import sys
@@ -59,15 +60,94 @@ def test_png_and_pdf_are_real_pictures_of_a_readable_size(tmp_path):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]    # no temporary file left
 
 
-def test_a_large_task_is_drawn_left_to_right_a_cluster_per_sub_task(tmp_path):
-    png, svg = tmp_path / "ct.png", tmp_path / "ct.svg"
-    assert run("compress", COFFEE, "-o", png).returncode == 0
+def pictures_written(done, output) -> list:
+    """The files a picture command says it wrote: `output`, and the pages it lists when split."""
+    assert done.returncode == 0, done.stderr
+    listed = [line.strip().split(": ", 1)[0] for line in done.stderr.splitlines() if line.startswith("  ")]
+    return [output] + [type(output)(name) for name in listed]
+
+
+def smallest_points(dot: str) -> float:
+    """The smallest font size, in points, that a DOT text asks for."""
+    return min(float(size) for size in re.findall(r'(?:fontsize=|point-size=")([0-9.]+)', dot))
+
+
+def readable_on_a_screen(png, smallest: float) -> bool:
+    """Whether a PNG (dot renders 96 pixels an inch) shrunk to fit 1920x1080, never enlarged,
+    keeps text of `smallest` points at least 9 points (12 pixels) high."""
     width, height = png_size(png.read_bytes())
-    assert width < 2500 < height                   # not 17,264 pixels wide: the tree reads downwards
-    assert run("show", COFFEE, "-o", svg).returncode == 0
-    text = svg.read_text().replace("&#45;", "-")      # SVG writes a hyphen as &#45;
-    assert ">preparecoffee<" in text and ">preparetea<" in text            # the sub-tasks' clusters
-    assert "a21(cup)" in text and "Legend" in text
+    scale = min(1.0, 1920 / width, 1080 / height)
+    return smallest * 96 / 72 * scale >= 12
+
+
+def test_every_picture_fits_a_screen_with_its_text_readable(tmp_path):
+    generated = tmp_path / "t15.pl"
+    assert run("generate", "--depth", 4, "--children", 2, "--rd", 0.5, "--seed", 1, "-o", generated).returncode == 0
+    for command, source, pages in (("compress", MIX, 1), ("show", MIX, 1), ("show", COFFEE, 1),
+                                   ("compress", COFFEE, 4), ("show", generated, 1), ("compress", generated, 1)):
+        png = tmp_path / f"{command}-{source.stem}.png"
+        done = run(command, source, "-o", png)
+        written = pictures_written(done, png)
+        assert len(written) == pages, (command, source, done.stderr)
+        smallest = smallest_points(run(command, source, "--format", "dot").stdout)
+        assert smallest >= 9
+        for picture in written:
+            assert readable_on_a_screen(picture, smallest), (command, source, picture, png_size(picture.read_bytes()))
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]    # no temporary file left
+
+
+def test_a_drawing_a_screen_cannot_hold_is_split_into_an_overview_and_named_pictures(tmp_path):
+    png, svg = tmp_path / "ct.png", tmp_path / "ct.svg"
+    done = run("compress", COFFEE, "-o", png)
+    assert "wrote " + str(png) + " (overview) and " + str(tmp_path / "ct-1.png") + " ... " in done.stderr
+    written = pictures_written(done, png)
+    assert [p.name for p in written] == ["ct.png", "ct-1.png", "ct-2.png", "ct-3.png"]
+    assert f"{tmp_path / 'ct-1.png'}: (a) Learned symbolic representation: 63 behaviours" in done.stderr
+    assert run("compress", COFFEE, "-o", svg).returncode == 0
+    overview = svg.read_text().replace("&#45;", "-")
+    assert ">preparecoffee<" in overview and ">36 below<" in overview and "whole in ct-1.svg" in overview
+    learned = (tmp_path / "ct-1.svg").read_text()
+    assert "a21(cup)" in learned and "Legend" in learned and "below:" not in learned
+    big = tmp_path / "big.pl"                      # 364 behaviours: an overview, a picture per sub-task
+    assert run("generate", "--depth", 5, "--children", 3, "--rd", 0.5, "--seed", 2, "-o", big).returncode == 0
+    out = tmp_path / "big.png"
+    done = run("show", big, "-o", out)
+    written = pictures_written(done, out)
+    assert len(written) > 3 and all(p.exists() for p in written)
+    for picture in written:
+        assert readable_on_a_screen(picture, 9), (picture, png_size(picture.read_bytes()))
+
+
+def plain_positions(dot: str) -> dict[str, tuple[float, float]]:
+    """Each node's centre as dot lays it out (-Tplain: inches, y upwards)."""
+    out = subprocess.run(["dot", "-Tplain"], input=dot, capture_output=True, text=True, check=True).stdout
+    return {f[1]: (float(f[2]), float(f[3])) for f in (line.split() for line in out.splitlines()) if f[0] == "node"}
+
+
+def assert_children_in_order(tree, prefix: str, at: dict) -> None:
+    """Each behaviour's children drawn in order: each next one right of or below the one before."""
+    nodes = list(walk(tree))
+    index = {id(n): i for i, n in enumerate(nodes)}
+    for node in nodes:
+        for a, b in zip(node.children, node.children[1:]):
+            (xa, ya), (xb, yb) = at[f"{prefix}{index[id(a)]}"], at[f"{prefix}{index[id(b)]}"]
+            assert xb > xa + 0.01 or yb < ya - 0.01, (node.name, a.name, b.name)
+
+
+def test_children_and_panels_are_drawn_in_order():
+    kb = document_from_text(COFFEE.read_text(), str(COFFEE)).to_kb()
+    tree = instantiate(kb, parse_term("prepareboth"))
+    dot = run("show", COFFEE, "--format", "dot").stdout
+    at = plain_positions(dot)
+    assert at["n1"][0] < at["n37"][0]              # preparecoffee, the first child, left of preparetea
+    assert_children_in_order(tree, "n", at)
+    figure = run("compress", COFFEE, "--format", "dot").stdout
+    clusters = re.findall(r"subgraph (cluster_\w+)", figure)
+    assert clusters == ["cluster_original", "cluster_aliased", "cluster_merged"]
+    at = plain_positions(figure)
+    assert at["p0_0"][0] < at["p1_0"][0] < at["p2_0"][0]   # (a), (b), (c) from the left
+    assert_children_in_order(tree, "p0_", at)
+    assert_children_in_order(compress(tree, "full").tree, "p2_", at)
 
 
 def test_show_draws_one_tree_coloured_in_the_initial_state(tmp_path):

@@ -86,3 +86,16 @@ def trees(draw):
 @given(trees())
 def test_any_tree_written_as_knowledge_instantiates_to_itself(tree):
     assert roundtrip(tree.label, tree) == tree
+
+
+def test_a_tree_too_wide_for_the_paper_layout_is_drawn_compact_and_fits_a_screen():
+    from schemalog.formats.graphviz import drawing_size, readable_on_screen, screen_scale
+
+    assert screen_scale(1440, 810) == 1.0 and screen_scale(2880, 810) == 0.5
+    assert readable_on_screen(1440, 810, 9) and not readable_on_screen(1441, 810, 9)
+    small = to_dot(mix_tree(), "use(spoon)")
+    assert "shape=ellipse" in small and readable_on_screen(*drawing_size(small), 9)   # the paper's drawing
+    kb = document_from_text(COFFEE.read_text(), str(COFFEE)).to_kb()
+    big = to_dot(instantiate(kb, parse_term("prepareboth")), "prepareboth")
+    assert "shape=box, style=rounded" in big and "shape=point" in big                 # leaves in columns
+    assert readable_on_screen(*drawing_size(big), 9)

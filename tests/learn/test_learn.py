@@ -205,3 +205,28 @@ def test_a_scene_with_a_coordinate_out_of_range_is_located(tmp_path):
     r = run("simulate-demo", "--scene", scene, "-o", "d.csv", cwd=tmp_path)
     assert r.returncode == 1 and r.stderr.startswith(f"{scene}:13:12: error: a coordinate of the position of water")
     assert "internal error" not in r.stderr and not (tmp_path / "d.csv").exists()
+
+
+def test_the_plots_labels_of_the_hands_path_do_not_overlap(coffee):
+    from matplotlib.text import Text
+
+    from schemalog.evaluate.figures import demonstration_plot, plt
+    from schemalog.learn.learn import learn
+    from schemalog.logic.parse import parse_term
+
+    where, _ = coffee
+    fig = demonstration_plot(learn(str(where / "demo.csv"), str(STRUCTURE), parse_term("preparecoffee")))
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        top = fig.axes[0]
+        texts = [t for t in top.texts if t.get_text()]
+        assert len(texts) == 21 + 5                     # a label per motion, a name per object
+        boxes = [Text.get_window_extent(t, renderer) for t in texts]    # the text, not its leader line
+        frame = top.get_window_extent(renderer)
+        for i, a in enumerate(boxes):
+            assert frame.x0 <= a.x0 and a.x1 <= frame.x1 and frame.y0 <= a.y0 and a.y1 <= frame.y1
+            for j in range(i):
+                assert not a.overlaps(boxes[j]), (texts[i].get_text(), texts[j].get_text())
+    finally:
+        plt.close(fig)

@@ -76,11 +76,14 @@ def run(args: argparse.Namespace) -> int:
         emit(json.dumps(data, indent=2) + "\n", args.output, inputs, what)
         return code
     elif fmt == "dot" or fmt in PICTURES:    # the paper's Figure 2; the picture and its DOT text alike
-        dot = _figure2(kb, result, args)
+        from ..formats.render import panels_dot
+
+        panels, initial = _figure2(kb, result, args)
+        name = term_to_text(result.original.label)
         if fmt == "dot":
-            emit(dot, args.output, inputs, what)
+            emit(panels_dot(name, panels, initial), args.output, inputs, what)
         else:
-            emit_picture(dot, fmt, args.output, inputs, what)
+            emit_picture(name, panels, initial, fmt, args.output, inputs, what)
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
@@ -111,26 +114,25 @@ def run(args: argparse.Namespace) -> int:
     return code
 
 
-def _figure2(kb: KnowledgeBase, result, args: argparse.Namespace) -> str:
-    """The paper's Figure 2 as DOT: the learned tree, the merge with perceptual aliasing
-    (--propagate none, its aliased behaviours marked), and the merge with --propagate,
-    coloured in the initial state."""
-    from ..formats.render import aliased_behaviours, compare_dot
+def _figure2(kb: KnowledgeBase, result, args: argparse.Namespace) -> tuple[list, frozenset]:
+    """The paper's Figure 2's panels: the learned tree, the merge with perceptual aliasing
+    (--propagate none, its aliased behaviours marked), and the merge with --propagate; and
+    the initial state they are coloured in."""
+    from ..formats.render import aliased_behaviours, figure2_panels
     from ..task.compress import compress, protected_labels
     from ..task.conditions import Simplifier
     from .output import initial_atoms
 
     initial = initial_atoms(kb, result.original)
-    task = term_to_text(result.original.label)
     merged, complete = aliased_behaviours(result.original, result.tree, initial)
     searched = "" if complete else "in the first 2,000 reachable states"
     if result.propagate == "none":
-        return compare_dot(result.original, result.tree, task, result.propagate, initial,
-                           merged_aliased=merged, searched=searched)
+        return figure2_panels(result.original, result.tree, result.propagate, initial,
+                              merged_aliased=merged, searched=searched), initial
     aliasing = compress(result.original, "none", protected_labels(kb, result.original),
                         Simplifier(sympy_budget=args.sympy_budget)).tree
-    return compare_dot(result.original, result.tree, task, result.propagate, initial, aliasing,
-                       aliased_behaviours(result.original, aliasing, initial)[0], merged, searched)
+    return figure2_panels(result.original, result.tree, result.propagate, initial, aliasing,
+                          aliased_behaviours(result.original, aliasing, initial)[0], merged, searched), initial
 
 
 def _verify_compression(kb: KnowledgeBase, result, args: argparse.Namespace):

@@ -60,16 +60,36 @@ def written(doc, fmt: str, header: str) -> str:
 PICTURES = ("png", "svg", "pdf")
 
 
-def emit_picture(dot: str, fmt: str, output: str, inputs: list[str], what: str | None = "") -> None:
-    """Render `dot` as a picture and write it to `output` atomically (never over an input)."""
+def emit_picture(name: str, panels, initial: frozenset | None, fmt: str, output: str, inputs: list[str],
+                 what: str | None = "") -> None:
+    """Render `panels` as pictures a screen can hold (render.picture_pages) and write them to
+    `output` and, when it is split, OUTPUT-1, OUTPUT-2, ... beside it, together and atomically
+    (never over an input); a FIFO or a device gets the whole drawing as one picture."""
+    from ..formats.documents import output_target, write_together
     from ..formats.graphviz import render
+    from ..formats.render import Page, choose_layout, picture_pages
     from .common import check_output
 
     check_output(output, inputs)
-    data = render(dot, fmt)
-    write_atomically(output, data)
-    if what is not None:
+    path = Path(output)
+    if output_target(output).in_place:
+        pages = [Page(choose_layout(name, panels, initial)[0], "")]
+    else:
+        pages = picture_pages(name, panels, initial, lambda k: f"{path.stem}-{k}{path.suffix}")
+    names = [output] + [str(path.with_name(f"{path.stem}-{k}{path.suffix}")) for k in range(1, len(pages))]
+    for extra in names[1:]:
+        check_output(extra, inputs)
+    write_together([(file, render(page.dot, fmt)) for file, page in zip(names, pages)])
+    if what is None:
+        return
+    if len(pages) == 1:
         print(f"wrote {output}" + (f": {what}" if what else ""), file=sys.stderr)
+        return
+    print(f"wrote {output} (overview) and {names[1]}" + (f" ... {names[-1]}" if len(names) > 2 else "")
+          + f" (one per panel or sub-task), {len(pages)} pictures a screen can hold"
+          + (f": {what}" if what else ""), file=sys.stderr)
+    for file, page in zip(names[1:], pages[1:]):
+        print(f"  {file}: {page.what}", file=sys.stderr)
 
 
 def rendered(renderable, width: int = 120) -> str:
@@ -98,12 +118,13 @@ def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: s
     what = f"{title} ({FORMAT_WORDS[fmt]})"
     if fmt == "json":
         emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs, what)
-    elif fmt in PICTURES or fmt == "dot":      # the picture and its DOT text are one drawing
-        dot = to_dot(tree, term_to_text(task), initial_atoms(kb, tree))
-        if fmt == "dot":
-            emit(dot, args.output, inputs, what)
-        else:
-            emit_picture(dot, fmt, args.output, inputs, what)
+    elif fmt == "dot":                          # the drawing as one graph
+        emit(to_dot(tree, term_to_text(task), initial_atoms(kb, tree)), args.output, inputs, what)
+    elif fmt in PICTURES:                       # the same drawing, split when a screen cannot hold it
+        from ..formats.render import Panel
+
+        emit_picture(term_to_text(task), [Panel("tree", "", tree)], initial_atoms(kb, tree), fmt, args.output,
+                     inputs, what)
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
         emit(written(doc, fmt, header), args.output, inputs, what)

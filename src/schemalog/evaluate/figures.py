@@ -22,6 +22,7 @@ matplotlib.use("Agg")   # files only: no display is needed, or wanted, on a CI m
 
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import ticker  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 from ..task.compress import compress  # noqa: E402
 from ..formats.documents import file_mode, write_atomically  # noqa: E402
@@ -67,10 +68,17 @@ def _log_axis(ax, which: str) -> None:
 def figure4(results, out: Path) -> list[Path]:
     """Fig. 4: time per run against RD, one panel per depth, one line per branching; the scan
     selector (the paper's cost model) on top, the incremental selector below."""
+    fig = figure4_figure(results)
+    return [] if fig is None else save(fig, out, "figure4")
+
+
+def figure4_figure(results):
+    """The matplotlib figure of figure4, each panel's legend under it (never over a point);
+    None without cells."""
     cells = results.cells
     depths = sorted({c.depth for c in cells})
     if not depths:
-        return []
+        return None
     fig, axes = plt.subplots(2, len(depths), figsize=(4.4 * len(depths), 7.6), squeeze=False,
                              layout="constrained")
     for row, selector in enumerate(("scan", "incremental")):
@@ -92,10 +100,11 @@ def figure4(results, out: Path) -> list[Path]:
             ax.set_xlabel("reduction degree (achieved)")
             if col == 0:
                 ax.set_ylabel("execution time per run (ms)")
-            ax.legend(fontsize=7)
+            # Below the axes: inside, it hid the points of 4 children (panels b and e).
+            ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), frameon=False)
     fig.suptitle("Execution time against the reduction degree (the paper's Fig. 4; "
                  f"{results.plan.runs} runs per tree)", fontsize=11)
-    return save(fig, out, "figure4")
+    return fig
 
 
 def selectors_by_size(results, out: Path) -> list[Path]:
@@ -193,14 +202,53 @@ def figure3(out: Path, depth: int = 4, children: int = 2, rd: float = 0.5, seed:
     return written + save(fig, out, "figure3")
 
 
-__all__ = ["figure4", "selectors_by_size", "figure3", "save"]
+__all__ = ["figure4", "figure4_figure", "selectors_by_size", "figure3", "save", "demonstration_figure",
+           "demonstration_plot", "place_apart"]
 
 
 def demonstration_figure(lesson, path: Path) -> Path:
+    """Write demonstration_plot's figure atomically, in the format of `path`'s suffix."""
+    fig = demonstration_plot(lesson)
+    try:
+        return _write(fig, Path(path))
+    finally:
+        plt.close(fig)
+
+
+def place_apart(fig, ax, labels, fixed=()) -> None:
+    """Move each annotation of `labels` (offset in points from its point) to the nearest offset
+    where its box overlaps neither a label placed before it nor a text of `fixed`, inside
+    `ax`; then keep the layout as it is, so that saving does not move them again."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    def text_box(t):                  # the text alone, not its leader line
+        return Text.get_window_extent(t, renderer).padded(1)
+
+    taken = [text_box(t) for t in fixed]
+    points = fig.dpi / 72
+    offsets = sorted(((dx, dy) for dx in range(-60, 61, 10) for dy in range(-120, 121, 4)),
+                     key=lambda o: (math.hypot(o[0], o[1] * 1.5), o[1] > 0))
+    for label in labels:
+        box = text_box(label)
+        x, y = label.xyann
+        for dx, dy in offsets:
+            moved = box.translated(dx * points, dy * points)
+            inside = (frame.x0 <= moved.x0 and moved.x1 <= frame.x1 and frame.y0 <= moved.y0
+                      and moved.y1 <= frame.y1)
+            if inside and not any(moved.overlaps(t) for t in taken):
+                label.xyann = (x + dx, y + dy)
+                box = moved
+                break
+        taken.append(box)
+    fig.set_layout_engine("none")
+
+
+def demonstration_plot(lesson):
     """A demonstration, segmented and learned: (left) the hand's path seen from above, a colour
-    per action, the objects with their proximity circles; (middle) the hand's height over time,
-    the segments shaded and labelled; (right) each merged action's demonstrated path against its
-    merged primitive's reproduction. Written atomically, in the format of `path`'s suffix."""
+    per action, the objects with their proximity circles, the labels placed apart; (middle) the
+    hand's height over time, the segments shaded and labelled; (right) each merged action's
+    demonstrated path against its merged primitive's reproduction."""
     from ..learn.primitives import rollout
 
     demo = lesson.demo
@@ -214,20 +262,18 @@ def demonstration_figure(lesson, path: Path) -> Path:
     fig, axes = plt.subplots(1, panels, figsize=(6.2 * panels, 5.6), layout="constrained")
     top, height = axes[0], axes[1]
     p = demo.positions
-    stacked: dict[tuple[int, int], int] = {}       # labels already at an end point (2 cm cells)
+    labels, names = [], []
     for k, seg in enumerate(motions):
         colour = colours(k % 20)
         part = p[seg.start:seg.end + 1]
         name = labelled.get(id(seg), term_to_text(seg.label))
         top.plot(part[:, 0], part[:, 1], color=colour, linewidth=1.4)
-        # Motions ending at one place (five pours at the cup) get their labels one under
-        # another, not printed over each other.
-        cell = (round(part[-1, 0] / 0.02), round(part[-1, 1] / 0.02))
-        row = stacked.get(cell, 0)
-        stacked[cell] = row + 1
-        top.annotate(name, part[-1, :2], fontsize=7, color=colour, xytext=(4, 4 - 9 * row),
-                     textcoords="offset points", va="bottom",
-                     bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75))
+        # Placed apart at the end (place_apart): five pours end at the cup.
+        labels.append(top.annotate(name, part[-1, :2], fontsize=7, color=colour, xytext=(4, 4),
+                                   textcoords="offset points", va="bottom",
+                                   arrowprops=dict(arrowstyle="-", color=colour, linewidth=0.5, shrinkA=0,
+                                                   shrinkB=0),
+                                   bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75)))
         height.axvspan(demo.times[seg.start], demo.times[seg.end], color=colour, alpha=0.18, linewidth=0)
         height.text((demo.times[seg.start] + demo.times[seg.end]) / 2, 1.0, name, rotation=90, fontsize=7,
                     ha="center", va="top", transform=height.get_xaxis_transform())
@@ -242,7 +288,7 @@ def demonstration_figure(lesson, path: Path) -> Path:
         start = track[0]
         top.add_patch(plt.Circle(start[:2], lesson.radius, fill=False, linestyle="--", linewidth=0.8, color="grey"))
         top.plot(start[0], start[1], "s", color="grey", markersize=5)
-        top.annotate(name, start[:2], fontsize=8, xytext=(4, -10), textcoords="offset points")
+        names.append(top.annotate(name, start[:2], fontsize=8, xytext=(4, -10), textcoords="offset points"))
         if np.ptp(track, axis=0).max() > 1e-6:
             top.plot(track[:, 0], track[:, 1], color="grey", linewidth=0.6, linestyle=":")
     top.set_aspect("equal", adjustable="datalim")
@@ -260,7 +306,5 @@ def demonstration_figure(lesson, path: Path) -> Path:
         ax.set_aspect("equal", adjustable="datalim")
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
         ax.set(xlabel="x (m)", ylabel="y (m)", title="merged primitives (dashed) over the demonstration (grey)")
-    try:
-        return _write(fig, Path(path))
-    finally:
-        plt.close(fig)
+    place_apart(fig, top, labels, names)
+    return fig

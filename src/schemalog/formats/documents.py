@@ -377,3 +377,36 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
         if isinstance(err, OSError):
             raise CannotWrite(path, err.strerror or str(err)) from None
         raise
+
+
+def write_together(files: list[tuple[str, bytes]]) -> None:
+    """Write several files as one output: each made under a temporary name beside it, then all
+    renamed, so a failure leaves none of them written or half written (a FIFO or a device
+    among them is written into first, before any file is replaced)."""
+    targets = [(name, data, output_target(name)) for name, data in files]
+    staged: list[tuple[str, Path]] = []
+    try:
+        for name, data, target in targets:
+            if target.in_place:
+                write_in_place(target.path, data)
+                continue
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
+            except OSError as err:
+                raise CannotWrite(name, err.strerror or str(err)) from None
+            staged.append((tmp, target.path))
+            try:
+                with os.fdopen(fd, "wb") as handle:
+                    handle.write(data)
+                os.chmod(tmp, file_mode(target.path))
+            except OSError as err:
+                raise CannotWrite(name, err.strerror or str(err)) from None
+        for tmp, path in staged:
+            try:
+                os.replace(tmp, path)
+            except OSError as err:
+                raise CannotWrite(str(path), err.strerror or str(err)) from None
+    finally:
+        for tmp, _ in staged:
+            if os.path.exists(tmp):
+                os.unlink(tmp)

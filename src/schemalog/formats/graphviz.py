@@ -4,6 +4,8 @@
     REFUSED_SUFFIXES        other picture suffixes, refused rather than filled with text
     render(dot, fmt)        -> bytes: the picture, or a SchemalogError naming what is missing
     write_image(path, dot)  render, then write the bytes atomically (nothing is written on failure)
+    drawing_size(dot)       -> (width, height) in points of what `dot` lays out, its margin included
+    screen_scale(w, h)      -> how much a picture of that size shrinks to fit a 1920x1080 screen
 
 The picture is made in memory and written through documents.write_atomically, so a failed or
 interrupted rendering leaves no file behind.
@@ -64,10 +66,46 @@ def render(dot: str, fmt: str) -> bytes:
     return done.stdout
 
 
+# A picture must be readable whole on this screen: shrunk to fit it (never enlarged), its
+# smallest text at least READABLE_POINTS on a screen of SCREEN_DPI (12 pixels).
+SCREEN = (1920, 1080)
+SCREEN_DPI = 96            # also the resolution dot renders a PNG at
+READABLE_POINTS = 9
+PAD_POINTS = 8             # dot's margin around a drawing (pad, 4 points a side)
+
+
+def drawing_size(dot: str) -> tuple[float, float]:
+    """The width and height, in points, of the picture dot draws of `dot` (its margin included)."""
+    program = dot_program()
+    done = subprocess.run([program, "-Tplain"], input=dot.encode("utf-8"), capture_output=True,
+                          env={**os.environ, "LC_ALL": "C"})
+    first = done.stdout.decode("utf-8", "replace").split("\n", 1)[0].split()
+    if done.returncode != 0 or len(first) < 4 or first[0] != "graph":
+        reason = done.stderr.decode("utf-8", "replace").strip().splitlines()
+        raise SchemalogError(f"Graphviz's dot could not lay out the picture (exit {done.returncode})"
+                             + (f": {reason[-1]}" if reason else ""))
+    scale = float(first[1])
+    return float(first[2]) * scale * 72 + PAD_POINTS, float(first[3]) * scale * 72 + PAD_POINTS
+
+
+def screen_scale(width: float, height: float) -> float:
+    """The factor a picture `width` x `height` points large (as a PNG: SCREEN_DPI pixels an
+    inch) is shrunk by to fit the SCREEN whole; 1 when it fits as it is."""
+    pixels = SCREEN_DPI / 72
+    return min(1.0, SCREEN[0] / (width * pixels), SCREEN[1] / (height * pixels))
+
+
+def readable_on_screen(width: float, height: float, smallest: float) -> bool:
+    """Whether text of `smallest` points stays READABLE_POINTS large when a picture of
+    `width` x `height` points is shrunk to fit the SCREEN."""
+    return smallest * screen_scale(width, height) >= READABLE_POINTS - 1e-9
+
+
 def write_image(path: str, dot: str, fmt: str) -> None:
     """Render `dot` as `fmt` and write it to `path` atomically."""
     write_atomically(path, render(dot, fmt))
 
 
 __all__ = ["IMAGE_SUFFIXES", "REFUSED_SUFFIXES", "image_format", "refuse_unknown_picture", "dot_program",
-           "render", "write_image"]
+           "render", "write_image", "drawing_size", "screen_scale", "readable_on_screen", "SCREEN", "SCREEN_DPI",
+           "READABLE_POINTS"]

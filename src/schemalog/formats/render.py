@@ -4,7 +4,8 @@
                          "importance", "k", "merged_from", "children"}
     show_json(task, root) -> {"task", "nodes", "depth", "tree"}
 
-Colours follow the paper's figures: pre-conditions green, post-conditions blue.
+Colours follow the paper's figures: pre-conditions green (brown where false in the initial state),
+post-conditions blue. Pictures are laid out to be read whole on a 1920x1080 screen, or split.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from dataclasses import dataclass, replace
 
 from ..task.schema import DEFAULT_AGENT, Entry, SchemaDef, schema_term
 from ..logic.terms import TRUE, Atom, Float, Int, Struct, Term, is_ground, make_list, term_to_text
-from ..task.tree import Behaviour, Origin, count_nodes, depth, map_tree, walk
+from ..task.tree import Behaviour, Origin, count_nodes, depth, map_tree, walk, walk_with_depth
 
 PRE_STYLE = "green"
 POST_STYLE = "blue"
@@ -110,52 +111,64 @@ POST_COLOUR = "#1f4fbf"
 ALIASED = "#d32f2f"
 MERGED_FILL = "#fff3c4"
 COMPOSITE_FILL = "#eef5ff"
-LEFT_TO_RIGHT_LEAVES = 16      # a tree with more leaves than this is drawn left to right
+CONDITION_POINTS = 9           # the smallest text of a picture: a post-condition, a page reference
+MEASURED_NODES = 600           # a drawing of more behaviours cannot fit a screen: not laid out to see
 
 
 @dataclass(frozen=True)
 class Panel:
     """One tree of a picture: its cluster's name, its title, and the pre-order indices of the
-    behaviours to mark as perceptually aliased."""
+    behaviours to mark as perceptually aliased; drawn from the behaviour at pre-order index
+    `focus`, `depth` levels below it (None: all), a sub-task cut there drawn as one behaviour
+    naming the picture its own is in (`pages`: pre-order index -> file name)."""
 
     key: str
     title: str
     tree: Behaviour
     aliased: frozenset[int] = frozenset()
+    focus: int = 0
+    depth: int | None = None
+    pages: tuple[tuple[int, str], ...] = ()
 
 
-def _leaves(root: Behaviour) -> int:
-    return sum(1 for n in walk(root) if not n.children)
+@dataclass(frozen=True)
+class Layout:
+    """How a picture is laid out: `compact`, behaviours in rounded boxes and the leaves of a
+    sub-task in a column under it, in order from the top; else the paper's ellipses, the
+    leaves in a row; `short_titles`, panel titles on several lines. Panels are side by side, in
+    order from the left."""
+
+    compact: bool = False
+    short_titles: bool = False      # a panel's title broken into lines at its `:`, `,` and `;`
 
 
-def _graph_header(name: str, rankdir: str) -> list[str]:
+# In order of preference: the paper's drawing first; the first one a screen can hold is drawn.
+LAYOUTS = (Layout(), Layout(compact=True), Layout(compact=True, short_titles=True))
+
+
+def _graph_header(name: str, layout: Layout) -> list[str]:
+    if layout.compact:
+        spacing, node = "nodesep=0.12, ranksep=0.2", 'shape=box, style=rounded, margin="0.06,0.03", fontsize=10'
+    else:
+        spacing, node = "nodesep=0.25, ranksep=0.4", "shape=ellipse, fontsize=11"
     return [f'digraph "{_dot_escape(name)}" {{',
-            f'  graph [rankdir={rankdir}, fontname="Helvetica", newrank=true, nodesep=0.25, ranksep=0.4, ordering=out];',
-            '  node [shape=ellipse, fontname="Helvetica", fontsize=11];',
+            f'  graph [rankdir=TB, fontname="Helvetica", newrank=true, {spacing}, ordering=out];',
+            f'  node [{node}, fontname="Helvetica"];',
             '  edge [arrowhead=none, color="#777777"];']
 
 
 def to_dot(root: Behaviour, name: str = "task", initial: frozenset | None = None) -> str:
     """Graphviz DOT: behaviours as ellipses, pre-conditions green, post-conditions blue; given
     the `initial` state, coloured as the paper's Figure 2 (active or not, pre true or not),
-    with a legend. A tree of many leaves is drawn left to right, a cluster per sub-task."""
-    rankdir = "LR" if _leaves(root) > LEFT_TO_RIGHT_LEAVES else "TB"
-    lines = _graph_header(name, rankdir)
-    lines.extend(dot_body(root, "n", initial, clusters=rankdir == "LR"))
-    if initial is not None:
-        lines.extend(_legend(initial, merged=any(n.k > 1 for n in walk(root)), aliased=False))
-    lines.append("}")
-    return "\n".join(lines) + "\n"
+    with a legend. A tree too wide for a screen is drawn compact (see choose_layout)."""
+    return choose_layout(name, [Panel("tree", "", root)], initial)[0]
 
 
-def compare_dot(original: Behaviour, compressed: Behaviour, name: str, propagate: str,
-                initial: frozenset | None = None, aliasing: Behaviour | None = None,
-                aliased: frozenset[int] = frozenset(), merged_aliased: frozenset[int] = frozenset(),
-                searched: str = "") -> str:
-    """The paper's Figure 2: the learned tree, the merge with perceptual aliasing (`aliasing`,
-    compressed with --propagate none, its `aliased` behaviours marked) when given, and the
-    merge with `propagate` (its own `merged_aliased` marked; `searched` says how far the
-    search for aliasing went when it stopped short); coloured in the `initial` state, with a legend."""
+def figure2_panels(original: Behaviour, compressed: Behaviour, propagate: str,
+                   initial: frozenset | None = None, aliasing: Behaviour | None = None,
+                   aliased: frozenset[int] = frozenset(), merged_aliased: frozenset[int] = frozenset(),
+                   searched: str = "") -> list[Panel]:
+    """The panels of the paper's Figure 2 (see compare_dot)."""
     panels = [Panel("original", f"(a) Learned symbolic representation: {count_nodes(original)} behaviours",
                     original)]
     if aliasing is not None:
@@ -168,26 +181,179 @@ def compare_dot(original: Behaviour, compressed: Behaviour, name: str, propagate
     panels.append(Panel("merged", f"({chr(ord('a') + len(panels))}) Merged Symbolic Representation "
                                   f"(propagate {propagate}): {count_nodes(compressed)} behaviours{shown}",
                         compressed, merged_aliased))
+    return panels
+
+
+def compare_dot(original: Behaviour, compressed: Behaviour, name: str, propagate: str,
+                initial: frozenset | None = None, aliasing: Behaviour | None = None,
+                aliased: frozenset[int] = frozenset(), merged_aliased: frozenset[int] = frozenset(),
+                searched: str = "") -> str:
+    """The paper's Figure 2: the learned tree, the merge with perceptual aliasing (`aliasing`,
+    compressed with --propagate none, its `aliased` behaviours marked) when given, and the
+    merge with `propagate` (its own `merged_aliased` marked; `searched` says how far the
+    search for aliasing went when it stopped short); coloured in the `initial` state, with a legend."""
+    panels = figure2_panels(original, compressed, propagate, initial, aliasing, aliased, merged_aliased,
+                            searched)
     return panels_dot(name, panels, initial)
 
 
 def panels_dot(name: str, panels: list[Panel], initial: frozenset | None = None) -> str:
-    """Trees side by side (top to bottom when large), each in its own cluster, and a legend."""
-    large = any(_leaves(p.tree) > LEFT_TO_RIGHT_LEAVES for p in panels)
-    lines = _graph_header(name, "LR" if large else "TB")
-    for i, panel in reversed(list(enumerate(panels))) if large else enumerate(panels):   # (a) on top
-        lines += [f"  subgraph cluster_{panel.key} {{",
-                  f'    label="{_dot_escape(panel.title)}"; labeljust=l; fontsize=14; color="#bbbbbb";']
-        lines.extend("  " + line for line in dot_body(panel.tree, f"p{i}_", initial, panel.aliased, clusters=large))
-        lines.append("  }")
-    if initial is not None or any(p.aliased for p in panels):
+    """Trees side by side, each in its own cluster, in the first layout a screen can hold
+    (choose_layout), and a legend."""
+    return choose_layout(name, panels, initial)[0]
+
+
+def page_dot(name: str, panels: list[Panel], initial: frozenset | None, layout: Layout) -> str:
+    """One picture of `panels` laid out as `layout`: each titled panel in its own cluster,
+    in order from the left, and a legend."""
+    lines = _graph_header(name, layout)
+    for i, panel in enumerate(panels):
+        prefix = f"p{i}_" if panel.title else "n"
+        body = dot_body(panel.tree, prefix, initial, panel.aliased, layout.compact, panel.focus, panel.depth,
+                        dict(panel.pages))
+        if panel.title:
+            title = (f"<{_title_lines(panel.title)}>" if layout.short_titles
+                     else f'"{_dot_escape(panel.title)}"')
+            lines += [f"  subgraph cluster_{panel.key} {{",
+                      f'    label={title}; labeljust=l; fontsize=12; color="#bbbbbb";']
+            lines.extend("  " + line for line in body)
+            lines.append("  }")
+        else:
+            lines.extend(body)
+    legend = initial is not None or any(p.aliased for p in panels)
+    if legend or any(p.pages for p in panels):
         lines.extend(_legend(initial, merged=any(n.k > 1 for p in panels for n in walk(p.tree)),
-                             aliased=any(p.aliased for p in panels)))
+                             aliased=any(p.aliased for p in panels), cut=any(p.pages for p in panels)))
     lines.append("}")
     return "\n".join(lines) + "\n"
 
 
-def _legend(initial: frozenset | None, merged: bool, aliased: bool) -> list[str]:
+def _title_lines(title: str) -> str:
+    """A panel's title as an HTML label, a line after each `: `, `, ` and `; `."""
+    parts = title.replace(": ", ":\n").replace(", ", ",\n").replace("; ", ";\n").split("\n")
+    return "".join(f'{_dot_escape(part)}<br align="left"/>' for part in parts)
+
+
+def _shown(panel: Panel) -> list[int]:
+    """The pre-order indices of the behaviours a panel draws."""
+    nodes = list(walk(panel.tree))
+    position = {id(node): i for i, node in enumerate(nodes)}
+    shown, stack = [], [(nodes[panel.focus], 0)]
+    while stack:
+        node, level = stack.pop()
+        shown.append(position[id(node)])
+        if panel.depth is None or level < panel.depth:
+            stack.extend((child, level + 1) for child in reversed(node.children))
+    return shown
+
+
+def _children(nodes: list[Behaviour], i: int) -> list[int]:
+    """The pre-order indices of the children of the behaviour at pre-order index `i`."""
+    found, j = [], i + 1
+    for child in nodes[i].children:
+        found.append(j)
+        j += count_nodes(child)
+    return found
+
+
+def choose_layout(name: str, panels: list[Panel], initial: frozenset | None = None) -> tuple[str, bool]:
+    """The DOT of `panels` in the first of LAYOUTS that a screen holds with its text readable
+    (measured by dot: see graphviz.readable_on_screen), and True; else the one that shrinks
+    least, and False. Without `dot` (DOT text only), or past MEASURED_NODES behaviours, the
+    compact layout, unmeasured."""
+    from .graphviz import drawing_size, readable_on_screen, screen_scale
+    import shutil
+
+    layouts = LAYOUTS
+    drawn = sum(len(_shown(p)) for p in panels)
+    if shutil.which("dot") is None or drawn > MEASURED_NODES:
+        return page_dot(name, panels, initial, layouts[-1]), False
+    best = None
+    for layout in layouts:
+        text = page_dot(name, panels, initial, layout)
+        width, height = drawing_size(text)
+        if readable_on_screen(width, height, CONDITION_POINTS):
+            return text, True
+        if best is None or screen_scale(width, height) > best[0]:
+            best = (screen_scale(width, height), text)
+    return best[1], False
+
+
+@dataclass(frozen=True)
+class Page:
+    """One picture of a split drawing: its DOT text and what it shows."""
+
+    dot: str
+    what: str
+
+
+def picture_pages(name: str, panels: list[Panel], initial: frozenset | None,
+                  page_name) -> list[Page]:
+    """The drawing of `panels` as pictures a screen can hold: one when it fits (choose_layout),
+    else an overview and the pictures it names, `page_name(k)` the k-th (k >= 1): the overview
+    draws each panel down to the deepest level at which it still fits, a sub-task cut there
+    naming its picture; that picture is each panel whole when there are several, else each
+    sub-task cut, split again the same way when it does not fit either."""
+    pages: list[Page | None] = []
+
+    def place(panels: list[Panel], what: str) -> int:
+        k = len(pages)
+        pages.append(None)
+        text, fits = choose_layout(name, panels, initial)
+        levels = max(depth(_subtree(p)) for p in panels)
+        if fits or levels <= 2:
+            pages[k] = Page(text, what)
+            return k
+        cut = 1
+        while cut + 1 < levels - 1 and choose_layout(name, [_cut(p, cut + 1, {}, page_name(999)) for p in panels],
+                                                     initial)[1]:
+            cut += 1
+        overview = []
+        for panel in panels:
+            if len(panels) > 1:           # the panel's title names the picture of it whole
+                target = page_name(place([replace(panel, depth=None, pages=())], panel.title))
+                overview.append(replace(_cut(panel, cut, {}, ""), title=f"{panel.title}; whole in {target}"))
+                continue
+            nodes = list(walk(panel.tree))
+            targets = {}
+            for i in _cut_points(panel, cut):
+                node = nodes[i]
+                head = panel.title.split(":")[0] + ", " if panel.title else ""
+                title = f"{head}{term_to_text(node.label)}: {count_nodes(node)} behaviours"
+                targets[i] = page_name(place([replace(panel, key=f"{panel.key}{i}", title=title, focus=i,
+                                                      depth=None, pages=())], title))
+            overview.append(_cut(panel, cut, targets, ""))
+        pages[k] = Page(choose_layout(name, overview, initial)[0], "overview")
+        return k
+
+    place(panels, "")
+    return pages
+
+
+def _subtree(panel: Panel) -> Behaviour:
+    return next(node for i, node in enumerate(walk(panel.tree)) if i == panel.focus)
+
+
+def _cut_points(panel: Panel, cut: int) -> list[int]:
+    """The pre-order indices of the sub-tasks `cut` levels below a panel's focus."""
+    deeper = replace(panel, depth=cut)
+    nodes = list(walk(panel.tree))
+    focus_level = _levels(panel.tree)
+    return [i for i in _shown(deeper) if nodes[i].children and focus_level[i] - focus_level[panel.focus] == cut]
+
+
+def _levels(root: Behaviour) -> list[int]:
+    return [level for _, level in walk_with_depth(root)]
+
+
+def _cut(panel: Panel, cut: int, targets: dict[int, str], every: str) -> Panel:
+    """The panel drawn `cut` levels deep, each sub-task cut there naming its picture (`targets`,
+    else `every`)."""
+    pages = tuple((i, targets.get(i, every)) for i in _cut_points(panel, cut))
+    return replace(panel, depth=cut, pages=pages)
+
+
+def _legend(initial: frozenset | None, merged: bool, aliased: bool, cut: bool = False) -> list[str]:
     """A legend node: what each colour and mark means."""
     state = ", ".join(sorted(term_to_text(a) for a in initial)) if initial else "nothing true"
     rows = [f'<tr><td colspan="2"><b>Legend</b> (colours in the initial state: {_dot_escape(state)})</td></tr>']
@@ -205,6 +371,9 @@ def _legend(initial: frozenset | None, merged: bool, aliased: bool) -> list[str]
         rows.append(f'<tr><td border="3" color="{ALIASED}"><font color="{ALIASED}">aliased</font></td>'
                     f'<td align="left">perceptual aliasing: enabled in a state where the original task '
                     f'enables none of its actions</td></tr>')
+    if cut:
+        rows.append('<tr><td><i>N below</i></td><td align="left">a sub-task whose N behaviours are drawn '
+                    'in the picture named (dashed outline)</td></tr>')
     table = "".join(rows)
     # The graph's own label, so it sits below every panel instead of widening a rank.
     return [f'  label=<<table border="1" cellborder="0" cellspacing="4" color="#bbbbbb">{table}</table>>;',
@@ -212,15 +381,22 @@ def _legend(initial: frozenset | None, merged: bool, aliased: bool) -> list[str]
 
 
 def dot_body(root: Behaviour, prefix: str, initial: frozenset | None = None,
-             aliased: frozenset[int] = frozenset(), clusters: bool = False) -> list[str]:
-    """The node and edge statements of a tree, ids starting with `prefix`; coloured in the
-    `initial` state when given, the behaviours at the pre-order indices `aliased` marked,
-    and with `clusters`, each sub-task of the root in a cluster of its own."""
+             aliased: frozenset[int] = frozenset(), compact: bool = False, focus: int = 0,
+             depth: int | None = None, pages: dict[int, str] | None = None) -> list[str]:
+    """The node and edge statements of a tree, ids `prefix` and the pre-order index; coloured
+    in the `initial` state when given, the behaviours at the pre-order indices `aliased`
+    marked; from the behaviour at index `focus`, `depth` levels down (None: all), a sub-task
+    cut there drawn dashed, naming the picture its behaviours are in (`pages`). `compact`:
+    the leaves of a sub-task in a column under it, in order from the top."""
     nodes = list(walk(root))
     live = _live(root, initial) if initial is not None else None
-    ids = {id(node): f"{prefix}{i}" for i, node in enumerate(nodes)}
+    position = {id(node): i for i, node in enumerate(nodes)}
+    pages = pages or {}
+    shown = _shown(Panel("", "", root, focus=focus, depth=depth))
+    drawn = set(shown)
     statements: list[str] = []
-    for i, node in enumerate(nodes):
+    for i in shown:
+        node = nodes[i]
         pre = cond.to_text(node.pre)
         pre_colour = "darkgreen" if initial is None else ACTIVE if cond.holds(node.pre, initial) else INACTIVE
         name = _dot_escape(term_to_text(node.label))
@@ -230,12 +406,20 @@ def dot_body(root: Behaviour, prefix: str, initial: frozenset | None = None,
         if i in aliased:
             title += f' <font color="{ALIASED}"><b>aliased</b></font>'
         label = (f"<{title}<br/><font color=\"{pre_colour}\">{_wrapped(pre)}</font>"
-                 f"<br/><font color=\"{POST_COLOUR if initial is not None else 'blue'}\" point-size=\"9\">"
-                 f"{_wrapped(cond.to_text(node.post))}</font>>")
-        attributes = [f"label={label}"]
+                 f"<br/><font color=\"{POST_COLOUR if initial is not None else 'blue'}\" "
+                 f"point-size=\"{CONDITION_POINTS}\">{_wrapped(cond.to_text(node.post))}</font>")
+        cut = node.children and not any(position[id(c)] in drawn for c in node.children)
+        if cut:
+            where = f": {_dot_escape(pages[i])}" if pages.get(i) else ""
+            label += (f'<br/><font point-size="{CONDITION_POINTS}"><i>{count_nodes(node) - 1} below'
+                      f'{where}</i></font>')
+        attributes = [f"label={label}>"]
         fill = MERGED_FILL if node.k > 1 else COMPOSITE_FILL if node.children else None
+        style = (["rounded"] if compact else []) + (["filled"] if fill else []) + (["dashed"] if cut else [])
+        if style:
+            attributes.append(f'style="{",".join(style)}"')
         if fill:
-            attributes.append(f'style=filled, fillcolor="{fill}"')
+            attributes.append(f'fillcolor="{fill}"')
         if node.k > 1:
             attributes.append("peripheries=2")
         if i in aliased:
@@ -243,26 +427,21 @@ def dot_body(root: Behaviour, prefix: str, initial: frozenset | None = None,
         elif live is not None:
             attributes.append(f'color="{ACTIVE if live[i] else INACTIVE}", penwidth=2')
         statements.append(f"  {prefix}{i} [{', '.join(attributes)}];")
-    if clusters and root.children:
-        # Each sub-task of the root in its own box, so a wide task reads one part at a time.
-        member = {id(root): None}
-        for k, child in enumerate(root.children):
-            for node in walk(child):
-                member[id(node)] = k
-        lines = [statements[0]]
-        for k, child in reversed(list(enumerate(root.children))):
-            lines.append(f"  subgraph cluster_{prefix}{k} {{")
-            lines.append(f'    label="{_dot_escape(term_to_text(child.label))}"; style=dashed; color="#cccccc";')
-            lines.extend("  " + statements[i] for i, node in enumerate(nodes) if member[id(node)] == k)
-            lines.append("  }")
-    else:
-        lines = statements
-    for node in nodes:
-        # Left to right, dot stacks a node's children from the bottom up: give them in reverse
-        # so the first sub-task reads at the top, as it comes first in the task.
-        for child in (reversed(node.children) if clusters else node.children):
-            lines.append(f"  {ids[id(node)]} -> {ids[id(child)]};")
-    return lines
+    for i in shown:
+        children = [position[id(c)] for c in nodes[i].children if position[id(c)] in drawn]
+        if compact and len(children) > 1 and not any(nodes[c].children for c in children):
+            # A comb: a spine down from the sub-task, a short branch to each leaf, in order.
+            above = f"{prefix}{i}"
+            for k, child in enumerate(children):
+                joint = f"{prefix}{i}_{k}"
+                statements += [f'  {joint} [shape=point, width=0.03, height=0.03, color="#777777", label=""];',
+                               f"  {{rank=same; {joint}; {prefix}{child};}}",
+                               f"  {above} -> {joint}{' [tailport=s]' if k == 0 else ''};",
+                               f"  {joint} -> {prefix}{child};"]
+                above = joint
+        else:
+            statements.extend(f"  {prefix}{i} -> {prefix}{child};" for child in children)
+    return statements
 
 
 def aliased_behaviours(original: Behaviour, compressed: Behaviour, initial: frozenset,
@@ -427,5 +606,6 @@ def tree_document(root: Behaviour, file: str = "<tree>", carried: list[Clause] =
 
 
 __all__ = ["node_json", "tree_json", "show_json", "rich_tree", "to_dot", "dot_body", "compare_dot", "Panel",
-           "panels_dot", "aliased_behaviours",
+           "panels_dot", "aliased_behaviours", "figure2_panels", "page_dot", "choose_layout", "picture_pages",
+           "Page", "Layout", "LAYOUTS",
            "tree_document", "carried_clauses", "origin_term", "STRUCTURE"]
