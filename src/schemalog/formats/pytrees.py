@@ -7,10 +7,10 @@
 The module holds the tree as data (NODES: one tuple (name, pre, post, steps, children) per
 behaviour, the root first, children as indices into NODES, so that no depth of tree nests the
 source deeper than Python's parser allows; conditions as ("lit", "hand.free"), ("not", c),
-("and", ...), ("or", ...), True, False) and builds it from py_trees' own composites: every behaviour is a Sequence(memory=False) of an
-`Active` guard (its pre-condition holds and its post-condition does not) and either a
-Selector(memory=False) over its children or, for a leaf, an `Act` that performs its actions,
-skipping those already accomplished. A behaviour returns SUCCESS exactly when it acted, so a
+("and", ...), ("or", ...), True, False) and builds it from py_trees' own composites: every
+behaviour is a Sequence(memory=False) of an `Active` guard (its pre-condition holds and its
+post-condition does not) and either a Selector(memory=False) over its children or, for a leaf,
+an `Act` that performs its actions, skipping those already accomplished. A behaviour returns SUCCESS exactly when it acted, so a
 Selector stops at the first child that acted: one tick is one decision, the first enabled
 leaf in tree order, the same order as the BT.CPP export (docs/formats.md).
 
@@ -31,6 +31,9 @@ from .btcpp import BtRun, steps_of
 from .quoting import Unquotable, python_literal
 
 _RUNTIME = '''
+import contextlib
+import sys
+
 import py_trees
 from py_trees.common import Status
 
@@ -94,21 +97,16 @@ def create_tree(holds, perform):
     return py_trees.trees.BehaviourTree(build(0, holds, perform))
 
 
+@contextlib.contextmanager
 def deep_enough():
     """A context in which py_trees can tick this tree: it ticks by recursion, a few frames a
     level, and a tree a few hundred levels deep needs more than Python's default limit."""
-    import contextlib
-    import sys
-
-    @contextlib.contextmanager
-    def raised():
-        saved = sys.getrecursionlimit()
-        sys.setrecursionlimit(max(saved, 8 * DEPTH + 1000))
-        try:
-            yield
-        finally:
-            sys.setrecursionlimit(saved)
-    return raised()
+    saved = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(saved, 8 * DEPTH + 1000))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(saved)
 
 
 def run(holds, perform, max_ticks=None):
