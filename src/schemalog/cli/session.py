@@ -23,7 +23,8 @@ from .toplevel import _Output, answer_text, answers, error_text, read_query, spl
 
 HELP = """\
 Enter a query, ending with '.'; it may span lines. After an answer, ';' asks for the
-next one (so do n, r, space and Tab) and Enter stops (so do '.', c, a and Escape).
+next one (so do n, r, space and Tab), Enter stops (so do '.', c, a and Escape) and h lists
+these keys; any other key is no input there.
 Ctrl-C stops a running query or command, Ctrl-D leaves.
 
   :load FILE       add a knowledge file (the workspace is rebuilt from all files)
