@@ -64,6 +64,20 @@ def test_repl_piped_transcript():
     assert "never" not in out
 
 
+def test_the_start_says_what_to_do_about_a_relation_the_files_define_too(tmp_path):
+    r = run("repl", "--plain", MIX, stdin="node(B, _), agent(B, gripper).\n")
+    note = next(line for line in r.stdout.splitlines() if "agent/2" in line)
+    assert note == ("note: your files define agent/2 too: agent(B, A) answers their clauses first, then "
+                    "schemalog's facts about behaviours; node(B, _), agent(B, A) asks for behaviours only "
+                    "(docs/queries.md)")
+    assert "?- node(B, _), agent(B, gripper).\nB = 4." in r.stdout        # the way it gives works
+    mine = tmp_path / "mine.pl"
+    mine.write_text("holds(x).\n")
+    r = run("repl", "--plain", MIX, mine, stdin="")
+    assert ("note: your files' clauses for holds/1 are not called: it is schemalog's relation here "
+            "(docs/queries.md); rename yours to call it") in r.stdout
+
+
 def test_repl_reads_several_queries_on_a_line_and_skips_comments():
     r = run("repl", "--plain", stdin="X = 1. Y = 2.\n% a comment\n/* another */\nZ = 3.\n;\n:tree 12\n:tree X\n:limit \u0661\n")
     assert r.returncode == 0, r.stdout
