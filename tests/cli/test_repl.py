@@ -57,6 +57,10 @@ def test_repl_piped_transcript():
     assert "% Bi = 12, Bm = 6, D = 3, RD = 0.67" in out
     assert "?- enabled(B), node(B, L).\nB = 14, L = a1_a2(spoon)." in out
     assert "% completed: use(spoon) is accomplished" in out
+    # :run's columns named, each row as schemalog run prints it
+    assert ("?- :run\n% run use(spoon), compressed tree, from hand.free (as schemalog run: decision, winner, "
+            "its emphasis e, runner-up, actions enabled)\n") in out
+    assert re.search(r"\n   1  a1_a2\(spoon\) +e 2 +runner-up - +1 enabled\n      - a1\(spoon\)\n", out), out
     assert "?- holds(spoon.used).\ntrue.\n" in out and "?- holds(spoon.used).\nfalse.\n" in out
     assert "syntax error" in out and "    ^" in out
     assert "step limit of 500 resolution steps exceeded" in out
