@@ -210,3 +210,8 @@ def test_a_key_that_is_no_action_at_the_more_prompt_says_so_and_is_not_input(tmu
     tmux.type("Y = 1.")            # the prompt starts empty: the keys were no input
     tmux.key("Enter")
     tmux.wait_for(r"Action\? \.", r"\?- Y = 1\.", r"Y = 1\.", PROMPT)
+    tmux.type("lists:append(X, Y, [a]).")
+    tmux.key("Enter")
+    tmux.wait_for(r"\?- lists:append\(X, Y, \[a\]\)\.",
+                  r"<query>:1:6: error: syntax error: unexpected ':': modules are not supported \(docs/queries\.md\)",
+                  r"    lists:append\(X, Y, \[a\]\)\.", r"         \^", PROMPT)

@@ -101,6 +101,21 @@ def test_query_exit_status_is_0_with_answers_1_without_2_on_errors():
     assert r.returncode == 2 and "no task nothing" in r.stderr
 
 
+def test_a_module_qualified_goal_is_said_to_be_unsupported_at_its_colon(tmp_path):
+    r = run("query", "lists:append(X, Y, [a])")
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr.splitlines() == [
+        "<query>:1:6: error: syntax error: unexpected ':': modules are not supported (docs/queries.md)",
+        "    lists:append(X, Y, [a])", "         ^"]
+    program = tmp_path / "mod.pl"
+    program.write_text("p :- true.\nq(X) :- lists : member(X, [a]).\n")
+    r = run("check", program)
+    assert r.returncode == 1 and f"{program}:2:15: error: syntax error: unexpected ':': modules are not " \
+        "supported (docs/queries.md)" in r.stderr
+    for other in ("X = a :: b", "X = :a"):          # a ':' that qualifies nothing: as before
+        assert "unknown operator or unbalanced quote?" in run("query", other).stderr
+
+
 def test_query_options_may_stand_between_files_and_query():
     r = run("query", MIX, "--state", "spoon.taken", "--first", "enabled(B), node(B, L)")
     assert (r.returncode, r.stdout) == (0, "B = 6, L = a3(cup)\n")
