@@ -714,7 +714,8 @@ def test_the_shipped_files_together_are_not_one_program():
     r = subprocess.run(["bash", "-c", f"{sys.executable} -m schemalog check kb/tasks/*.pl"],
                        capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert r.returncode == 1 and "Traceback" not in r.stderr and r.stdout == ""
-    assert r.stderr.startswith("kb/tasks/mix_with_spoon.pl:19:1: error: agent(gripper(_), ...) here")
+    assert r.stderr.startswith("kb/tasks/mix_with_spoon.pl:19:1: error: agent/2 for gripper(_) is defined in two "
+                               "files: agent(gripper(_), ...) here")
     assert "at kb/tasks/coffee_structure.pl:22:1" in r.stderr and len(r.stderr.splitlines()) == 1
 
 
@@ -744,8 +745,10 @@ def test_a_task_and_its_library_on_one_command_line(tmp_path):
         r = run(command, library, task, *(["true"] if command == "query" else []))
         # query's status for bad input is 2 (1 is "no answer")
         assert r.returncode == (2 if command == "query" else 1) and "Traceback" not in r.stderr, (command, r.stderr)
-        assert r.stderr.startswith(f"{task}:7:1: error: schema(gripper(close), ...) here and "
-                                   f"schema(gripper(close), ...) at {library}:2:1"), r.stderr
+        assert r.stderr.startswith(f"{task}:7:1: error: schema/3 for gripper(close) is defined in two files: "
+                                   f"schema(gripper(close), ...) here and schema(gripper(close), ...) at "
+                                   f"{library}:2:1; keep one, or, if both files are meant to define it, declare "
+                                   f"`:- multifile(gripper/1).` before this clause"), r.stderr
     task.write_text(":- multifile gripper/1.\n" + GRAB + "\nschema(gripper(close), [], hand.closed).\n")
     r = run("check", library, task)
     assert r.returncode == 0, r.stderr
@@ -763,6 +766,21 @@ def test_a_prolog_predicate_in_two_files_on_the_command_line(tmp_path):
     b.write_text(":- multifile colour/1.\nsize(big).\ncolour(blue).\n")
     r = run("query", a, b, "colour(C)")
     assert r.returncode == 0 and r.stdout.split() == ["C", "=", "red", "C", "=", "blue"], r.stdout
+
+
+def test_a_declaration_in_two_files_names_what_is_declared_twice_and_the_directive_for_it(tmp_path):
+    a, b = tmp_path / "a.pl", tmp_path / "b.pl"
+    a.write_text("agent(gripper(_), gripper).\n")
+    b.write_text("agent(gripper(_), gripper).\n")
+    r = run("check", a, b)
+    assert r.returncode == 1
+    assert r.stderr == (f"{b}:1:1: error: agent/2 for gripper(_) is defined in two files: agent(gripper(_), ...) "
+                        f"here and agent(gripper(_), ...) at {a}:1:1; keep one, or, if both files are meant to "
+                        f"define it, declare `:- multifile(agent/2).` before this clause (docs/syntax.md, "
+                        f"Several files)\n"), r.stderr
+    b.write_text(":- multifile(agent/2).\nagent(gripper(_), gripper).\n")     # what it says to do
+    r = run("check", a, b)
+    assert r.returncode == 0, r.stderr
 
 
 # -- --help: what a person reads before anything else -----------------------------------
