@@ -440,6 +440,19 @@ def test_verify_json_and_all_states():
     assert (data["sound"], data["complete"], data["states"]) == (True, True, 64)
 
 
+@pytest.mark.parametrize("method", ["auto", "explicit"])
+def test_verify_all_states_says_why_fewer_can_start_than_can_complete(method):
+    r = run("verify", COFFEE, "--states", "all", "--method", method)
+    assert r.returncode == 0, r.stdout + r.stderr
+    lines = r.stdout.splitlines()
+    assert ("completion: holds: no dead end that the original does not share; 40 of 64 initial state(s) can "
+            "complete, in both trees (12 of them done already: the task's post-condition holds there, no "
+            "action needed)") in lines
+    assert ("flexibility (diagnostic): holds: the original can start from 28 of 64 initial state(s), the "
+            "compressed tree from 28 of those; of the other 36, 12 are done already (nothing to start) and "
+            "24 enable no action of the task") in lines
+
+
 def test_verify_a_compressed_file_against_its_original(tmp_path):
     out = tmp_path / "pre.pl"
     assert run("compress", COFFEE, "--propagate", "pre", "-o", out).returncode == 0
