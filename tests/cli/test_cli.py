@@ -813,6 +813,13 @@ def test_every_positional_argument_of_every_command_is_described():
             assert " ".join(action.help.split()[:4]) in shown, (command, action.metavar)   # --help shows it
 
 
+def test_the_top_level_help_names_every_input_convert_reads():
+    shown = " ".join(run("--help").stdout.split())
+    assert ("convert convert knowledge: SEED, schema text, YAML or BT.CPP XML -> schema text, YAML or SEED"
+            in shown), shown
+    assert "BehaviorTree.CPP v4 tree (.xml)" in " ".join(run("convert", "--help").stdout.split())
+
+
 def test_the_two_jitter_defaults_are_stated_with_the_reason_for_two():
     from schemalog import defaults
 
