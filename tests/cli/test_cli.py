@@ -813,6 +813,19 @@ def test_every_positional_argument_of_every_command_is_described():
             assert " ".join(action.help.split()[:4]) in shown, (command, action.metavar)   # --help shows it
 
 
+@pytest.mark.parametrize("args", [("show", COFFEE), ("query", COFFEE, "node(B, L)"), ("run", COFFEE),
+                                  ("compress", COFFEE, "--json")], ids=lambda a: " ".join(map(str, a[::2])))
+def test_a_reader_that_stopped_early_gets_no_traceback(args):
+    read, write = os.pipe()
+    os.close(read)                       # `schemalog ... | head -1` once head has gone
+    try:
+        r = subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], stdout=write,
+                           stderr=subprocess.PIPE, text=True, cwd=ROOT, timeout=120)
+    finally:
+        os.close(write)
+    assert "Traceback" not in r.stderr and "BrokenPipeError" not in r.stderr, r.stderr
+
+
 def test_the_top_level_help_names_every_input_convert_reads():
     shown = " ".join(run("--help").stdout.split())
     assert ("convert convert knowledge: SEED, schema text, YAML or BT.CPP XML -> schema text, YAML or SEED"
