@@ -440,6 +440,19 @@ def test_verify_json_and_all_states():
     assert (data["sound"], data["complete"], data["states"]) == (True, True, 64)
 
 
+@pytest.mark.parametrize("method", ["auto", "explicit"])
+def test_verify_all_states_says_why_fewer_can_start_than_can_complete(method):
+    r = run("verify", COFFEE, "--states", "all", "--method", method)
+    assert r.returncode == 0, r.stdout + r.stderr
+    lines = r.stdout.splitlines()
+    assert ("completion: holds: no dead end that the original does not share; 40 of 64 initial state(s) can "
+            "complete, in both trees (12 of them done already: the task's post-condition holds there, no "
+            "action needed)") in lines
+    assert ("flexibility (diagnostic): holds: the original can start from 28 of 64 initial state(s), the "
+            "compressed tree from 28 of those; of the other 36, 12 are done already (nothing to start) and "
+            "24 enable no action of the task") in lines
+
+
 def test_verify_a_compressed_file_against_its_original(tmp_path):
     out = tmp_path / "pre.pl"
     assert run("compress", COFFEE, "--propagate", "pre", "-o", out).returncode == 0
@@ -714,7 +727,8 @@ def test_the_shipped_files_together_are_not_one_program():
     r = subprocess.run(["bash", "-c", f"{sys.executable} -m schemalog check kb/tasks/*.pl"],
                        capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert r.returncode == 1 and "Traceback" not in r.stderr and r.stdout == ""
-    assert r.stderr.startswith("kb/tasks/mix_with_spoon.pl:19:1: error: agent(gripper(_), ...) here")
+    assert r.stderr.startswith("kb/tasks/mix_with_spoon.pl:19:1: error: agent/2 for gripper(_) is defined in two "
+                               "files: agent(gripper(_), ...) here")
     assert "at kb/tasks/coffee_structure.pl:22:1" in r.stderr and len(r.stderr.splitlines()) == 1
 
 
@@ -744,8 +758,10 @@ def test_a_task_and_its_library_on_one_command_line(tmp_path):
         r = run(command, library, task, *(["true"] if command == "query" else []))
         # query's status for bad input is 2 (1 is "no answer")
         assert r.returncode == (2 if command == "query" else 1) and "Traceback" not in r.stderr, (command, r.stderr)
-        assert r.stderr.startswith(f"{task}:7:1: error: schema(gripper(close), ...) here and "
-                                   f"schema(gripper(close), ...) at {library}:2:1"), r.stderr
+        assert r.stderr.startswith(f"{task}:7:1: error: schema/3 for gripper(close) is defined in two files: "
+                                   f"schema(gripper(close), ...) here and schema(gripper(close), ...) at "
+                                   f"{library}:2:1; keep one, or, if both files are meant to define it, declare "
+                                   f"`:- multifile(gripper/1).` before this clause"), r.stderr
     task.write_text(":- multifile gripper/1.\n" + GRAB + "\nschema(gripper(close), [], hand.closed).\n")
     r = run("check", library, task, "--no-lint")     # multifile: the two files load as one program
     assert r.returncode == 0, r.stderr
@@ -767,6 +783,21 @@ def test_a_prolog_predicate_in_two_files_on_the_command_line(tmp_path):
     assert r.returncode == 0 and r.stdout.split() == ["C", "=", "red", "C", "=", "blue"], r.stdout
 
 
+def test_a_declaration_in_two_files_names_what_is_declared_twice_and_the_directive_for_it(tmp_path):
+    a, b = tmp_path / "a.pl", tmp_path / "b.pl"
+    a.write_text("agent(gripper(_), gripper).\n")
+    b.write_text("agent(gripper(_), gripper).\n")
+    r = run("check", a, b)
+    assert r.returncode == 1
+    assert r.stderr == (f"{b}:1:1: error: agent/2 for gripper(_) is defined in two files: agent(gripper(_), ...) "
+                        f"here and agent(gripper(_), ...) at {a}:1:1; keep one, or, if both files are meant to "
+                        f"define it, declare `:- multifile(agent/2).` before this clause (docs/syntax.md, "
+                        f"Several files)\n"), r.stderr
+    b.write_text(":- multifile(agent/2).\nagent(gripper(_), gripper).\n")     # what it says to do
+    r = run("check", a, b)
+    assert r.returncode == 0, r.stderr
+
+
 # -- --help: what a person reads before anything else -----------------------------------
 
 def test_every_positional_argument_of_every_command_is_described():
@@ -782,6 +813,26 @@ def test_every_positional_argument_of_every_command_is_described():
             assert action.help and len(action.help) > 10, (command, action.metavar)
             shown = " ".join(r.stdout.split("positional arguments:")[1].split("options:")[0].split())
             assert " ".join(action.help.split()[:4]) in shown, (command, action.metavar)   # --help shows it
+
+
+@pytest.mark.parametrize("args", [("show", COFFEE), ("query", COFFEE, "node(B, L)"), ("run", COFFEE),
+                                  ("compress", COFFEE, "--json")], ids=lambda a: " ".join(map(str, a[::2])))
+def test_a_reader_that_stopped_early_gets_no_traceback(args):
+    read, write = os.pipe()
+    os.close(read)                       # `schemalog ... | head -1` once head has gone
+    try:
+        r = subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], stdout=write,
+                           stderr=subprocess.PIPE, text=True, cwd=ROOT, timeout=120)
+    finally:
+        os.close(write)
+    assert "Traceback" not in r.stderr and "BrokenPipeError" not in r.stderr, r.stderr
+
+
+def test_the_top_level_help_names_every_input_convert_reads():
+    shown = " ".join(run("--help").stdout.split())
+    assert ("convert convert knowledge: SEED, schema text, YAML or BT.CPP XML -> schema text, YAML or SEED"
+            in shown), shown
+    assert "BehaviorTree.CPP v4 tree (.xml)" in " ".join(run("convert", "--help").stdout.split())
 
 
 def test_the_two_jitter_defaults_are_stated_with_the_reason_for_two():

@@ -57,11 +57,29 @@ def test_repl_piped_transcript():
     assert "% Bi = 12, Bm = 6, D = 3, RD = 0.67" in out
     assert "?- enabled(B), node(B, L).\nB = 14, L = a1_a2(spoon)." in out
     assert "% completed: use(spoon) is accomplished" in out
+    # :run's columns named, each row as schemalog run prints it
+    assert ("?- :run\n% run use(spoon), compressed tree, from hand.free (as schemalog run: decision, winner, "
+            "its emphasis e, runner-up, actions enabled)\n") in out
+    assert re.search(r"\n   1  a1_a2\(spoon\) +e 2 +runner-up - +1 enabled\n      - a1\(spoon\)\n", out), out
     assert "?- holds(spoon.used).\ntrue.\n" in out and "?- holds(spoon.used).\nfalse.\n" in out
     assert "syntax error" in out and "    ^" in out
     assert "step limit of 500 resolution steps exceeded" in out
     assert "use(spoon): proved" in out
     assert "never" not in out
+
+
+def test_the_start_says_what_to_do_about_a_relation_the_files_define_too(tmp_path):
+    r = run("repl", "--plain", MIX, stdin="node(B, _), agent(B, gripper).\n")
+    note = next(line for line in r.stdout.splitlines() if "agent/2" in line)
+    assert note == ("note: your files define agent/2 too: agent(B, A) answers their clauses first, then "
+                    "schemalog's facts about behaviours; node(B, _), agent(B, A) asks for behaviours only "
+                    "(docs/queries.md)")
+    assert "?- node(B, _), agent(B, gripper).\nB = 4." in r.stdout        # the way it gives works
+    mine = tmp_path / "mine.pl"
+    mine.write_text("holds(x).\n")
+    r = run("repl", "--plain", MIX, mine, stdin="")
+    assert ("note: your files' clauses for holds/1 are not called: it is schemalog's relation here "
+            "(docs/queries.md); rename yours to call it") in r.stdout
 
 
 def test_repl_reads_several_queries_on_a_line_and_skips_comments():

@@ -182,6 +182,36 @@ def test_keys_typed_ahead_of_an_answer_are_taken_in_order(tmux):
     tmux.type("member(X, [a, b]).")
     tmux.key("Enter")
     tmux.wait_for("X = a")
-    tmux.type("q")                 # no key of the "more?" prompt: the bell, the answer stays
+    tmux.type("q")                 # no key of the "more?" prompt: a hint, the answer stays
+    tmux.wait_for(r"\?- member\(X, \[a, b\]\)\.", "X = a", r"Unknown action: q \(h for help\)", r"Action\?")
     tmux.key("Escape")             # a lone Escape stops
-    tmux.wait_for(r"\?- member\(X, \[a, b\]\)\.", r"X = a\.", PROMPT)
+    tmux.wait_for(r"\?- member\(X, \[a, b\]\)\.", "X = a", r"Unknown action: q \(h for help\)", r"Action\? \.",
+                  PROMPT)
+
+
+def test_a_key_that_is_no_action_at_the_more_prompt_says_so_and_is_not_input(tmux):
+    tmux.start("tmux-256color", MIX)
+    tmux.wait_for(PROMPT)
+    tmux.type("member(X, [a, b, c]).")
+    tmux.key("Enter")
+    tmux.wait_for("X = a")
+    tmux.type("f")                 # the next query begun too early: said, not silently dropped
+    tmux.wait_for("X = a", r"Unknown action: f \(h for help\)", r"Action\?")
+    tmux.type("h")                 # h lists the keys
+    tmux.wait_for(r"Unknown action: f \(h for help\)", r"Action\?",
+                  r"Keys: ; n r space Tab: next answer \| Enter \. c a Escape: stop \| h \?: this help",
+                  r"Action\?")
+    tmux.key(";")
+    tmux.wait_for(r"Action\? ;", "X = b")
+    tmux.type("oo")
+    tmux.wait_for("X = b", r"Unknown action: oo \(h for help\)", r"Action\?")
+    tmux.key("Enter")
+    tmux.wait_for("X = b", r"Unknown action: oo \(h for help\)", r"Action\? \.", PROMPT)
+    tmux.type("Y = 1.")            # the prompt starts empty: the keys were no input
+    tmux.key("Enter")
+    tmux.wait_for(r"Action\? \.", r"\?- Y = 1\.", r"Y = 1\.", PROMPT)
+    tmux.type("lists:append(X, Y, [a]).")
+    tmux.key("Enter")
+    tmux.wait_for(r"\?- lists:append\(X, Y, \[a\]\)\.",
+                  r"<query>:1:6: error: syntax error: unexpected ':': modules are not supported \(docs/queries\.md\)",
+                  r"    lists:append\(X, Y, \[a\]\)\.", r"         \^", PROMPT)

@@ -66,8 +66,22 @@ def test_a_query_ends_at_its_full_stop(text, complete):
 def test_query_prints_every_answer_one_per_line():
     r = run("query", MIX, "sequential(X, Y), in_tree(X, _, original)")
     assert r.returncode == 0, r.stderr
-    assert r.stdout.splitlines() == ["X = 1, Y = 5", "X = 2, Y = 3", "X = 6, Y = 7", "X = 7, Y = 8",
-                                     "X = 8, Y = 9", "X = 9, Y = 10"]
+    assert r.stdout.splitlines() == [
+        "X = 1, Y = 5  % 1: subtask(take, spoon), 5: subtask(mix, spoon)", "X = 2, Y = 3  % 2: a1(spoon), 3: a2(spoon)",
+        "X = 6, Y = 7  % 6: a3(cup), 7: a4(cup)", "X = 7, Y = 8  % 7: a4(cup), 8: a5(cup)",
+        "X = 8, Y = 9  % 8: a5(cup), 9: a6(cup)", "X = 9, Y = 10  % 9: a6(cup), 10: a7(cup)"]
+
+
+def test_query_shows_a_behaviours_label_beside_its_id_in_text_and_bare_ids_in_json():
+    r = run("query", MIX, "sequential(X, Y)", "--first")
+    assert r.stdout == "X = 1, Y = 5  % 1: subtask(take, spoon), 5: subtask(mix, spoon)\n"
+    # a label the answer shows already is not repeated; a number that is no id gets none
+    r = run("query", MIX, "sequential(X, Y), node(X, L), length([a, b], N)", "--first")
+    assert r.stdout == "X = 1, Y = 5, L = subtask(take, spoon), N = 2  % 5: subtask(mix, spoon)\n"
+    r = run("query", MIX, "agent(B, gripper)")             # the file's own clause is no id
+    assert r.stdout.splitlines()[:2] == ["B = gripper(_)", "B = 4  % 4: gripper(close)"]
+    assert json.loads(run("query", MIX, "sequential(X, Y)", "--first", "--json").stdout) == [{"X": 1, "Y": 5}]
+    assert run("query", "X = 1").stdout == "X = 1\n"       # no task: no behaviours
 
 
 def test_query_json_over_several_files(tmp_path):
@@ -84,7 +98,7 @@ def test_query_json_over_several_files(tmp_path):
 
 
 def test_query_exit_status_is_0_with_answers_1_without_2_on_errors():
-    assert run("query", MIX, "next_action(B)", "--first").stdout == "B = 2\n"
+    assert run("query", MIX, "next_action(B)", "--first").stdout == "B = 2  % 2: a1(spoon)\n"
     r = run("query", MIX, "holds(spoon.used)")
     assert (r.returncode, r.stdout) == (1, "false\n")
     r = run("query", MIX, "sequential(X")
@@ -99,6 +113,21 @@ def test_query_exit_status_is_0_with_answers_1_without_2_on_errors():
     assert r.returncode == 2 and "no-such-file.pl" in r.stderr
     r = run("query", MIX, "X = 1", "--json", "--task", "nothing")
     assert r.returncode == 2 and "no task nothing" in r.stderr
+
+
+def test_a_module_qualified_goal_is_said_to_be_unsupported_at_its_colon(tmp_path):
+    r = run("query", "lists:append(X, Y, [a])")
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr.splitlines() == [
+        "<query>:1:6: error: syntax error: unexpected ':': modules are not supported (docs/queries.md)",
+        "    lists:append(X, Y, [a])", "         ^"]
+    program = tmp_path / "mod.pl"
+    program.write_text("p :- true.\nq(X) :- lists : member(X, [a]).\n")
+    r = run("check", program)
+    assert r.returncode == 1 and f"{program}:2:15: error: syntax error: unexpected ':': modules are not " \
+        "supported (docs/queries.md)" in r.stderr
+    for other in ("X = a :: b", "X = :a"):          # a ':' that qualifies nothing: as before
+        assert "unknown operator or unbalanced quote?" in run("query", other).stderr
 
 
 def test_query_options_may_stand_between_files_and_query():
@@ -132,7 +161,7 @@ def test_query_focus_options():
     assert r.stdout == "B = 4, L = gripper(close)\n"
     r = run("query", MIX, "enabled(B), node(B, L)", "--compressed")
     assert r.stdout == "B = 14, L = a1_a2(spoon)\n"
-    assert run("query", MIX, "enabled(B)", "--task", "12").stdout == "B = 14\n"   # a compressed root
+    assert run("query", MIX, "enabled(B)", "--task", "12").stdout == "B = 14  % 14: a1_a2(spoon)\n"   # a compressed root
     r = run("query", COFFEE, "next_action(B), node(B, L)", "--scene", ROOT / "kb" / "scenes" / "kitchen.yaml")
     assert r.returncode == 0 and r.stdout.startswith("B = ")
 

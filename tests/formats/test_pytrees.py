@@ -64,6 +64,22 @@ def test_module_runs_standalone_and_prints_its_tree(tmp_path):
     assert r.returncode == 0 and "a3(cup)" in r.stdout and "first that acts" in r.stdout
 
 
+def test_module_run_into_a_reader_that_stopped_ends_quietly_as_cat_does(tmp_path):
+    import os
+    import signal
+
+    original, initial = shipped(COFFEE, "prepareboth")
+    path = tmp_path / "tree.py"
+    path.write_text(export_pytrees(original, initial))
+    read, write = os.pipe()
+    os.close(read)                       # `python tree.py | head -5` once head has gone
+    try:
+        r = subprocess.run([sys.executable, str(path)], stdout=write, stderr=subprocess.PIPE, text=True, timeout=60)
+    finally:
+        os.close(write)
+    assert r.stderr == "" and r.returncode == -signal.SIGPIPE, r.stderr
+
+
 @settings(max_examples=30, deadline=None)
 @given(task_trees(max_children=4, levels=3))
 def test_every_action_py_trees_takes_is_an_enabled_leaf_of_the_original(tree):

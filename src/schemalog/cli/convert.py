@@ -1,4 +1,4 @@
-"""`schemalog convert FILE`: knowledge between SEED, schema text and YAML."""
+"""`schemalog convert FILE`: knowledge between SEED, schema text and YAML, and BT.CPP XML in."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ from .options import Parents
 def register(sub, parents: Parents) -> None:
     """Add `schemalog convert` and its arguments to the command line."""
     p = sub.add_parser("convert", parents=[parents.limits, parents.resources],
-                       help="convert knowledge: SEED or schema text or YAML -> schema text, YAML or SEED")
+                       help="convert knowledge: SEED, schema text, YAML or BT.CPP XML -> schema text, YAML "
+                            "or SEED")
     p.add_argument("input", metavar="FILE", help="the knowledge to convert: the authors' SEED format (.prolog), schema text (.pl), YAML (.yaml) or a BehaviorTree.CPP v4 tree (.xml)")
     p.add_argument("-o", "--output", help="output file; its suffix (.pl, .yaml, .prolog) picks the format")
     p.add_argument("--to", choices=["pl", "yaml", "seed"],

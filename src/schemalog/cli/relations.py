@@ -156,11 +156,11 @@ class Workspace:
         hidden = sorted(f"{name}/{arity}" for name, arity in user_defined
                         if (name, arity) in _COMPUTED and (name, arity) != ("sequential", 2) and views)
         # Said once at the REPL's start; `schemalog query` stays quiet (docs/queries.md says it).
-        self.clashes = "\n".join(
-            ([f"note: {', '.join(clashes)}: the files' clauses come first, then schemalog's facts "
-              f"about behaviours (docs/queries.md)"] if clashes else []) +
-            ([f"note: {', '.join(hidden)}: schemalog's built-in relations; the files' clauses for "
-              f"them are not called (docs/queries.md)"] if hidden else []))
+        self.clashes = "\n".join([*map(_clash_note, clashes)] +
+                                  ([f"note: your files' clauses for {', '.join(hidden)} are not called: "
+                                    f"{'these are' if len(hidden) > 1 else 'it is'} schemalog's relation{'s' if len(hidden) > 1 else ''} "
+                                    f"here (docs/queries.md); rename yours to call "
+                                    f"{'them' if len(hidden) > 1 else 'it'}"] if hidden else []))
         kb.add_facts(facts)
         if views:      # a relation without facts (no merge: merged/3) fails rather than raising
             for name, arity in RELATIONS:
@@ -361,6 +361,18 @@ def _tasks(kb: KnowledgeBase, notes: list[str]) -> list[Term]:
         notes.append(f"note: no task/1: taking {', '.join(term_to_text(r) for r in roots[:6])}"
                      f"{' ...' if len(roots) > 6 else ''} (schemas no other schema uses)")
     return roots
+
+
+def _clash_note(indicator: str) -> str:
+    """What a user can do about a relation the files define too: how to ask for behaviours only."""
+    name, arity = indicator.rsplit("/", 1)
+    template = RELATIONS[(name, int(arity))].partition(":")[0]
+    first = template[len(name) + 1:].split(",")[0].rstrip(")")
+    said = (f"note: your files define {indicator} too: {template} answers their clauses first, then "
+            f"schemalog's facts")
+    if first in ("B", "P", "C"):       # a behaviour: node/2 holds for behaviours only
+        return f"{said} about behaviours; node({first}, _), {template} asks for behaviours only (docs/queries.md)"
+    return f"{said} about tasks (docs/queries.md)"
 
 
 def _view_facts(view: TaskView, declare_task: bool) -> list[Term]:

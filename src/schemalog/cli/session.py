@@ -23,7 +23,8 @@ from .toplevel import _Output, answer_text, answers, error_text, read_query, spl
 
 HELP = """\
 Enter a query, ending with '.'; it may span lines. After an answer, ';' asks for the
-next one (so do n, r, space and Tab) and Enter stops (so do '.', c, a and Escape).
+next one (so do n, r, space and Tab), Enter stops (so do '.', c, a and Escape) and h lists
+these keys; any other key is no input there.
 Ctrl-C stops a running query or command, Ctrl-D leaves.
 
   :load FILE       add a knowledge file (the workspace is rebuilt from all files)
@@ -208,13 +209,19 @@ class Repl:
                      f"RD = {view.reduction_degree:.2f}")
 
     def run(self, view, kind: str) -> None:
+        """Run `view`'s tree from the current state, each decision as `schemalog run` prints it."""
+        from ..task.tree import walk
+        from .run import decision_lines
+
         ws = self.workspace
         ws.set_focus(view, kind)
         executive = ws.execute(view, kind, ws.state)
+        self.say(f"% run {term_to_text(view.task)}, {kind} tree, from {self._state_text()} "
+                 f"(as schemalog run: decision, winner, its emphasis e, runner-up, actions enabled)")
+        width = min(40, max(len(n.name) for n in walk(view.tree(kind))))
         for d in executive.decisions:
-            done = ", ".join(term_to_text(a) for a in d.executed) or "-"
-            failed = f"  FAILED {term_to_text(d.failed)}" if d.failed is not None else ""
-            self.say(f"{d.index:>4}  {term_to_text(d.behaviour)}  (e = {d.emphasis:.3g}; {done}){failed}")
+            for line in decision_lines(d, width):
+                self.say(line)
         ws.state = executive.world.atoms
         self.say(f"% {executive.outcome.status.name.lower()}: {executive.outcome.reason}")
 

@@ -83,10 +83,13 @@ def prompts(workspace: Workspace) -> tuple[Callable[[], str], Callable[[], bool]
 
 
 # The keys of the "more?" prompt, as SWI-Prolog's top level takes them: True asks for the next
-# answer, False stops. Any other key rings the bell; a cursor-position report is no key.
+# answer, False stops. h and ? list them; any other key is said to be no action (SWI-Prolog's
+# "Unknown action: f (h for help)") and is not taken as input. A cursor-position report is no key.
 MORE_KEYS = {";": True, "n": True, "r": True, " ": True, "c-i": True,
              "c-m": False, "c-j": False, ".": False, "c": False, "a": False, "escape": False,
              "c-c": False, "c-d": False}
+HELP_KEYS = ("h", "?")
+MORE_HELP = "Keys: ; n r space Tab: next answer | Enter . c a Escape: stop | h ?: this help"
 
 
 def more_answers(input_obj=None) -> bool:
@@ -95,7 +98,8 @@ def more_answers(input_obj=None) -> bool:
     Not a prompt_toolkit application: one assumes it starts at column 0, and once the terminal
     answers its cursor-position request it reserves the rows below with CR-LFs, moves back up
     and erases to the end of the screen: the answer on the cursor's line was erased.
-    Nothing is written here; the caller ends the answer's line (" ;" or ".").
+    The caller ends the answer's line (" ;" or "."); a key that is no action gets a line
+    of its own and "Action?", which that " ;" or " ." then ends, as in SWI-Prolog.
     """
     import codecs
     import select
@@ -117,17 +121,40 @@ def more_answers(input_obj=None) -> bool:
     quiet[3] &= ~(termios.ICANON | termios.ECHO | termios.ISIG | termios.IEXTEN)
     quiet[6] = list(saved[6])
     quiet[6][termios.VMIN], quiet[6][termios.VTIME] = 1, 0
+    asked = False            # whether "Action?" ends the line: a stop's "." then needs a space
+
+    def say(text: str) -> None:
+        nonlocal asked
+        os.write(sys.stdout.fileno(), f"\n{text}\nAction?".encode("utf-8", "replace"))
+        asked = True
+
     try:
         termios.tcsetattr(fd, termios.TCSANOW, quiet)
         while True:
+            unknown: list[str] = []
             for i, key in enumerate(keys):
-                verdict = MORE_KEYS.get(_key_name(key))
-                if verdict is not None:
-                    if input_obj is not None:
-                        store_typeahead(input_obj, keys[i + 1:])
-                    return verdict
-            if any(_key_name(k) != "<cursor-position-response>" for k in keys):
-                os.write(sys.stdout.fileno(), b"\a")
+                name = _key_name(key)
+                verdict = MORE_KEYS.get(name)
+                if name == "<cursor-position-response>":
+                    continue
+                if name in HELP_KEYS:
+                    if unknown:
+                        say(_unknown(unknown))
+                        unknown = []
+                    say(MORE_HELP)
+                    continue
+                if verdict is None:
+                    unknown.append(key.data if len(key.data) == 1 and key.data.isprintable() else f"<{name}>")
+                    continue
+                if unknown:
+                    say(_unknown(unknown))
+                if input_obj is not None:
+                    store_typeahead(input_obj, keys[i + 1:])
+                if asked and not verdict:
+                    os.write(sys.stdout.fileno(), b" ")
+                return verdict
+            if unknown:
+                say(_unknown(unknown))
             keys.clear()
             # a lone escape is a key only when nothing follows it soon (else a sequence begins)
             if not select.select([fd], [], [], 0.05)[0]:
@@ -147,6 +174,11 @@ def more_answers(input_obj=None) -> bool:
             termios.tcsetattr(fd, termios.TCSANOW, saved)
         except (OSError, termios.error):
             pass
+
+
+def _unknown(keys: list[str]) -> str:
+    """The hint for keys of the "more?" prompt that are no action (typed together: one line)."""
+    return f"Unknown action: {''.join(keys)} (h for help)"
 
 
 def _key_name(key) -> str:

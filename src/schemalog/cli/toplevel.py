@@ -24,7 +24,7 @@ from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..logic.parse import parse_term
 from ..logic.terms import Atom, Float, Int, Struct, Term, Var, iter_vars, term_to_text, variable_names
 from ..logic.unify import Bindings
-from .relations import Workspace
+from .relations import COMPRESSED, ORIGINAL, Workspace
 
 
 @dataclass(frozen=True)
@@ -173,6 +173,63 @@ def answers(workspace: Workspace, query: Query, output: Callable[[str], None] | 
         yield answer_of(query, b), engine.deterministic
 
 
+# Where the relations take a behaviour's id: (name, arity) -> argument positions.
+BEHAVIOUR_ARGUMENTS = {
+    ("original", 2): (1,), ("compressed", 2): (1,), ("in_tree", 3): (0,), ("node", 2): (0,),
+    ("child", 2): (0, 1), ("parent", 2): (0, 1), ("depth", 2): (0,), ("leaf", 1): (0,), ("kind", 2): (0,),
+    ("pre", 2): (0,), ("entry", 2): (0,), ("post", 2): (0,), ("agent", 2): (0,), ("objects", 2): (0,),
+    ("k", 2): (0,), ("sequential", 2): (0, 1), ("merged", 3): (1,), ("enabled", 1): (0,),
+    ("emphasis", 2): (0,), ("next_action", 1): (0,),
+}
+_CONTROL = {(",", 2), (";", 2), ("->", 2), ("*->", 2), ("\\+", 1), ("not", 1), ("call", 1)}
+
+
+def behaviour_variables(query: Query) -> list[str]:
+    """The query's variables that name behaviours (an argument of a relation that takes an id)
+    and whose label the answer does not already show (no node(B, L) with L reported), in order."""
+    reported = {v for _, v in query.names}
+    ids: dict[Var, None] = {}
+    shown: set[Var] = set()
+    stack = [query.goal]
+    while stack:
+        goal = stack.pop()
+        if not isinstance(goal, Struct):
+            continue
+        key = (goal.name, len(goal.args))
+        if key in _CONTROL:
+            stack.extend(reversed(goal.args))
+            continue
+        for i in BEHAVIOUR_ARGUMENTS.get(key, ()):
+            if isinstance(goal.args[i], Var):
+                ids.setdefault(goal.args[i], None)
+        if key == ("node", 2) and isinstance(goal.args[0], Var) and goal.args[1] in reported:
+            shown.add(goal.args[0])
+    return [name for name, v in query.names if v in ids and v not in shown]
+
+
+def behaviour_labels(workspace: Workspace) -> dict[int, Term]:
+    """Every behaviour's label by its id, as node/2 numbers them (pre-order, per tree)."""
+    from ..task.tree import walk
+
+    found: dict[int, Term] = {}
+    for view in workspace.views:
+        for kind in (ORIGINAL, COMPRESSED):
+            found.update((view.first(kind) + i, node.label) for i, node in enumerate(walk(view.tree(kind))))
+    return found
+
+
+def labels_comment(answer: Answer, variables: list[str], labels: dict[int, Term]) -> str:
+    """`  % 1: a1(spoon), 5: subtask(mix, spoon)`: the labels of the behaviours an answer names
+    by id, after it as a Prolog comment; "" when it names none."""
+    values = dict(answer.values)
+    said: dict[int, str] = {}
+    for name in variables:
+        value = values.get(name)
+        if isinstance(value, Int) and value.value in labels and value.value not in said:
+            said[value.value] = f"{value.value}: {term_to_text(labels[value.value], 999, next_argument=True)}"
+    return f"  % {', '.join(said.values())}" if said else ""
+
+
 # ---------------------------------------------------------------------------
 # schemalog query
 
@@ -187,6 +244,9 @@ def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: 
     found: list[dict] = []
     count = 0
     status = 0
+    # a behaviour's id gets its label beside it in text (JSON stays bare: join node/2 there)
+    named = [] if as_json or not workspace.views else behaviour_variables(query)
+    labels = behaviour_labels(workspace) if named else {}
     # In JSON mode what the query writes (write/1, format/2) goes to stderr: stdout is the list.
     shown = _Output(err.write if as_json else out.write)
     try:
@@ -196,7 +256,7 @@ def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: 
                 found.append(answer_json(answer))
             else:
                 shown.new_line()
-                shown.write(answer_text(answer) + "\n")
+                shown.write(answer_text(answer) + labels_comment(answer, named, labels) + "\n")
                 out.flush()
             if first:
                 break

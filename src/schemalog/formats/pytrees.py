@@ -125,6 +125,10 @@ def run(holds, perform, max_ticks=None):
 
 
 if __name__ == "__main__":
+    import signal
+
+    if hasattr(signal, "SIGPIPE"):   # a reader that stops early (| head) ends it quietly, as it ends cat
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     print(py_trees.display.unicode_tree(create_tree(lambda atom: atom in INITIAL, print).root))
 '''
 

@@ -310,10 +310,15 @@ class Definitions:
                  files clauses whose first arguments unify (the schema language's schema/3:
                  one sub-task, one file), unless that predicate, or the first argument's
                  own Name/Arity, is declared multifile.
-    shared:      every file adds to them (declarations whose union is meant)."""
+    shared:      every file adds to them (declarations whose union is meant).
+    by_unit:     by-argument predicates whose clash is best lifted by declaring the first
+                 argument's Name/Arity multifile (a schema defines its sub-task; declaring
+                 schema/3 would let every schema of every file overlap); for the others a
+                 clash suggests declaring the predicate itself (`:- multifile(agent/2).`)."""
 
     by_argument: frozenset[tuple[str, int]] = frozenset()
     shared: frozenset[tuple[str, int]] = frozenset()
+    by_unit: frozenset[tuple[str, int]] = frozenset()
 
 
 PROLOG = Definitions()   # plain Prolog: every predicate belongs to one file
@@ -482,12 +487,14 @@ class KnowledgeBase:
                 if clash is None:
                     continue
                 name, arity = key
-                what = f"{quote_atom(unit[0])}/{unit[1]}" if unit is not None else f"{name}/{arity}"
+                predicate = f"{quote_atom(name)}/{arity}"
+                declare = f"{quote_atom(unit[0])}/{unit[1]}" if unit is not None and key in \
+                    self.definitions.by_unit else predicate
                 rest = ", ..." if arity > 1 else ""
                 raise SchemalogError(
-                    f"{name}({_shown(arg)}{rest}) here and {name}({_shown(clash[0])}{rest}) at {clash[1]} "
-                    f"are in two files for the same {what}: one file defines it; keep one, or, if both "
-                    f"files are meant to, declare `:- multifile({what}).` before this clause "
+                    f"{predicate} for {_shown(arg)} is defined in two files: {name}({_shown(arg)}{rest}) "
+                    f"here and {name}({_shown(clash[0])}{rest}) at {clash[1]}; keep one, or, if both files "
+                    f"are meant to define it, declare `:- multifile({declare}).` before this clause "
                     f"(docs/syntax.md, Several files)", pos)
         defined = files.get(source)
         if defined is None:

@@ -438,6 +438,16 @@ def _source_line(text: str, line: int) -> str | None:
     return lines[line - 1] if 0 < line <= len(lines) else None
 
 
+def _module_colon(text: str, at: int) -> bool:
+    """Whether the ':' at `at` qualifies a goal by its module (`lists:append(...)`, `m : g`): a
+    ':' alone (not in a symbol run such as `::` or `:=`) right after a name, variable or bracket."""
+    after = text[at + 1:at + 2]
+    if text[at:at + 1] != ":" or (after and after in "+-*/\\^<>=~:?@#&$."):
+        return False
+    before = text[:at].rstrip()
+    return bool(before) and (before[-1].isalnum() or before[-1] in "_)]}'\"")
+
+
 def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogError:
     if isinstance(err, UnexpectedEOF) or isinstance(err, UnexpectedToken) and err.token.type == "$END":
         lines = text.rstrip("\n").split("\n")
@@ -451,7 +461,10 @@ def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogErr
     elif isinstance(err, UnexpectedCharacters):
         line, column = err.line, err.column
         char = text[err.pos_in_stream] if err.pos_in_stream < len(text) else "?"
-        message = f"syntax error: unexpected character {char!r} (unknown operator or unbalanced quote?)"
+        if _module_colon(text, err.pos_in_stream):
+            message = "syntax error: unexpected ':': modules are not supported (docs/queries.md)"
+        else:
+            message = f"syntax error: unexpected character {char!r} (unknown operator or unbalanced quote?)"
     else:  # pragma: no cover - lark has no other UnexpectedInput kinds
         line, column, message = getattr(err, "line", 1), getattr(err, "column", 1), str(err)
     return SchemalogError(message, SourcePos(file, line, column), _source_line(text, line))

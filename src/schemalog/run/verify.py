@@ -633,7 +633,13 @@ class Verifier:
         scope = "" if exhaustive else " (within the state limit: not a proof)"
         return Verdict("completion", True if exhaustive else None,
                        f"no dead end that the original does not share; {both} of {len(initial)} initial "
-                       f"state(s) can complete, in both trees{scope}")
+                       f"state(s) can complete, in both trees{self._already_done(initial)}{scope}")
+
+    def _already_done(self, initial) -> str:
+        """How many of the states that can complete are complete already, in words ("" if none)."""
+        done = sum(1 for s in initial if self.original.accomplished(s))
+        return (f" ({done} of them done already: the task's post-condition holds there, no action "
+                f"needed)") if done else ""
 
     def _flexibility(self, initial) -> Verdict:
         o, c = self.original, self.compressed
@@ -649,6 +655,12 @@ class Verifier:
         narrower = [r for r in startable if r["compressed"] and set(r["compressed"]) < set(r["original"])]
         summary = (f"the original can start from {len(startable)} of {len(rows)} initial state(s), the "
                    f"compressed tree from {len(startable) - len(blocked)} of those")
+        done = sum(1 for r in rows if r["done"] and not r["original"])
+        idle = len(rows) - len(startable) - done
+        if done or idle:      # why the others cannot start, so the count reads without docs
+            why = [f"{done} {'are' if done > 1 else 'is'} done already (nothing to start)"] if done else []
+            why += [f"{idle} {'enable' if idle > 1 else 'enables'} no action of the task"] if idle else []
+            summary += f"; of the other {len(rows) - len(startable)}, {' and '.join(why)}"
         if narrower:
             summary += f"; from {len(narrower)} it offers fewer first actions"
         if blocked:
@@ -1343,7 +1355,7 @@ def verify_symbolic(original: Behaviour, compressed: Behaviour, world: World, in
         else:
             props["completion"] = Verdict("completion", True, f"no dead end that the original does not share; "
                                           f"{sum(can_o)} of {len(initial)} initial state(s) can complete, in "
-                                          f"both trees")
+                                          f"both trees{v._already_done(initial)}")
     props["flexibility"] = v._flexibility(initial)
     props["traces"] = Verdict("traces", None, "not counted: the states were explored as sets, whose traces "
                                               "are not enumerated (--method explicit counts them)")

@@ -44,7 +44,8 @@ SCHEMA_LANGUAGE = Definitions(
     by_argument=frozenset({("schema", 3), ("behaviour", 1), ("task", 1), ("agent", 2), ("objects", 2),
                            ("origins", 2), ("task_origins", 2)}),
     shared=frozenset({("object", 1), ("initial", 1), ("free", 1), ("constraint", 1), ("no_merge", 1),
-                      ("action", 1)}))
+                      ("action", 1)}),
+    by_unit=frozenset({("schema", 3)}))
 
 
 def knowledge_base() -> KnowledgeBase:
