@@ -99,3 +99,11 @@ def test_no_syntax_error_names_a_grammar_terminal(text):
             read(text)
         except SchemalogError as err:
             assert set(expected_words(err.message)) <= WORDS, err.message
+
+
+def test_a_single_sided_unification_rule_is_refused_naming_it():
+    # issue 37: SWI-Prolog's Head => Body rules are out of scope; say so, not "unbalanced quote?"
+    with pytest.raises(SchemalogError) as err:
+        parse_text("p(X) => X = 1.\n", "r.pl")
+    assert (err.value.pos.line, err.value.pos.column) == (1, 6)
+    assert "single-sided unification rules (Head => Body) are not supported" in err.value.message

@@ -463,6 +463,10 @@ def _error_from_lark(err: UnexpectedInput, text: str, file: str) -> SchemalogErr
         char = text[err.pos_in_stream] if err.pos_in_stream < len(text) else "?"
         if _module_colon(text, err.pos_in_stream):
             message = "syntax error: unexpected ':': modules are not supported (docs/queries.md)"
+        elif text.startswith("=>", err.pos_in_stream) and text[err.pos_in_stream + 2:err.pos_in_stream + 3] not in \
+                "+-*/\\^<>=~:?@#&$.":
+            message = ("syntax error: unexpected '=>': SWI-Prolog's single-sided unification rules "
+                       "(Head => Body) are not supported (docs/syntax.md); write Head :- Body")
         else:
             message = f"syntax error: unexpected character {char!r} (unknown operator or unbalanced quote?)"
     else:  # pragma: no cover - lark has no other UnexpectedInput kinds
