@@ -152,16 +152,26 @@ def _explain(ball: Term) -> str:
         if name == "evaluation_error" and len(args) == 1:
             return f"{text}\n  arithmetic: {term_to_text(args[0])}"
         if name == "resource_error" and len(args) == 1:
-            return f"{text}\n  {RESOURCES.get(term_to_text(args[0]), 'resource: ' + term_to_text(args[0]))}"
+            return f"{text}\n  {_resource_words(term_to_text(args[0]))}"
     return text
 
 
-# What each resource error means here, and the limit behind it.
-RESOURCES = {
-    "memory": "out of memory: raise the ceiling with --max-memory or SCHEMALOG_MAX_MEMORY",
-    "stack": (f"an integer result would exceed {defaults.MAX_INTEGER_BITS:,} bits (a fixed limit, "
-              f"as swipl's 1 GB stack is: docs/syntax.md)"),
-}
+def _resource_words(resource: str) -> str:
+    """What a resource error means here, and the limit behind it: for memory the ceiling in
+    force as the error is told (--max-memory's, not the default, when that option set it)."""
+    if resource == "memory":
+        from .limits import ceiling_in_force, size_text
+
+        ceiling = ceiling_in_force()
+        if ceiling is None:
+            return f"out of memory (no ceiling was set: the system refused more; set one with --max-memory " \
+                   f"or {defaults.MEMORY_ENV})"
+        return (f"out of memory: the ceiling is {size_text(ceiling)} (raise it with --max-memory or "
+                f"{defaults.MEMORY_ENV}, or set it to off)")
+    if resource == "stack":
+        return (f"an integer result would exceed {defaults.MAX_INTEGER_BITS:,} bits (a fixed limit, "
+                f"as swipl's 1 GB stack is: docs/syntax.md)")
+    return f"resource: {resource}"
 
 
 def answers(workspace: Workspace, query: Query, output: Callable[[str], None] | None = None,
