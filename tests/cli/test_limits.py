@@ -59,6 +59,46 @@ def test_a_time_limit_during_a_write_leaves_no_file(tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+def test_bench_stopped_by_its_time_limit_leaves_no_folder_it_made(tmp_path):
+    # issue 32: `bench --quick --out res --timeout 1` left an empty res/ behind
+    r = run("bench", "--quick", "--out", "res/deeper", "--timeout", 1, cwd=tmp_path)
+    assert r.returncode == 124 and "time limit of 1 s exceeded" in r.stderr and clean(r), r.stderr
+    assert os.listdir(tmp_path) == []
+
+
+# The measuring made instant and the results' writing stopped half way: one file written, the
+# figures still to come when the time runs out.
+BENCH_STOPPED_WHILE_WRITING = """
+import sys, time
+import schemalog.evaluate.bench as bench
+bench.run_bench = lambda plan, report=None: None
+def write_results(results, out, command):
+    (out / "results.csv").write_text("new\\n")
+    (out / "figure4.png").write_bytes(b"half")
+    time.sleep(60)
+bench.write_results = write_results
+from schemalog.cli.main import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_bench_stopped_by_its_time_limit_leaves_a_folder_that_was_there_as_it_was(tmp_path):
+    (tmp_path / "res").mkdir()
+    (tmp_path / "res" / "results.csv").write_text("old\n")
+    for r in (run("bench", "--quick", "--out", "res", "--timeout", 1, cwd=tmp_path),      # while measuring
+              python(BENCH_STOPPED_WHILE_WRITING, "bench", "--quick", "--out", "res", "--timeout", 3,
+                     cwd=tmp_path)):                                                  # while writing
+        assert r.returncode == 124 and clean(r), r.stderr
+        assert os.listdir(tmp_path) == ["res"] and os.listdir(tmp_path / "res") == ["results.csv"]
+        assert (tmp_path / "res" / "results.csv").read_text() == "old\n"
+
+
+def test_bench_stopped_while_writing_leaves_no_folder_it_made(tmp_path):
+    r = python(BENCH_STOPPED_WHILE_WRITING, "bench", "--quick", "--out", "new/res", "--timeout", 3, cwd=tmp_path)
+    assert r.returncode == 124 and clean(r), r.stderr
+    assert os.listdir(tmp_path) == []
+
+
 # A handler that catches every Exception, as library code may, around a loop that never ends.
 SWALLOWING = """
 import sys
