@@ -57,6 +57,15 @@ def shown_name(name: str, most: int = 160) -> str:
     return f"{name[:half]}...{name[-half:]} (a name of {len(name):,} characters)"
 
 
+def shown_number(text: str, most: int = 40) -> str:
+    """A number's text as a message shows it: whole, or its two ends and its count of digits
+    when it is too long to read (a 5,000-digit weight would bury the message)."""
+    if len(text) <= most:
+        return text
+    digits = sum(c.isdigit() for c in text)
+    return f"{text[:most // 2]}...{text[-10:]} ({digits:,} digits)"
+
+
 class CannotWrite(SchemalogError):
     """The system refused to write an output (a name too long, no permission, a full device):
     `cannot write FILE: reason`, exit status 1 (a name that cannot be a file is a UsageError)."""

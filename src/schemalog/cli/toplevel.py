@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import secrets
 import sys
 from dataclasses import dataclass
 from typing import Callable, Iterator, TextIO
@@ -22,7 +23,7 @@ from ..errors import SchemalogError
 from ..logic.builtins import compare_terms
 from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..logic.parse import parse_term
-from ..logic.terms import Atom, Float, Int, Struct, Term, Var, iter_vars, term_to_text, variable_names
+from ..logic.terms import Atom, Float, Int, Struct, Term, Var, int_text, iter_vars, term_to_text, variable_names
 from ..logic.unify import Bindings
 from .relations import Workspace
 
@@ -125,6 +126,29 @@ def answer_json(answer: Answer) -> dict:
     return out
 
 
+def json_text(answers: list[dict]) -> str:
+    """The answers as JSON (indented), every integer a JSON number written whole: json.dumps
+    writes integers with int.__repr__, which stops at Python's 4,300 digits (ValueError), so a
+    larger one is held by a placeholder string and written by int_text, as the text answer is."""
+    nonce = secrets.token_hex(8)
+    large: dict[str, int] = {}
+
+    def placeholder(value: int) -> str:
+        key = f"\0{nonce}:{len(large)}"
+        large[key] = value
+        return key
+
+    held = [{name: placeholder(v) if isinstance(v, int) and v.bit_length() > _REPR_BITS else v
+             for name, v in answer.items()} for answer in answers]
+    text = json.dumps(held, indent=2)
+    for key, value in large.items():
+        text = text.replace(json.dumps(key), int_text(value), 1)
+    return text
+
+
+_REPR_BITS = 13_000    # about 3,900 digits: int.__repr__ is safe below Python's limit of 4,300
+
+
 def error_text(err: BaseException, raise_limit: str = "--max-steps N") -> str:
     """An uncaught exception as the user should read it."""
     if isinstance(err, RecursionError):
@@ -215,7 +239,7 @@ def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: 
         print(error_text(e), file=err)
         status = 2
     if as_json:
-        out.write(json.dumps(found, indent=2) + "\n")
+        out.write(json_text(found) + "\n")
     elif count == 0 and status == 0:
         shown.new_line()
         shown.write("false\n")
