@@ -13,6 +13,7 @@ import json
 import sys
 from pathlib import Path
 
+from ..errors import readable_name
 from ..formats.documents import to_pl, to_yaml, write_atomically
 from ..formats.render import carried_clauses, rich_tree, show_json, to_dot, tree_document
 from ..logic.kb import KnowledgeBase
@@ -69,7 +70,7 @@ def emit_picture(dot: str, fmt: str, output: str, inputs: list[str], what: str |
     data = render(dot, fmt)
     write_atomically(output, data)
     if what is not None:
-        print(f"wrote {output}" + (f": {what}" if what else ""), file=sys.stderr)
+        print(f"wrote {readable_name(output)}" + (f": {what}" if what else ""), file=sys.stderr)
 
 
 def rendered(renderable, width: int = 120) -> str:

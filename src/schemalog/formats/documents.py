@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..inputs import check_yaml_nesting
-from ..errors import CannotWrite, SchemalogError, SourcePos
+from ..errors import READABLE, CannotWrite, SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from ..logic.fastread import parse_text
 from ..logic.parse import MAX_BYTES, Clause, Directive, read_source
@@ -377,7 +377,7 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
     never a partial file. A special file (FIFO, device) is written into instead (output_target)."""
     target = output_target(path)
     if target.in_place:
-        write_in_place(target.path, text if isinstance(text, bytes) else text.encode("utf-8"))
+        write_in_place(target.path, text if isinstance(text, bytes) else text.encode("utf-8", READABLE))
         return
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
@@ -388,7 +388,7 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
             with os.fdopen(fd, "wb") as handle:
                 handle.write(text)
         else:
-            with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            with os.fdopen(fd, "w", encoding="utf-8", errors=READABLE) as handle:
                 _write_text(handle, text)
         os.chmod(tmp, file_mode(target.path))
         os.replace(tmp, target.path)

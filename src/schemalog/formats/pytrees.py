@@ -138,7 +138,10 @@ def tree_data(root: Behaviour):
 def export_pytrees(tree: Behaviour, initial=(), title: str = "") -> str:
     """The source of a module that builds `tree` with py_trees 2.x and runs it."""
     leaves = sum(1 for n in walk(tree) if not n.children)
-    head = f'"""{title or "A task tree exported by schemalog"}, as a py_trees 2.x tree.\n\n' \
+    # The title names the input file: a backslash or a quote in its name must not end the
+    # docstring or start an escape Python refuses (b\N.pl, q""".pl).
+    title = (title or "A task tree exported by schemalog").replace("\\", "\\\\").replace('"', '\\"')
+    head = f'"""{title}, as a py_trees 2.x tree.\n\n' \
            '    create_tree(holds, perform) -> py_trees.trees.BehaviourTree   one tick, one decision\n' \
            '    run(holds, perform, max_ticks=None) -> "completed" | "stuck" | "tick limit"\n\n' \
            'holds(atom) is the robot\'s perception ("hand.free" -> bool); perform(action) executes\n' \
