@@ -4,7 +4,7 @@
     python benchmarks/fuzz.py --minutes 3 --probes queries knowledge --findings /tmp/fuzz-findings.md
 
 Runs the probes of tests/fuzz/test_fuzz_cli.py (PROBES: mutated knowledge, scenes, demonstrations,
-queries, odd command lines, the REPL on standard input, signals) with the long generators
+queries, odd command lines, hostile file names, the REPL on standard input, signals) with the long generators
 (SCHEMALOG_FUZZ=long: deep nesting, wide tasks, unlowered limits) and random seeds, in chunks of
 --chunk examples per probe, until the time is up. It never stops at a failure: each broken promise
 is reduced to a signature (its kind, numbers and names taken out) and kept once, with the
@@ -50,6 +50,8 @@ def main() -> int:
     parser.add_argument("--repro-dir", metavar="DIR",
                         help="write each distinct failure's whole reproducer here (reproducers in the report are cut)")
     args = parser.parse_args()
+    # Names that are not UTF-8 (the file-names probe) reach reproducers and messages as surrogates.
+    sys.stdout.reconfigure(errors="backslashreplace")
 
     from hypothesis import HealthCheck, Phase, given, seed, settings
 
@@ -102,7 +104,7 @@ def main() -> int:
                     line = f"[{time.monotonic() - start:6.0f} s] new failure in {name}: {problem}"
                     print(line, flush=True)
                     if args.findings:   # as it goes, for whoever reads the file while this runs
-                        with open(args.findings, "a", encoding="utf-8") as out:
+                        with open(args.findings, "a", encoding="utf-8", errors="backslashreplace") as out:
                             out.write(f"\n- long run (seed {first_seed}) {line}\n\n  ```sh\n  "
                                       + case.reproducer(600).replace("\n", "\n  ") + "\n  ```\n")
 
@@ -138,7 +140,7 @@ def main() -> int:
     text = "\n".join(report) + "\n"
     print(text)
     if args.findings:
-        with open(args.findings, "a", encoding="utf-8") as out:
+        with open(args.findings, "a", encoding="utf-8", errors="backslashreplace") as out:
             out.write("\n" + text)
     return 1 if failures else 0
 

@@ -1,8 +1,45 @@
-"""The one error type users see: a message with file:line:column and a caret."""
+"""The one error type users see: a message with file:line:column and a caret; and how file
+names are shown, in messages and in what is written (readable_name, the READABLE handler)."""
 
 from __future__ import annotations
 
+import codecs
+import os
 from dataclasses import dataclass
+
+# The encoding error handler every output of schemalog is written with (files, standard output
+# and error): what UTF-8 cannot hold is written as an escape, never an exception. It is only
+# ever met in a file name that is not UTF-8 (os.fsdecode keeps its bytes as lone surrogates)
+# or text made from one: the byte 0xff is written `\xff`, as readable_name shows it.
+READABLE = "schemalog-readable"
+
+
+def _escape(char: str) -> str:
+    """One character as the escape readable_name and READABLE write for it."""
+    code = ord(char)
+    if 0xDC80 <= code <= 0xDCFF:                      # a byte os.fsdecode could not decode
+        return f"\\x{code - 0xDC00:02x}"
+    return {"\n": "\\n", "\t": "\\t", "\r": "\\r"}.get(char) or (
+        f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}")
+
+
+def _readable(err: UnicodeError) -> tuple[str, int]:
+    if not isinstance(err, UnicodeEncodeError):
+        raise err
+    return "".join(_escape(c) for c in err.object[err.start:err.end]), err.end
+
+
+codecs.register_error(READABLE, _readable)
+
+
+def readable_name(name: str | bytes | os.PathLike) -> str:
+    """A file name as text any output can hold and a reader can follow back to the file: bytes
+    that are not UTF-8 as `\\xff`, control characters (a newline, an escape) as `\\n`, `\\x1b`,
+    so a name never breaks a message's line or a written file's comment, nor drives a terminal."""
+    text = os.fsdecode(name)
+    if text.isprintable():                            # nearly every name: as it is
+        return text
+    return "".join(c if c.isprintable() else _escape(c) for c in text)
 
 
 @dataclass(frozen=True, slots=True)
@@ -14,7 +51,7 @@ class SourcePos:
     column: int
 
     def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.column}"
+        return f"{readable_name(self.file)}:{self.line}:{self.column}"
 
 
 class SchemalogError(Exception):
@@ -50,11 +87,22 @@ class UsageError(SchemalogError):
 
 
 def shown_name(name: str, most: int = 160) -> str:
-    """A file name as a message shows it: whole, or its two ends when it is too long to read."""
+    """A file name as a message shows it (readable_name): whole, or its two ends when it is too
+    long to read."""
+    name = readable_name(name)
     if len(name) <= most:
         return name
     half = most // 2 - 10
     return f"{name[:half]}...{name[-half:]} (a name of {len(name):,} characters)"
+
+
+def shown_number(text: str, most: int = 40) -> str:
+    """A number's text as a message shows it: whole, or its two ends and its count of digits
+    when it is too long to read (a 5,000-digit weight would bury the message)."""
+    if len(text) <= most:
+        return text
+    digits = sum(c.isdigit() for c in text)
+    return f"{text[:most // 2]}...{text[-10:]} ({digits:,} digits)"
 
 
 class CannotWrite(SchemalogError):

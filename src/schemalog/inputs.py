@@ -1,6 +1,8 @@
 """Reading input files within a byte limit, whatever they are: regular files, FIFOs, devices.
 
     read_limited(path, max_bytes, label) -> bytes   at most max_bytes bytes, or an error naming the file
+    missing(path) -> bool                           whether nothing has that name (a name the system
+                                                    refuses, too long, is not missing: reading says why)
     check_yaml_nesting(text, file)                  refuse flow collections nested past MAX_YAML_NESTING
 
 Every reader of a user's file (knowledge files and consulted ones, scenes, demonstrations)
@@ -18,7 +20,7 @@ import stat
 import sys
 from pathlib import Path
 
-from .errors import SchemalogError, SourcePos
+from .errors import SchemalogError, SourcePos, shown_name
 
 # PyYAML's scanner keeps a possible simple key per open flow collection and revisits them
 # all at each token: 5,000 unclosed `{` cost ~20 s to refuse, and composing recurses per
@@ -38,7 +40,7 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
     reports: a FIFO, a device (/dev/zero) or a file that grows while it is read is read
     up to the limit and refused past it, never read into memory without end."""
     p = Path(path)
-    label = label or str(path)
+    label = label or shown_name(os.fspath(path))
     try:
         if stat.S_ISFIFO(os.stat(p).st_mode):      # opening it waits for a writer
             _note(f"reading {label}: waiting for input (a FIFO)")
@@ -65,6 +67,19 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
         raise SchemalogError(f"{label}: over the {size_text(max_bytes)} limit (reading stopped there; "
                              f"raise it with --max-bytes)")
     return data
+
+
+def missing(path: str | Path) -> bool:
+    """Whether no file has this name. A name the system refuses for another reason (longer than
+    NAME_MAX, a directory that cannot be searched) is not missing: reading it says why, where
+    Path.exists() would raise that OSError from wherever it was asked."""
+    try:
+        os.stat(path)
+    except (FileNotFoundError, NotADirectoryError):
+        return True
+    except (OSError, ValueError):
+        return False
+    return False
 
 
 def _read_at_most(handle, n: int, chunk: int = 1 << 20) -> bytes:

@@ -59,6 +59,46 @@ def test_a_time_limit_during_a_write_leaves_no_file(tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+def test_bench_stopped_by_its_time_limit_leaves_no_folder_it_made(tmp_path):
+    # issue 32: `bench --quick --out res --timeout 1` left an empty res/ behind
+    r = run("bench", "--quick", "--out", "res/deeper", "--timeout", 1, cwd=tmp_path)
+    assert r.returncode == 124 and "time limit of 1 s exceeded" in r.stderr and clean(r), r.stderr
+    assert os.listdir(tmp_path) == []
+
+
+# The measuring made instant and the results' writing stopped half way: one file written, the
+# figures still to come when the time runs out.
+BENCH_STOPPED_WHILE_WRITING = """
+import sys, time
+import schemalog.evaluate.bench as bench
+bench.run_bench = lambda plan, report=None: None
+def write_results(results, out, command):
+    (out / "results.csv").write_text("new\\n")
+    (out / "figure4.png").write_bytes(b"half")
+    time.sleep(60)
+bench.write_results = write_results
+from schemalog.cli.main import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_bench_stopped_by_its_time_limit_leaves_a_folder_that_was_there_as_it_was(tmp_path):
+    (tmp_path / "res").mkdir()
+    (tmp_path / "res" / "results.csv").write_text("old\n")
+    for r in (run("bench", "--quick", "--out", "res", "--timeout", 1, cwd=tmp_path),      # while measuring
+              python(BENCH_STOPPED_WHILE_WRITING, "bench", "--quick", "--out", "res", "--timeout", 3,
+                     cwd=tmp_path)):                                                  # while writing
+        assert r.returncode == 124 and clean(r), r.stderr
+        assert os.listdir(tmp_path) == ["res"] and os.listdir(tmp_path / "res") == ["results.csv"]
+        assert (tmp_path / "res" / "results.csv").read_text() == "old\n"
+
+
+def test_bench_stopped_while_writing_leaves_no_folder_it_made(tmp_path):
+    r = python(BENCH_STOPPED_WHILE_WRITING, "bench", "--quick", "--out", "new/res", "--timeout", 3, cwd=tmp_path)
+    assert r.returncode == 124 and clean(r), r.stderr
+    assert os.listdir(tmp_path) == []
+
+
 # A handler that catches every Exception, as library code may, around a loop that never ends.
 SWALLOWING = """
 import sys
@@ -114,8 +154,13 @@ def test_every_command_but_repl_takes_the_resource_options():
 
 RUNAWAY = "length(L, 100000000)"     # 100 million cells: gigabytes, far past the ceilings below
 UNSTEPPED = ("--max-steps", "1000000000000")   # so that memory, not the step budget, runs out first
-OUT_OF_MEMORY = ("error: uncaught exception: error(resource_error(memory),_)\n"
-                 "  out of memory: raise the ceiling with --max-memory or SCHEMALOG_MAX_MEMORY")
+
+
+def out_of_memory(ceiling):
+    """What an uncaught resource_error(memory) says: the ceiling in force, not the default."""
+    return ("error: uncaught exception: error(resource_error(memory),_)\n"
+            f"  out of memory: the ceiling is {ceiling} (raise it with --max-memory or SCHEMALOG_MAX_MEMORY, "
+            "or set it to off)")
 
 
 def test_a_runaway_term_is_refused_at_the_memory_ceiling():
@@ -123,12 +168,21 @@ def test_a_runaway_term_is_refused_at_the_memory_ceiling():
     # uncaught, the query ends with it as with any other error (exit 2).
     r = run("query", MIX, RUNAWAY, *UNSTEPPED, "--max-memory", "300M")
     assert r.returncode == 2 and clean(r), r.stderr
-    assert r.stderr.strip() == OUT_OF_MEMORY
+    assert r.stderr.strip() == out_of_memory("300 MiB")
     r = run("query", MIX, RUNAWAY, *UNSTEPPED, env={**ENV, "SCHEMALOG_MAX_MEMORY": "256MiB"})
-    assert r.returncode == 2 and r.stderr.strip() == OUT_OF_MEMORY and clean(r), r.stderr
+    assert r.returncode == 2 and r.stderr.strip() == out_of_memory("256 MiB") and clean(r), r.stderr
     r = run("query", MIX, f"catch({RUNAWAY}, error(resource_error(R), _), true)", *UNSTEPPED,
             "--max-memory", "256M")
     assert r.returncode == 0 and "R = memory" in r.stdout, (r.stdout, r.stderr)
+
+
+def test_the_ceiling_named_is_the_one_in_force_not_the_default():
+    # issue 32: the message named half of physical memory while --max-memory 200M was hit
+    r = run("query", MIX, "numlist(1, 100000000, L)", "--max-memory", "200M")
+    assert r.returncode in (1, 2) and clean(r), r.stderr
+    assert "200 MiB" in r.stderr and "GiB" not in r.stderr, r.stderr
+    r = run("query", MIX, "throw(error(resource_error(memory), _))", "--max-memory", "1.5G")
+    assert r.returncode == 2 and r.stderr.strip() == out_of_memory("1.5 GiB"), r.stderr
 
 
 def test_memory_running_out_outside_the_engine_names_the_ceiling(tmp_path):

@@ -62,18 +62,28 @@ class Case:
         shipped = {p.read_bytes(): p for p in SHIPPED}
         for name, data in made.items():
             if data in shipped:
-                lines.append(f"cp {shlex.quote(str(shipped[data]))} {shlex.quote(name)}")
+                lines.append(f"cp {shlex.quote(str(shipped[data]))} {shell_word(name)}")
                 continue
             text = repr(data)
             if len(text) > limit:
                 text = text[:limit] + "...(truncated)"
             lines.append(f"python3 -c 'import sys; open(sys.argv[1], \"wb\").write(eval(sys.argv[2]))' "
-                         f"{shlex.quote(name)} {shlex.quote(text)}")
-        command = "schemalog " + " ".join(shlex.quote(a) for a in self.argv)
+                         f"{shell_word(name)} {shlex.quote(text)}")
+        command = "schemalog " + " ".join(shell_word(a) for a in self.argv)
         if self.stdin:
             command = f"printf %s {shlex.quote(self.stdin.decode('utf-8', 'replace'))} | {command}"
         lines.append(command)
         return "\n".join(lines)
+
+
+def shell_word(word: str) -> str:
+    """`word` as a shell reads it back: quoted, or as $'...' with \\xNN escapes when it holds bytes
+    that are not UTF-8 (os.fsdecode's surrogates) or control characters, so that a reproducer
+    prints and pastes whole."""
+    if word.isprintable():
+        return shlex.quote(word)
+    return "$'" + "".join(chr(b) if 32 <= b < 127 and chr(b) not in "'\\" else f"\\x{b:02x}"
+                          for b in os.fsencode(word)) + "'"
 
 
 @dataclass(frozen=True)

@@ -284,3 +284,26 @@ ODD_VALUES = ["-1", "0", "1", "-0", "2", "1e309", "nan", "NaN", "inf", "-inf", "
 
 def odd_values(paths: list[str]):
     return st.sampled_from(ODD_VALUES + paths)
+
+
+# Pieces of file names that have broken commands: past NAME_MAX, bytes that are not UTF-8 (as
+# os.fsdecode gives them: lone surrogates), a leading dash, layout and control characters,
+# quotes and what ends a comment or a docstring in a written file, backslash escapes.
+NAME_PIECES = ["x" * 300, "\udcff", "\udcfe\udcc3", "-", "--", "\n", "\r", "\t", " ", "'", '"', '"""', "`",
+               "\\", "\\N", "\\x", "\x1b[2J", "\x7f", "\x01", "%", "<!--", "-->", "é", "日本", "\u202e", "$(x)", ";",
+               "*", "?", "[", "]", "{", "}", "#", ":", ",", "=", "."]
+
+
+@st.composite
+def file_names(draw, suffix: str = ".pl", long: bool = False):
+    """A hostile file name ending in `suffix`: pieces of NAME_PIECES around a stem, never `/` or
+    NUL (no file can have them) nor a leading `.` (the harness takes those for leftovers)."""
+    pieces = st.sampled_from(NAME_PIECES)
+    if long:
+        pieces = st.one_of(pieces, st.text(st.characters(blacklist_characters="/\x00",
+                                                         blacklist_categories=("Cs",)), max_size=8),
+                           st.binary(min_size=1, max_size=4).map(lambda b: b.decode("utf-8", "surrogateescape")))
+    parts = draw(st.lists(pieces, min_size=1, max_size=4 if long else 3))
+    name = "".join(parts[:1]) + "n" + "".join(parts[1:]) + suffix
+    name = name.replace("/", "_").replace("\x00", "_")
+    return "_" + name if name.startswith(".") else name

@@ -719,6 +719,99 @@ def kept(case, outcome, **_) -> list[str]:
     return violations(case, outcome)
 
 
+# --- hostile file names: inputs, outputs and scenes named with them ---------------------------
+
+# Every command given a file name (NAME) it reads or writes; {suffix} is the name's ending.
+NAMED_COMMANDS = {
+    "check": (["check", "NAME"], "input", ".pl"),
+    "lint": (["lint", "NAME", "--json"], "input", ".pl"),
+    "show": (["show", "NAME", "--format", "yaml", "-o", "out.yaml"], "input", ".pl"),
+    "compress": (["compress", "NAME", "-o", "out.pl"], "input", ".pl"),
+    "decompress": (["decompress", "NAME"], "input", ".pl"),
+    "run": (["run", "NAME", "--max-decisions", "300"], "input", ".pl"),
+    "verify": (["verify", "NAME", "--max-states", "300", "--json", "-o", "out.json"], "input", ".pl"),
+    "query": (["query", "NAME", "--max-steps", "20000", "sequential(X, Y)"], "input", ".pl"),
+    "convert": (["convert", "NAME", "-o", "out.pl"], "input", ".pl"),
+    "convert-seed": (["convert", "NAME", "--to", "seed", "-o", "out.prolog"], "input", ".pl"),
+    "export-btcpp": (["export", "NAME", "--to", "btcpp", "-o", "out.xml"], "input", ".pl"),
+    "export-py": (["export", "NAME", "--to", "py_trees", "-o", "out.py"], "input", ".pl"),
+    "simulate-demo": (["simulate-demo", "NAME", "--scene", "mix_with_spoon.yaml", "--rate", "5", "-o", "d.csv"],
+                      "input", ".pl"),
+    "run-scene": (["run", "mix_with_spoon.pl", "--scene", "NAME", "--max-decisions", "300"], "scene", ".yaml"),
+    "compress-out": (["compress", "mix_with_spoon.pl", "-o", "NAME"], "output", ".pl"),
+    "show-out": (["show", "mix_with_spoon.pl", "--json", "-o", "NAME"], "output", ".json"),
+    "generate-out": (["generate", "--depth", "2", "--children", "2", "-o", "NAME"], "output", ".pl"),
+    "export-out": (["export", "mix_with_spoon.pl", "--to", "py_trees", "-o", "NAME"], "output", ".py"),
+}
+
+
+@st.composite
+def named_cases(draw):
+    """(command, the hostile name, whether the named input exists)."""
+    command = draw(st.sampled_from(sorted(NAMED_COMMANDS)))
+    _, role, suffix = NAMED_COMMANDS[command]
+    return command, draw(m.file_names(suffix, long=LONG)), draw(st.booleans()) if role != "output" else False
+
+
+def _creatable(name: str) -> bool:
+    """Whether a file can have this name (NAME_MAX counts bytes)."""
+    return all(len(os.fsencode(part)) <= 255 for part in name.split("/"))
+
+
+def probe_file_names(case_):
+    command, name, exists = case_
+    argv, role, _ = NAMED_COMMANDS[command]
+    files = [shipped(MIX), shipped(MIX_SCENE)]
+    if exists and _creatable(name):
+        files.append((name, (MIX if role == "input" else MIX_SCENE).read_bytes()))
+    argv = [name if a == "NAME" else a for a in argv]
+    output = name if role == "output" and _creatable(name) else output_of(argv) if role != "output" else None
+    case = Case(tuple(argv), files=tuple(files), output=output)
+    return case, invoke(case, GUARD)
+
+
+def check_file_names(case, outcome, **_) -> list[str]:
+    """The promises, and for a name: what is written is UTF-8 and loads (a module, an XML
+    document) whatever the name it came from, and no control character of it reaches a terminal."""
+    found = violations(case, outcome)
+    for stream, text in (("stdout", outcome.stdout), ("stderr", outcome.stderr)):
+        if "\x1b" in text:
+            found.append(f"an escape character of the name reached {stream}")
+    data = outcome.output_after
+    if data is not None and outcome.status == 0:
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as err:
+            return found + [f"-o target is not UTF-8: {err}"]
+        if case.output.endswith(".py"):
+            import ast
+            try:
+                ast.parse(text)
+            except SyntaxError as err:
+                found.append(f"the exported module does not parse: {err.msg}")
+        elif case.output.endswith(".xml"):
+            import xml.etree.ElementTree as ElementTree
+            try:
+                ElementTree.fromstring(data)
+            except ElementTree.ParseError as err:
+                found.append(f"the exported XML does not parse: {err}")
+    return found
+
+
+FILE_NAMES = dict(case_=named_cases())
+
+
+@profile(30)
+@given(**FILE_NAMES)
+def test_hostile_file_names(case_):
+    """Names past NAME_MAX, not UTF-8, with a leading dash, newlines, quotes, `\"\"\"`, `--`, control
+    characters, as inputs, scenes and -o targets: a message or the work done, never a crash."""
+    case, outcome = probe_file_names(case_)
+    found = check_file_names(case, outcome)
+    assert not found, "\n".join([*found, f"exit status: {outcome.status}", f"stderr: {outcome.stderr[-1500:]}",
+                                 "reproduce with:", case.reproducer()])
+
+
 # name -> (the strategies of its arguments, the probe, the check): what benchmarks/fuzz.py runs.
 PROBES = {
     "knowledge": (KNOWLEDGE, probe_knowledge, kept),
@@ -731,4 +824,5 @@ PROBES = {
     "signals": (SIGNALS, probe_signals, check_signalled),
     "exports": (EXPORTS, probe_exports, export_kept),
     "includes": (INCLUDES, probe_includes, includes_kept),
+    "file-names": (FILE_NAMES, probe_file_names, check_file_names),
 }

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import argparse
 import os
+import shutil
 import sys
+import tempfile
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import SchemalogError, UsageError
@@ -44,10 +48,7 @@ def run(args: argparse.Namespace) -> int:
     """Reproduce the paper's evaluation (Sec. IV) beside py_trees; write tables and figures."""
     import dataclasses
 
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    from ..evaluate.bench import PAPER_PLAN, QUICK_PLAN, headlines, run_bench, steps, write_results
+    from ..evaluate.bench import PAPER_PLAN, QUICK_PLAN
 
     if args.runtimes:
         return _runtimes(args)
@@ -55,7 +56,20 @@ def run(args: argparse.Namespace) -> int:
     changes = {k: v for k, v in (("runs", args.runs), ("seed", args.seed), ("max_states", args.max_states),
                                  ("verify_seconds", args.verify_seconds)) if v is not None}
     plan = dataclasses.replace(plan, **changes)
-    out = _out_dir(args)
+    with _out_dir(args) as staged:
+        said = _measure(args, plan, staged)
+    print(said)                          # once the results are in --out, not before
+    return 0
+
+
+def _measure(args: argparse.Namespace, plan, out: Path) -> str:
+    """Run `plan`, write its results into `out` (--out's staging folder, _out_dir), and return
+    what to say about them."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from ..evaluate.bench import headlines, run_bench, steps, write_results
+
     console = Console(stderr=True)
     if console.is_terminal:              # a live bar, its line naming the part under way
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
@@ -82,22 +96,26 @@ def run(args: argparse.Namespace) -> int:
         written = write_results(results, out, command)
     except OSError as err:
         raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
-    print(f"bench --{plan.name}: {len(results.cells)} generated tasks x {plan.runs} runs, the coffee-and-tea "
-          f"task, {len(results.sizes)} sizes; {results.seconds:,.0f} s")
-    for line in headlines(results):
-        print(f"- {line}")
-    print("wrote " + ", ".join(str(p) for p in written))
-    return 0
+    return "\n".join([f"bench --{plan.name}: {len(results.cells)} generated tasks x {plan.runs} runs, the "
+                      f"coffee-and-tea task, {len(results.sizes)} sizes; {results.seconds:,.0f} s",
+                      *(f"- {line}" for line in headlines(results)),
+                      "wrote " + ", ".join(str(Path(args.out) / p.name) for p in written)])
 
 
 def _runtimes(args: argparse.Namespace) -> int:
     """`bench --runtimes`: the paper's grid in BT.CPP and py_trees (evaluate/runtimes.py)."""
-    import time
+    with _out_dir(args) as out:
+        said = _measure_runtimes(args, out)
+    print(said)                          # once the tables are in --out, not before
+    return 0
 
+
+def _measure_runtimes(args: argparse.Namespace, out: Path) -> str:
+    """Tick the grid's trees in both runtimes, write the tables into `out` (--out's staging
+    folder, _out_dir), and return what to say about them."""
     from ..evaluate.runtimes import PAPER_REDUCTIONS, PAPER_SHAPES, measure_runtimes, runtimes_csv, runtimes_markdown
     from ..formats.documents import write_atomically
 
-    out = _out_dir(args)
     started = time.perf_counter()
     total = len(PAPER_SHAPES) * len(PAPER_REDUCTIONS)
     done = [0]
@@ -113,23 +131,48 @@ def _runtimes(args: argparse.Namespace) -> int:
         write_atomically(out / "runtimes.md", table)
     except OSError as err:
         raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
-    print(table)
-    print(f"bench --runtimes: {len(rows)} trees, {time.perf_counter() - started:,.0f} s; wrote "
-          f"{out / 'runtimes.csv'}, {out / 'runtimes.md'}")
-    return 0
+    return (f"{table}\nbench --runtimes: {len(rows)} trees, {time.perf_counter() - started:,.0f} s; wrote "
+            f"{Path(args.out) / 'runtimes.csv'}, {Path(args.out) / 'runtimes.md'}")
 
 
-def _out_dir(args: argparse.Namespace) -> Path:
-    """--out, made and checked writable before anything is measured."""
+@contextmanager
+def _out_dir(args: argparse.Namespace) -> Iterator[Path]:
+    """--out, made and checked writable before anything is measured; the results are written
+    into a hidden folder inside it and moved in when the command ends well. A run stopped early
+    (--timeout, Ctrl-C, an error, memory) leaves --out as it found it: the folders it made are
+    removed, a folder that was there keeps its old results."""
     if not args.out.strip():             # Path('') is '.': the results would land among the user's files
         raise UsageError("--out needs a directory name (it is empty)")
     out = Path(args.out)
+    made = [p for p in (out, *out.parents) if not os.path.lexists(p)]   # innermost first
+    staging = None
     try:
-        out.mkdir(parents=True, exist_ok=True)
-    except FileExistsError:
-        raise UsageError(f"--out {args.out} is a file, not a directory") from None
-    except OSError as err:
-        raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
-    if not os.access(out, os.W_OK):
-        raise UsageError(f"--out {args.out}: the directory is not writable")
-    return out
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except FileExistsError:
+            raise UsageError(f"--out {args.out} is a file, not a directory") from None
+        except OSError as err:
+            raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
+        if not os.access(out, os.W_OK):
+            raise UsageError(f"--out {args.out}: the directory is not writable")
+        staging = Path(tempfile.mkdtemp(prefix=".bench-", suffix=".tmp", dir=out))
+        yield staging
+        for written in sorted(staging.iterdir()):
+            os.replace(written, out / written.name)
+        staging.rmdir()
+    except BaseException:
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)     # made by mkdtemp: only this run's files
+        _remove_made(made)
+        raise
+
+
+def _remove_made(made: list[Path]) -> None:
+    """Remove the folders this run made, innermost first; one that holds anything else stays."""
+    for folder in made:
+        try:
+            folder.rmdir()
+        except FileNotFoundError:        # never made: mkdir stopped before it
+            continue
+        except OSError:
+            return

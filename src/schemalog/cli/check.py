@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import gc
 
+from ..errors import readable_name
 from ..logic.terms import term_to_text
 from .options import TOGETHER, Parents
 
@@ -33,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
         read = {id(c): schema for c, schema in zip(clauses, check_schemas(kb))}
     schemas = len(read)
     tasks = choose_tasks(kb, args.task, every=True)
-    files = ", ".join(args.files)
+    files = ", ".join(map(readable_name, args.files))
     report = []
     trees = []
     for task in tasks:

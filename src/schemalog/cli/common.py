@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .. import defaults
-from ..errors import CannotWrite, SchemalogError, UsageError
+from ..errors import CannotWrite, SchemalogError, UsageError, readable_name
 from ..formats.documents import Document, output_target, read_document, write_atomically
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import parse_term
@@ -165,7 +165,7 @@ def emit(text: str, output: str | None, inputs: Iterable[str], what: str | None 
     check_output(output, inputs)
     write_atomically(output, text)
     if what is not None:
-        print(f"wrote {output}" + (f": {what}" if what else ""), file=sys.stderr)
+        print(f"wrote {readable_name(output)}" + (f": {what}" if what else ""), file=sys.stderr)
 
 
 def check_output(output: str | None, inputs: Iterable[str], option: str = "-o") -> None:

@@ -8,6 +8,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from .. import defaults
+from ..errors import readable_name
 from ..logic.terms import term_to_text
 from .options import TOGETHER, Parents, budget
 
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     elif fmt in ("pl", "yaml", "seed"):
         doc = tree_document(result.tree, carried=carried_clauses(kb))
         header = (f"Compressed by schemalog (Algorithm 1, propagate {result.propagate}) from "
-                  f"{', '.join(args.files)}, task {term_to_text(task)}.\n{figures}.\n"
+                  f"{', '.join(map(readable_name, args.files))}, task {term_to_text(task)}.\n{figures}.\n"
                   f"`schemalog decompress` restores the original tree from the origins/2 facts.")
         emit(written(doc, fmt, header), args.output, inputs, what)
     else:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..errors import readable_name
 from ..logic.terms import Struct, TRUE, term_to_text
 from .options import Parents
 
@@ -64,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         text = to_yaml(doc)
     else:
         origin = "the SEED long-term memory" if doc.seed else ""
-        header = f"Converted by schemalog from {origin + ' ' if origin else ''}{doc.file}."
+        header = f"Converted by schemalog from {origin + ' ' if origin else ''}{readable_name(doc.file)}."
         text = to_pl(doc, header=header)
     tasks = ", ".join(term_to_text(t) for t in declared_tasks(loaded)) or "none declared"
     clauses = len(doc.items)
@@ -92,5 +93,5 @@ def _seed(kb, doc, args: argparse.Namespace) -> str:
                 clauses.append(c)
     clauses += carried_clauses(kb)
     names = ", ".join(term_to_text(t) for t in tasks)
-    return seed_text(clauses, header=f"SEED long-term memory written by schemalog from {doc.file}, "
+    return seed_text(clauses, header=f"SEED long-term memory written by schemalog from {readable_name(doc.file)}, "
                                      f"task{'s' if len(tasks) > 1 else ''} {names}.")

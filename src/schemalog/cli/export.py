@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .. import defaults
+from ..errors import readable_name
 from .options import TOGETHER, Parents, budget
 
 TARGETS = ("btcpp", "py_trees")
@@ -49,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     # the runtime starts from what the world starts from.
     start = World(original, initial).atoms
     atoms = sorted(start, key=term_to_text)
-    title = (f"{term_to_text(tree.label)} from {', '.join(args.files)}: {kind} tree of "
+    title = (f"{term_to_text(tree.label)} from {', '.join(map(readable_name, args.files))}: {kind} tree of "
              f"{count_nodes(tree)} behaviours, exported by schemalog")
     from ..formats.quoting import Unquotable
     try:
@@ -100,7 +101,7 @@ def convert_xml(args: argparse.Namespace) -> int:
     check_schemas(doc.to_kb())     # what is written must load again
     yaml = args.to == "yaml" or (args.to is None and args.output and args.output.endswith(YAML_SUFFIXES))
     out = to_yaml(doc) if yaml else to_pl(doc, header=f"Converted by schemalog from the BehaviorTree.CPP "
-                                                      f"document {args.input}.")
+                                                      f"document {readable_name(args.input)}.")
     from ..task.tree import count_nodes
     emit(out, args.output, inputs_of(args, imported.includes),
          f"{term_to_text(imported.tree.label)}: {count_nodes(imported.tree)} behaviours as "

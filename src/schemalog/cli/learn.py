@@ -10,7 +10,7 @@ import tempfile
 from pathlib import Path
 
 from .. import defaults
-from ..errors import SchemalogError, UsageError
+from ..errors import READABLE, SchemalogError, UsageError, readable_name
 from .options import Parents, bounded, distance, length, positive
 
 
@@ -80,9 +80,9 @@ def run(args: argparse.Namespace) -> int:
             from ..evaluate.figures import demonstration_figure
             demonstration_figure(lesson, Path(_stage(args.plot, staged)))
         if motions_text is not None:
-            Path(_stage(args.motions, staged)).write_text(motions_text, encoding="utf-8")
+            Path(_stage(args.motions, staged)).write_text(motions_text, encoding="utf-8", errors=READABLE)
         if not to_stdout:
-            Path(_stage(args.output, staged)).write_text(lesson.text, encoding="utf-8")
+            Path(_stage(args.output, staged)).write_text(lesson.text, encoding="utf-8", errors=READABLE)
         _commit(staged)
     except OSError as err:
         temporaries = {t: target for t, target in staged}
@@ -98,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
             args.plot: "the demonstration and its segments (a picture)",
             args.motions: "the motion primitives (JSON)"}
     for _, target in staged:                          # what was written, as every writer says it
-        print(f"wrote {target}: {said.get(target, '')}", file=sys.stderr)
+        print(f"wrote {readable_name(target)}: {said.get(target, '')}", file=sys.stderr)
     if to_stdout:
         sys.stdout.write(lesson.text)
     return 0

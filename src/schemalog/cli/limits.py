@@ -8,6 +8,7 @@
     restored_memory_limit()    a context that puts the soft limit back as it was on leaving
                                (main() called in-process, by tests or a host program, leaves
                                no ceiling behind)
+    ceiling_in_force()         the soft limit now (None: none): what a message about memory names
 
 The ceiling is RLIMIT_DATA, not RLIMIT_AS: RLIMIT_AS counts address space that is only
 reserved, and glibc reserves 64 MiB per thread for its malloc arenas (16 threads with numpy
@@ -147,6 +148,17 @@ def restored_memory_limit() -> Iterator[None]:
         resource.setrlimit(resource.RLIMIT_DATA, before)
 
 
+def ceiling_in_force() -> int | None:
+    """The memory ceiling the process runs under now (RLIMIT_DATA's soft limit), None for none:
+    --max-memory's, the environment's, the default or an inherited lower one, whichever won."""
+    try:
+        import resource
+    except ImportError:
+        return None
+    soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
+    return None if soft == resource.RLIM_INFINITY else soft
+
+
 def out_of_memory_text(ceiling: int | None) -> str:
     """What to say when memory ran out."""
     if ceiling is None:
@@ -156,4 +168,4 @@ def out_of_memory_text(ceiling: int | None) -> str:
 
 
 __all__ = ["TimeLimitExceeded", "TIMEOUT_EXIT", "time_limit", "parse_size", "memory_ceiling",
-           "apply_memory_ceiling", "restored_memory_limit", "out_of_memory_text", "size_text"]
+           "apply_memory_ceiling", "restored_memory_limit", "ceiling_in_force", "out_of_memory_text", "size_text"]

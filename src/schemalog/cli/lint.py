@@ -6,6 +6,7 @@ import argparse
 import json
 import sys
 
+from ..errors import readable_name
 from .options import TOGETHER, Parents
 
 
@@ -48,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         for f in findings:
             print(f.text())
-        files = ", ".join(args.files)
+        files = ", ".join(map(readable_name, args.files))
         if findings:
             print(f"lint: {files}: {_count(errors, 'error')}, {_count(warnings, 'warning')}", file=sys.stderr)
         else:

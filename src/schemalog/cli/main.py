@@ -18,7 +18,7 @@ import signal
 import sys
 
 from .. import __version__
-from ..errors import SchemalogError
+from ..errors import READABLE, SchemalogError
 from .limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling, memory_ceiling, out_of_memory_text,
                      restored_memory_limit, time_limit)
 from .options import shared_parents
@@ -89,6 +89,7 @@ def _named_command(argv: list[str]) -> str | None:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
+    readable_streams()
     parser = build_parser(_named_command(argv))
     args, extra = parser.parse_known_args(argv)
     if extra:
@@ -104,6 +105,19 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     with restored_memory_limit():
         return _run_command(args, parser)
+
+
+def readable_streams() -> None:
+    """Write what standard output and error cannot encode as escapes (errors.READABLE), never a
+    UnicodeEncodeError: a file name that is not UTF-8 reaches messages, titles and answers as
+    lone surrogates, which Python's own handlers raise on (strict, in a UTF-8 locale) or write
+    back as bytes no UTF-8 reader takes (surrogateescape, in the C locale)."""
+    for stream in (sys.stdout, sys.stderr):
+        if hasattr(stream, "reconfigure"):
+            try:
+                stream.reconfigure(errors=READABLE)
+            except (OSError, ValueError):      # a closed or detached stream: nothing to say there
+                pass
 
 
 def _misplaced(argv: list[str], args: argparse.Namespace, extra: list[str]) -> str:

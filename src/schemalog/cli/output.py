@@ -13,6 +13,7 @@ import json
 import sys
 from pathlib import Path
 
+from ..errors import readable_name
 from ..formats.documents import to_pl, to_yaml, write_atomically
 from ..formats.render import carried_clauses, rich_tree, show_json, to_dot, tree_document
 from ..logic.kb import KnowledgeBase
@@ -83,13 +84,14 @@ def emit_picture(name: str, panels, initial: frozenset | None, fmt: str, output:
     if what is None:
         return
     if len(pages) == 1:
-        print(f"wrote {output}" + (f": {what}" if what else ""), file=sys.stderr)
+        print(f"wrote {readable_name(output)}" + (f": {what}" if what else ""), file=sys.stderr)
         return
-    print(f"wrote {output} (overview) and {names[1]}" + (f" ... {names[-1]}" if len(names) > 2 else "")
+    print(f"wrote {readable_name(output)} (overview) and {readable_name(names[1])}"
+          + (f" ... {readable_name(names[-1])}" if len(names) > 2 else "")
           + f" (one per panel or sub-task), {len(pages)} pictures a screen can hold"
           + (f": {what}" if what else ""), file=sys.stderr)
     for file, page in zip(names[1:], pages[1:]):
-        print(f"  {file}: {page.what}", file=sys.stderr)
+        print(f"  {readable_name(file)}: {page.what}", file=sys.stderr)
 
 
 def rendered(renderable, width: int = 120) -> str:

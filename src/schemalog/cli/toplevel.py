@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import secrets
 import sys
 from dataclasses import dataclass
 from typing import Callable, Iterator, TextIO
@@ -22,7 +23,7 @@ from ..errors import SchemalogError
 from ..logic.builtins import compare_terms
 from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..logic.parse import parse_term
-from ..logic.terms import Atom, Float, Int, Struct, Term, Var, iter_vars, term_to_text, variable_names
+from ..logic.terms import Atom, Float, Int, Struct, Term, Var, int_text, iter_vars, term_to_text, variable_names
 from ..logic.unify import Bindings
 from .relations import COMPRESSED, ORIGINAL, Workspace
 
@@ -125,6 +126,29 @@ def answer_json(answer: Answer) -> dict:
     return out
 
 
+def json_text(answers: list[dict]) -> str:
+    """The answers as JSON (indented), every integer a JSON number written whole: json.dumps
+    writes integers with int.__repr__, which stops at Python's 4,300 digits (ValueError), so a
+    larger one is held by a placeholder string and written by int_text, as the text answer is."""
+    nonce = secrets.token_hex(8)
+    large: dict[str, int] = {}
+
+    def placeholder(value: int) -> str:
+        key = f"\0{nonce}:{len(large)}"
+        large[key] = value
+        return key
+
+    held = [{name: placeholder(v) if isinstance(v, int) and v.bit_length() > _REPR_BITS else v
+             for name, v in answer.items()} for answer in answers]
+    text = json.dumps(held, indent=2)
+    for key, value in large.items():
+        text = text.replace(json.dumps(key), int_text(value), 1)
+    return text
+
+
+_REPR_BITS = 13_000    # about 3,900 digits: int.__repr__ is safe below Python's limit of 4,300
+
+
 def error_text(err: BaseException, raise_limit: str = "--max-steps N") -> str:
     """An uncaught exception as the user should read it."""
     if isinstance(err, RecursionError):
@@ -152,16 +176,26 @@ def _explain(ball: Term) -> str:
         if name == "evaluation_error" and len(args) == 1:
             return f"{text}\n  arithmetic: {term_to_text(args[0])}"
         if name == "resource_error" and len(args) == 1:
-            return f"{text}\n  {RESOURCES.get(term_to_text(args[0]), 'resource: ' + term_to_text(args[0]))}"
+            return f"{text}\n  {_resource_words(term_to_text(args[0]))}"
     return text
 
 
-# What each resource error means here, and the limit behind it.
-RESOURCES = {
-    "memory": "out of memory: raise the ceiling with --max-memory or SCHEMALOG_MAX_MEMORY",
-    "stack": (f"an integer result would exceed {defaults.MAX_INTEGER_BITS:,} bits (a fixed limit, "
-              f"as swipl's 1 GB stack is: docs/syntax.md)"),
-}
+def _resource_words(resource: str) -> str:
+    """What a resource error means here, and the limit behind it: for memory the ceiling in
+    force as the error is told (--max-memory's, not the default, when that option set it)."""
+    if resource == "memory":
+        from .limits import ceiling_in_force, size_text
+
+        ceiling = ceiling_in_force()
+        if ceiling is None:
+            return f"out of memory (no ceiling was set: the system refused more; set one with --max-memory " \
+                   f"or {defaults.MEMORY_ENV})"
+        return (f"out of memory: the ceiling is {size_text(ceiling)} (raise it with --max-memory or "
+                f"{defaults.MEMORY_ENV}, or set it to off)")
+    if resource == "stack":
+        return (f"an integer result would exceed {defaults.MAX_INTEGER_BITS:,} bits (a fixed limit, "
+                f"as swipl's 1 GB stack is: docs/syntax.md)")
+    return f"resource: {resource}"
 
 
 def answers(workspace: Workspace, query: Query, output: Callable[[str], None] | None = None,
@@ -265,7 +299,7 @@ def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: 
         print(error_text(e), file=err)
         status = 2
     if as_json:
-        out.write(json.dumps(found, indent=2) + "\n")
+        out.write(json_text(found) + "\n")
     elif count == 0 and status == 0:
         shown.new_line()
         shown.write("false\n")

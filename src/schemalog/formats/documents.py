@@ -3,7 +3,7 @@
     Document = (items: tuple[Clause | Directive], notes: tuple[str], file: str)
 
 The formats are equivalent: `pl -> yaml -> pl` gives back the same canonical text.
-YAML (read with `yaml.safe_load` only) holds one record per clause, in order:
+YAML (read with PyYAML's SafeLoader only, integers of any length) holds one record per clause, in order:
 
     schemalog: 1
     items:
@@ -22,6 +22,7 @@ Variables are shared by name within a record, as within a clause.
 
 from __future__ import annotations
 
+import functools
 import os
 import stat
 import tempfile
@@ -30,14 +31,14 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ..inputs import check_yaml_nesting
-from ..errors import CannotWrite, SchemalogError, SourcePos
+from ..errors import READABLE, CannotWrite, SchemalogError, SourcePos
 from ..logic.kb import KnowledgeBase
 from ..logic.fastread import parse_text
 from ..logic.parse import MAX_BYTES, Clause, Directive, read_source
 from ..task import conditions as cond
 from ..task.schema import DEFAULT_IMPORTANCE, Entry, knowledge_base, schema_term, static_schema, write_clause
 from .seed import import_seed, is_seed
-from ..logic.terms import TRUE, Struct, Term, term_to_text, variable_names
+from ..logic.terms import TRUE, Struct, Term, int_of_digits, int_text, term_to_text, variable_names
 
 YAML_SUFFIXES = (".yaml", ".yml")
 _SIMPLE_FACTS = ("task", "object", "initial", "behaviour")
@@ -111,7 +112,7 @@ def document_from_yaml(text: str, file: str = "<string>") -> Document:
 
     check_yaml_nesting(text, file)
     try:
-        data = yaml.safe_load(text)
+        data = yaml.load(text, Loader=_safe_loader())
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         pos = SourcePos(file, mark.line + 1, mark.column + 1) if mark else None
@@ -135,6 +136,27 @@ def document_from_yaml(text: str, file: str = "<string>") -> Document:
             # The item's own place in the YAML file, and the clause it made, to see what broke.
             raise SchemalogError(err.message, pos, lines[line - 1] if line <= len(lines) else None) from None
     return Document(tuple(items), file)
+
+
+@functools.cache
+def _safe_loader():
+    """PyYAML's SafeLoader, reading decimal integers of any length as the reader does
+    (int_of_digits): its own int() stops at Python's 4,300 digits with a ValueError, where a
+    weight too large is the schema reader's to refuse, at the record that holds it."""
+    import yaml  # loaded only when YAML is read or written
+
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def integer(loader, node):
+        text = loader.construct_scalar(node).replace("_", "")
+        digits = text.lstrip("+-")
+        if digits.isdigit() and digits[0] != "0":      # plain decimal; 0... is YAML 1.1's octal
+            return -int_of_digits(digits) if text.startswith("-") else int_of_digits(digits)
+        return yaml.SafeLoader.construct_yaml_int(loader, node)
+
+    Loader.add_constructor("tag:yaml.org,2002:int", integer)
+    return Loader
 
 
 def _item_marks(text: str) -> list[tuple[int, int]]:
@@ -193,7 +215,8 @@ def _record_text(record: dict, where: str) -> str:
             importance = sub.get("importance", DEFAULT_IMPORTANCE)
             if isinstance(importance, bool) or not isinstance(importance, (int, float)):
                 raise SchemalogError(f"{w}: `importance` must be a number")
-            weight = "" if importance == DEFAULT_IMPORTANCE and isinstance(importance, int) else f", {importance!r}"
+            written = int_text(importance) if isinstance(importance, int) else repr(importance)
+            weight = "" if importance == DEFAULT_IMPORTANCE and isinstance(importance, int) else f", {written}"
             entries.append(f"({behaviour}, ({releaser}){weight})")
         head = f"schema(({_field(record, 'schema', where)}), [{', '.join(entries)}], ({_field(record, 'post', where)}))"
         return f"{head} :- {record['if']}." if record.get("if") is not None else f"{head}."
@@ -354,7 +377,7 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
     never a partial file. A special file (FIFO, device) is written into instead (output_target)."""
     target = output_target(path)
     if target.in_place:
-        write_in_place(target.path, text if isinstance(text, bytes) else text.encode("utf-8"))
+        write_in_place(target.path, text if isinstance(text, bytes) else text.encode("utf-8", READABLE))
         return
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
@@ -365,7 +388,7 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
             with os.fdopen(fd, "wb") as handle:
                 handle.write(text)
         else:
-            with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            with os.fdopen(fd, "w", encoding="utf-8", errors=READABLE) as handle:
                 _write_text(handle, text)
         os.chmod(tmp, file_mode(target.path))
         os.replace(tmp, target.path)

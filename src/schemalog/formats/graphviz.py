@@ -18,7 +18,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-from ..errors import SchemalogError, UsageError
+from ..errors import READABLE, SchemalogError, UsageError
 from .documents import write_atomically
 
 IMAGE_SUFFIXES = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
@@ -55,7 +55,7 @@ def render(dot: str, fmt: str) -> bytes:
     """The picture of `dot` in `fmt` (png, svg, pdf), rendered by `dot`."""
     program = dot_program()
     try:
-        done = subprocess.run([program, f"-T{fmt}"], input=dot.encode("utf-8"), capture_output=True,
+        done = subprocess.run([program, f"-T{fmt}"], input=dot.encode("utf-8", READABLE), capture_output=True,
                               env={**os.environ, "LC_ALL": "C"})
     except OSError as err:
         raise SchemalogError(f"cannot run {program}: {err.strerror or err}") from None

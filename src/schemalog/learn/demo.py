@@ -31,6 +31,7 @@ import io
 import json
 import math
 import re
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,8 +39,9 @@ import numpy as np
 
 from .. import defaults
 from ..formats.documents import write_atomically
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_number
 from ..inputs import read_limited
+from ..logic.terms import int_of_digits, int_text
 
 COMMANDS = ("open", "close")
 POSITION = ("x", "y", "z")
@@ -286,7 +288,10 @@ def _unit_quaternions(q: np.ndarray, fail) -> None:
 def demonstration_from_json(text: str, file: str = "<json>") -> Demonstration:
     """Read JSON text (the layout in the module docstring)."""
     try:
-        data = json.loads(text)
+        # Integers of any length, read as the knowledge reader does (int_of_digits): json's own
+        # int() stops at Python's 4,300 digits with a ValueError; a number too large is refused
+        # below, at its sample, as an infinite one is.
+        data = json.loads(text, parse_int=int_of_digits)
     except json.JSONDecodeError as err:
         raise SchemalogError(f"JSON syntax error: {err.msg}", SourcePos(file, err.lineno, err.colno),
                              text.split("\n")[err.lineno - 1]) from None
@@ -339,8 +344,8 @@ def demonstration_from_json(text: str, file: str = "<json>") -> Demonstration:
         if event["command"] not in COMMANDS:
             raise fail(f"gripper event {k}: the command must be open or close, not {event['command']!r}")
         t = event["time"]
-        if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
-            raise fail(f"gripper event {k}: time must be a finite number")
+        if isinstance(t, bool) or not isinstance(t, (int, float)) or not _finite(t):
+            raise fail(f"gripper event {k}: time must be a finite number{_too_large(t)}")
         if t < times[0] or t > times[-1]:
             raise fail(f"gripper event {k} ({event['command']} at t = {fields_text(t)} s) is outside any "
                        f"segment: the recording runs from {fields_text(times[0])} to {fields_text(times[-1])} s")
@@ -402,11 +407,25 @@ def _json_column(value, what: str, width: int, fail, n: int | None = None) -> np
         for j, v in enumerate(items):
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise fail(f"sample {i + 1}: {what} is not a number: {v!r}")
-            if not math.isfinite(v):
-                raise fail(f"sample {i + 1}: {what} is {'NaN' if v != v else 'infinite'} (positions and times "
-                           f"must be finite numbers)")
+            if not _finite(v):
+                size = "NaN" if v != v else "infinite" if isinstance(v, float) else \
+                    f"{shown_number(int_text(v))}, too large"
+                raise fail(f"sample {i + 1}: {what} is {size} (positions and times must be finite numbers)")
             out[i, j] = v
     return out[:, 0] if width == 1 else out
+
+
+def _finite(value: int | float) -> bool:
+    """Whether `value` is a number a float holds: compared, never converted, so that an integer
+    of 5,000 digits is refused rather than raising OverflowError (math.isfinite converts)."""
+    return -sys.float_info.max <= value <= sys.float_info.max
+
+
+def _too_large(value) -> str:
+    """`, not 1234...5678 (5,000 digits): too large` for an integer no float holds, else ``."""
+    if isinstance(value, int) and not isinstance(value, bool) and not _finite(value):
+        return f", not {shown_number(int_text(value))}: too large"
+    return ""
 
 
 # ---------------------------------------------------------------------------

@@ -33,7 +33,7 @@ from ..task import conditions as cond
 from ..task.conditions import Condition
 from .demo import Demonstration
 from ..logic.engine import Engine
-from ..errors import SchemalogError
+from ..errors import SchemalogError, readable_name
 from ..run.execute import Plan, activation, blocked_reasons, emphasis
 from ..logic.kb import KnowledgeBase
 from ..run.scene import Scene, object_name
@@ -264,8 +264,9 @@ def learned_text(teaching: Teaching, kb: KnowledgeBase, structure_text: str, *, 
     motions = [a for a in attached if a.segment.kind == "motion"]
     recognised = [s for s in teaching.steps if isinstance(s, Recognised)]
     lines = [
-        f"% Learned by `schemalog learn` from {demo_file} (task {term_to_text(teaching.task)}) on the structure",
-        f"% {', '.join(structure_files)}: {len(motions)} motions and {len(attached) - len(motions)} gripper "
+        f"% Learned by `schemalog learn` from {readable_name(demo_file)} (task {term_to_text(teaching.task)}) on "
+        f"the structure",
+        f"% {', '.join(map(readable_name, structure_files))}: {len(motions)} motions and {len(attached) - len(motions)} gripper "
         f"commands attached to {len(teaching.schemas)} sub-tasks, {len(recognised)} known actions recognised.",
         f"% {settings}",
         "% The structure follows, unchanged, after the learned knowledge (which comes first, so that",

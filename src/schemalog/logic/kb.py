@@ -34,6 +34,7 @@ from pathlib import Path
 from .. import defaults
 from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
+from ..inputs import missing
 from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
@@ -633,13 +634,20 @@ class KnowledgeBase:
                 if name is None:
                     raise SchemalogError(f"cannot consult {term_to_text(target)}", d.pos)
                 path = (base or Path(".")) / name
-                if not path.exists() and path.suffix == "":
+                if missing(path) and path.suffix == "":
                     path = path.with_suffix(".pl")
-                if not path.exists():
+                if missing(path):
                     raise SchemalogError(f"consult: no such file {name!r}", d.pos)
                 if goal.name == "ensure_loaded" and path.resolve() in self._read:
                     continue             # loaded already: ensure_loaded does not read it again
-                self.consult(path, self.max_bytes, pos=d.pos, included=goal.name == "include")
+                try:
+                    self.consult(path, self.max_bytes, pos=d.pos, included=goal.name == "include")
+                except SchemalogError as err:
+                    if err.pos is not None:      # placed in the file read: its own place
+                        raise
+                    # The file could not be read at all (a directory, a name too long): the
+                    # directive that named it is where the user can act.
+                    raise SchemalogError(f"{goal.name}: {err.message}", d.pos) from None
             return
         if isinstance(goal, Struct) and goal.name in ("initialization", "module", "use_module") \
                 or isinstance(goal, Atom) and goal.name == "use_module":

@@ -10,6 +10,7 @@ Prolog (permutation/2, predsort/3, nth0/4, aggregate_all/3...) are in prelude.pl
 
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 from typing import Iterator
@@ -17,6 +18,7 @@ from typing import Iterator
 from .arith import evaluate
 from .builtins import (Machine, _read_number, atomic_text, _text_of, _variables, code_char, compare_terms, proper_items, resolve_list,
                        standard_order_key, text_of)
+from ..inputs import missing
 from .exceptions import PrologError, instantiation_error, iso_error, type_error
 from .terms import NIL, is_ground, Atom, Float, Int, Str, Struct, Term, Var, list_items, make_list, term_to_text
 from .unify import Bindings, rename
@@ -437,9 +439,9 @@ def _consult(e: Machine, a: tuple, b: Bindings) -> bool:
         if not isinstance(item, (Atom, Str)):
             raise type_error("atom", item)
         path = Path(item.value if isinstance(item, Str) else item.name)
-        if not path.exists() and path.suffix == "":
+        if missing(path) and path.suffix == "":
             path = path.with_suffix(".pl")
-        if not path.is_file():
+        if not os.path.isfile(path):     # False, not OSError, for a name too long
             raise iso_error(Struct("existence_error", (Atom("source_sink"), item)))
         e.kb.forget_file(str(path))
         e.kb.consult(path)

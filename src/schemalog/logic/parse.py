@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import bisect
 import functools
+import os
 import re
 from collections import deque
 import threading
@@ -27,7 +28,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from .. import defaults
 from ..cache import cache_file
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_name
 from ..inputs import read_limited
 from ..shipped import shipped_text
 from .terms import INFIX_OPS, NIL, PREFIX_OPS, TRUE, Atom, Float, Int, Str, Struct, Term, Var, int_of_digits, make_list
@@ -514,8 +515,8 @@ def parse_term(text: str, file: str = "<argument>") -> Term:
 def read_source(path: str | Path, max_bytes: int = MAX_BYTES) -> str:
     """Read a text file, refusing missing, oversized and binary files clearly."""
     name = str(path)
-    if Path(path).is_dir():
-        raise SchemalogError(f"{name}: is a directory, not a knowledge file")
+    if os.path.isdir(path):         # False for a name the system refuses: read_limited says why
+        raise SchemalogError(f"{shown_name(name)}: is a directory, not a knowledge file")
     data = read_limited(path, max_bytes)
     nul = data.find(b"\0")
     if nul >= 0:

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from .. import defaults
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_name
 from ..inputs import check_yaml_nesting, read_limited
 from ..logic.terms import Atom, Term, term_to_text
 
@@ -98,7 +98,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 def read_scene(path: str | Path, max_bytes: int | None = None) -> Scene:
     """Read and check a scene file; every error names file:line:column."""
     file = str(path)
-    data = read_limited(path, defaults.MAX_BYTES if max_bytes is None else max_bytes, f"scene {file}")
+    data = read_limited(path, defaults.MAX_BYTES if max_bytes is None else max_bytes, f"scene {shown_name(file)}")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as err:

@@ -31,7 +31,7 @@ from typing import Literal
 from .. import defaults
 from . import conditions as cond
 from .conditions import Condition, Simplifier
-from ..errors import SchemalogError
+from ..errors import SchemalogError, shown_number
 from ..logic.terms import Atom, Int, Float, Str, Struct, Term, term_to_text
 from .tree import Behaviour, Origin, count_nodes, depth, map_tree, walk
 
@@ -462,8 +462,8 @@ def _expand(node: Behaviour) -> list[tuple[Origin, Behaviour]]:
         for origin, original in _expand(child):
             if not 0 <= origin.slot < len(kids):
                 raise SchemalogError(f"provenance of {term_to_text(child.label)} names parent slot "
-                                     f"{origin.slot}, but {term_to_text(node.label)} has "
-                                     f"{len(kids)} origins")
+                                     f"{shown_number(term_to_text(Int(origin.slot)))}, but "
+                                     f"{term_to_text(node.label)} has {len(kids)} origins", child.source)
             kids[origin.slot].setdefault(origin.position, original)  # branching copies: keep one
     out = []
     for origin, children in zip(node.origins, kids):

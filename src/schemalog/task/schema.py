@@ -24,13 +24,13 @@ items, so that text -> YAML -> text round-trips exactly.
 
 from __future__ import annotations
 
-import math
+import sys
 
 from dataclasses import dataclass
 
 from . import conditions as cond
 from .conditions import Condition, NotACondition
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_number
 from ..logic.kb import Definitions, KnowledgeBase, StoredClause
 from ..logic.terms import (NIL, TRUE, Atom, Float, Int, Struct, Term, Var, conjuncts, list_items, make_list, term_to_text,
                     variable_names)
@@ -116,11 +116,22 @@ def read_entry(term: Term, where: str) -> Entry:
 
 def _importance(weight: Term, sub: Term, where: str) -> int | float:
     """A weight of emphasis: a finite number, at least 0 (NaN or infinity would rank nothing)."""
-    value = weight.value
-    if not (math.isfinite(value) and value >= 0):
-        raise SchemalogError(f"{where}: the importance of {term_to_text(sub)} must be a finite number "
-                             f"at least 0, not {term_to_text(weight)}")
-    return value
+    problem = importance_problem(weight)
+    if problem is not None:
+        raise SchemalogError(f"{where}: the importance of {term_to_text(sub)} {problem}")
+    return weight.value
+
+
+def importance_problem(weight: Int | Float) -> str | None:
+    """Why `weight` cannot weigh a behaviour, or None: emphasis is computed in floats, so an
+    importance is a number from 0 to the largest float (NaN, infinity, a negative number and
+    an integer no float holds are refused)."""
+    # Compared, never converted: an integer past the float range (10**400) is simply larger
+    # than the largest float, where float() or math.isfinite() would raise OverflowError.
+    if 0 <= weight.value <= sys.float_info.max:
+        return None
+    return (f"must be a finite number at least 0 and at most {sys.float_info.max:.3g}, "
+            f"not {shown_number(term_to_text(weight))}")
 
 
 def _behaviour(term: Term, where: str) -> Term:

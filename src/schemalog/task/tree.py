@@ -18,6 +18,7 @@ the walk, with a warning at the parent schema's clause (`Instantiator.warnings`)
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field, replace
 from typing import Iterator
 
@@ -26,9 +27,9 @@ from . import conditions as cond
 from .conditions import Condition
 from ..logic.engine import Engine
 from ..logic.exceptions import PrologError, StepLimitExceeded
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_number
 from ..logic.kb import KnowledgeBase
-from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, read_schema
+from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, importance_problem, read_schema
 from ..logic.terms import NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var, is_ground, list_items, term_to_text
 from ..logic.unify import Bindings
 
@@ -332,7 +333,15 @@ class Instantiator:
         try:
             return [tuple(_origin(t) for t in list_items(group)[0]) for group in groups]
         except (ValueError, cond.NotACondition) as err:
-            raise SchemalogError(f"malformed provenance in {term_to_text(goal.args[0])}: {err}", pos) from None
+            raise SchemalogError(f"malformed provenance in {term_to_text(goal.args[0])}: {err}",
+                                 self._fact_at(goal) or pos) from None
+
+    def _fact_at(self, goal: Struct) -> SourcePos | None:
+        """Where the first clause that answers `goal` (an origins/2 fact) was written, if known."""
+        for clause in self.kb.candidates(goal.name, len(goal.args), goal.args[0]) or []:
+            if Bindings().unify(clause.head, goal):
+                return clause.pos
+        return None
 
     # -- the walk -------------------------------------------------------------
     def _lookup_once(self, label: Term, used_at: SourcePos | None) -> tuple[Term, SchemaDef] | None:
@@ -492,6 +501,13 @@ def _origin(t: Term) -> Origin:
     label, releaser, post, weight, position, slot = t.args
     if not (isinstance(weight, (Int, Float)) and isinstance(position, Int) and isinstance(slot, Int)):
         raise ValueError(f"importance, position and slot must be numbers in {term_to_text(t)}")
+    problem = importance_problem(weight)
+    if problem is not None:      # as a schema's weight: emphasis is computed in floats
+        raise ValueError(f"the importance of {term_to_text(label)} {problem}")
+    for name, index in (("position", position), ("slot", slot)):
+        if not 0 <= index.value <= sys.maxsize:     # no list has more places
+            raise ValueError(f"the {name} of {term_to_text(label)} is an index, from 0, "
+                             f"not {shown_number(term_to_text(index))}")
     return Origin(label, cond.from_term(releaser), cond.from_term(post), weight.value,
                   position.value, slot.value)
 
