@@ -21,7 +21,8 @@ from hypothesis import strategies as st
 from schemalog.errors import SchemalogError
 from schemalog.formats.btcpp import export_btcpp, import_btcpp, run_btcpp
 from schemalog.formats.pytrees import export_pytrees, run_pytrees
-from schemalog.formats.quoting import Unquotable, python_literal, readable, xml_attribute, xml_comment
+from schemalog.errors import readable_name
+from schemalog.formats.quoting import Unquotable, python_literal, xml_attribute, xml_comment
 from schemalog.logic.kb import KnowledgeBase
 from schemalog.logic.parse import parse_term
 from schemalog.logic.terms import Atom, Struct, term_to_text
@@ -70,7 +71,7 @@ def test_xml_comment_is_well_formed_and_shows_the_text(text):
     shown = comment.data[1:-1]
     assert shown.isprintable()
     if " " not in text:      # `--` is shown as `- -`
-        assert shown.replace(" ", "") == readable(text)
+        assert shown.replace(" ", "") == readable_name(text)
 
 
 def knowledge(task: str, actions: list[str], obj: str, agent: str) -> str:

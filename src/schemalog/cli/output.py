@@ -76,7 +76,9 @@ def emit_picture(name: str, panels, initial: frozenset | None, fmt: str, output:
     if output_target(output).in_place:
         pages = [Page(choose_layout(name, panels, initial)[0], "")]
     else:
-        pages = picture_pages(name, panels, initial, lambda k: f"{path.stem}-{k}{path.suffix}")
+        # the overview names the other pictures in its labels: readably (a control character or
+        # a byte that is not UTF-8 in the file's name would break Graphviz's label)
+        pages = picture_pages(name, panels, initial, lambda k: readable_name(f"{path.stem}-{k}{path.suffix}"))
     names = [output] + [str(path.with_name(f"{path.stem}-{k}{path.suffix}")) for k in range(1, len(pages))]
     for extra in names[1:]:
         check_output(extra, inputs)

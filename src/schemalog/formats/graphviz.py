@@ -77,7 +77,7 @@ PAD_POINTS = 8             # dot's margin around a drawing (pad, 4 points a side
 def drawing_size(dot: str) -> tuple[float, float]:
     """The width and height, in points, of the picture dot draws of `dot` (its margin included)."""
     program = dot_program()
-    done = subprocess.run([program, "-Tplain"], input=dot.encode("utf-8"), capture_output=True,
+    done = subprocess.run([program, "-Tplain"], input=dot.encode("utf-8", READABLE), capture_output=True,
                           env={**os.environ, "LC_ALL": "C"})
     first = done.stdout.decode("utf-8", "replace").split("\n", 1)[0].split()
     if done.returncode != 0 or len(first) < 4 or first[0] != "graph":

@@ -3,7 +3,6 @@
     python_literal(value) -> str     Python source that evaluates to `value` (str, int, bool, tuples, lists)
     xml_attribute(text)   -> str     a quoted XML attribute value that reads back as `text`
     xml_comment(text)     -> str     <!-- ... --> holding a readable form of `text`
-    readable(text)        -> str     `text` with what a file or terminal cannot hold shown as escapes
 
 A Python literal is evaluated back (ast.literal_eval) before it is returned; an attribute holds
 only characters XML 1.0 allows, the markup ones as references; a comment holds no `--` and no
@@ -19,7 +18,7 @@ import ast
 import re
 from xml.sax.saxutils import quoteattr
 
-from ..errors import SchemalogError
+from ..errors import SchemalogError, readable_name
 
 Literal = str | int | bool | float | None | tuple | list
 
@@ -54,20 +53,12 @@ def xml_attribute(text: str) -> str:
     return quoteattr(text, {"\t": "&#9;", "\n": "&#10;", "\r": "&#13;"})
 
 
-def readable(text: str) -> str:
-    """`text` with every character that is not printable written as \\xHEX (a lossy display form:
-    a non-UTF-8 file name's bytes, control characters, line breaks)."""
-    if text.isprintable():
-        return text
-    return "".join(c if c.isprintable() else f"\\x{ord(c):x}" for c in text)
-
-
 def xml_comment(text: str) -> str:
     """A comment showing `text` readably; `--` (which XML forbids in comments) is split by spaces."""
-    shown = readable(text)
+    shown = readable_name(text)
     while "--" in shown:
         shown = shown.replace("--", "- -")
     return f"<!-- {shown} -->"
 
 
-__all__ = ["python_literal", "xml_attribute", "xml_comment", "readable", "Unquotable", "Literal"]
+__all__ = ["python_literal", "xml_attribute", "xml_comment", "Unquotable", "Literal"]
