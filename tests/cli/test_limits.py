@@ -179,6 +179,20 @@ def test_sympy_numpy_and_the_verifier_work_under_a_modest_ceiling(tmp_path):
     assert r.returncode == 0, r.stderr                                             # numpy
 
 
+
+@pytest.mark.parametrize("quoted", ["'{}'", '"{}"', "'{}\\n{}'"])
+def test_a_10_mb_quoted_item_is_read_in_memory_near_its_size(tmp_path, quoted):
+    # Reading it took 3 GB when the tokens' regexes repeated a group per character (issue 32);
+    # 150M is about three times what the reader needs for it now (benchmarks/bench_read_memory.py).
+    text = quoted.format(*["a" * 5_000_000] * quoted.count("{}"))
+    (tmp_path / "big.pl").write_text(f"p({text}).\n/* {'a*' * 1_000_000} */\n")
+    r = run("check", tmp_path / "big.pl", "--max-memory", "150M")
+    assert r.returncode == 0 and clean(r), r.stderr
+    r = run("query", tmp_path / "big.pl", "p(X), atom_length(X, N)", "--max-memory", "150M", "--json")
+    length = 5_000_000 * quoted.count("{}") + quoted.count("\\n")
+    assert r.returncode == 0 and f'"N": {length}' in r.stdout, (r.stderr, r.stdout[-200:])
+
+
 CEILING = """
 import resource, sys
 import schemalog.cli.check as check
