@@ -1,6 +1,7 @@
 """Big and wide inputs: check, compress, run, show and verify in time linear in their size.
 
-    python benchmarks/bench_scale.py [--quick] [--timeout 300] [--shapes wide chain binary cond]
+    python benchmarks/bench_scale.py [--quick] [--timeout 300] [--shapes wide chain binary cond ...]
+                                     [--sizes N ...] [--commands CMD ...] [--before SRC]
 
 It writes, in a temporary directory, task files of four shapes at growing sizes, runs each
 command on each as a user would (`python -m schemalog ...`, a fresh process), and prints a
@@ -14,6 +15,13 @@ scaled to a 10x step).
 - binary L: t0 has two sub-tasks t1, t1 two t2, ... L levels (2^L behaviours): refused at
             --max-nodes without building it
 - cond N:   a releaser that is an N-literal `and` (`p0 and p1 and ...`), true in the initial state
+- ychain N: YAML, a releaser `a0.done and a1.done and ...` of N literals that nothing makes true
+            (N findings on one line)
+- yor N:    YAML, a releaser `a0.done ; a1.done ; ...` of N literals, all true initially
+
+With `--before SRC` (the src/ directory of another checkout, its grammar/ and kb/ beside it,
+e.g. `git archive 9719e15 src grammar kb | tar -x -C /tmp/old`), each command also runs with
+that code, just before this tree's, so the two are measured side by side in one run.
 
 Reading the files (lark's LALR parser, logic/parse.py) is part of every command; `check`
 shows what reading and instantiating alone cost.
@@ -23,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import resource
 import subprocess
 import sys
@@ -55,21 +64,42 @@ def cond(n: int) -> str:
             f"schema(a, [], a.done).\nschema(b, [], b.done).\n")
 
 
+def _yaml(n: int, op: str, initial: bool) -> str:
+    atoms = [f"a{i}.done" for i in range(n)]
+    init = f"- initial: ({','.join(atoms)})\n" if initial else ""
+    return (f"schemalog: 1\nitems:\n- task: t0\n{init}- schema: t0\n  subtasks:\n  - behaviour: b\n"
+            f"    releaser: {f' {op} '.join(atoms)}\n  post: t0.done\n- schema: b\n  subtasks: []\n  post: b.done\n")
+
+
+def ychain(n: int) -> str:
+    return _yaml(n, "and", False)
+
+
+def yor(n: int) -> str:
+    return _yaml(n, ";", True)
+
+
 SHAPES = {
     "wide": (wide, (1_000, 10_000, 50_000), ("check", "compress", "run", "verify --max-states 3000")),
     "chain": (chain, (1_000, 10_000, 100_000), ("check",)),
     "binary": (binary, (20, 40), ("check",)),
     "cond": (cond, (1_000, 10_000, 100_000), ("check", "show --json", "compress", "run",
                                               "verify --max-states 3000")),
+    "ychain": (ychain, (10_000, 20_000, 50_000, 100_000), ("check",)),
+    "yor": (yor, (10_000, 20_000, 50_000, 100_000), ("check", "verify --max-states 3000")),
 }
-QUICK = {"wide": (1_000, 10_000), "chain": (1_000, 10_000), "binary": (20, 40), "cond": (1_000, 10_000)}
+SUFFIX = {"ychain": ".yaml", "yor": ".yaml"}
+QUICK = {"wide": (1_000, 10_000), "chain": (1_000, 10_000), "binary": (20, 40), "cond": (1_000, 10_000),
+         "ychain": (10_000, 20_000), "yor": (10_000, 20_000)}
 
 
-def timed(argv: list[str], timeout: float) -> tuple[float, int, str]:
-    """CPU seconds of one command in a fresh process, its exit status, its last stderr line."""
+def timed(argv: list[str], timeout: float, src: Path | None = None) -> tuple[float, int, str]:
+    """CPU seconds of one command in a fresh process (with the code in `src`, else as
+    installed), its exit status, its last stderr line."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    env = None if src is None else {**os.environ, "PYTHONPATH": str(src)}
     try:
-        done = subprocess.run(argv, capture_output=True, text=True, timeout=timeout)
+        done = subprocess.run(argv, capture_output=True, text=True, timeout=timeout, env=env)
         code, err = done.returncode, (done.stderr.strip().splitlines() or [""])[-1]
     except subprocess.TimeoutExpired:
         code, err = -1, f"timed out after {timeout:.0f} s"
@@ -84,33 +114,40 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=300, help="seconds per command (default 300)")
     parser.add_argument("--shapes", nargs="+", choices=list(SHAPES), default=list(SHAPES),
                         help="the shapes to measure (default all)")
+    parser.add_argument("--sizes", type=int, nargs="+", help="these sizes instead of the shapes' own")
+    parser.add_argument("--commands", nargs="+", help="these commands instead of the shapes' own, e.g. 'run --selector scan'")
+    parser.add_argument("--before", type=Path, help="the src/ directory of the code to compare with, side by side")
     args = parser.parse_args()
+    here = Path(__file__).resolve().parents[1] / "src"
+    versions = [("before", args.before), ("after", here)] if args.before else [("", None)]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for shape in args.shapes:
             make, sizes, commands = SHAPES[shape]
-            sizes = QUICK[shape] if args.quick else sizes
+            sizes = args.sizes or (QUICK[shape] if args.quick else sizes)
+            commands = args.commands or commands
             paths = {}
             for n in sizes:
-                paths[n] = Path(tmp, f"{shape}{n}.pl")
+                paths[n] = Path(tmp, f"{shape}{n}{SUFFIX.get(shape, '.pl')}")
                 paths[n].write_text(make(n))
             for command in commands:
-                times = []
-                for n in sizes:
-                    argv = [sys.executable, "-m", "schemalog", *command.split(), str(paths[n])]
-                    started = time.perf_counter()
-                    cpu, code, err = timed(argv, args.timeout)
-                    wall = time.perf_counter() - started
-                    times.append(cpu)
-                    # per 10x of size, so 10k -> 50k compares with 1k -> 10k (binary: per 10x levels)
-                    growth = "" if len(times) < 2 else \
-                        f"x{(times[-1] / max(times[-2], 1e-9)) ** (1 / math.log10(n / sizes[len(times) - 2])):.1f}"
-                    note = err if code not in (0,) else ""
-                    rows.append((shape, f"{n:,}", command, f"{cpu:.2f}", f"{wall:.2f}", str(code), growth,
-                                 note[:110]))
-                    print(" | ".join(rows[-1]), file=sys.stderr, flush=True)
-    print("| shape | size | command | CPU s | wall s | exit | growth | message |")
-    print("|---|---:|---|---:|---:|---:|---:|---|")
+                for version, src in versions:
+                    times = []
+                    for n in sizes:
+                        argv = [sys.executable, "-m", "schemalog", *command.split(), str(paths[n])]
+                        started = time.perf_counter()
+                        cpu, code, err = timed(argv, args.timeout, src)
+                        wall = time.perf_counter() - started
+                        times.append(cpu)
+                        # per 10x of size, so 10k -> 50k compares with 1k -> 10k (binary: per 10x levels)
+                        growth = "" if len(times) < 2 else \
+                            f"x{(times[-1] / max(times[-2], 1e-9)) ** (1 / math.log10(n / sizes[len(times) - 2])):.1f}"
+                        note = err if code not in (0,) else ""
+                        rows.append((shape, f"{n:,}", command, version, f"{cpu:.2f}", f"{wall:.2f}", str(code),
+                                     growth, note[:110]))
+                        print(" | ".join(rows[-1]), file=sys.stderr, flush=True)
+    print("| shape | size | command | code | CPU s | wall s | exit | growth per 10x | message |")
+    print("|---|---:|---|---|---:|---:|---:|---:|---|")
     for row in rows:
         print("| " + " | ".join(cell.replace("|", "\\|") for cell in row) + " |")
     return 0

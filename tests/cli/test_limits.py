@@ -1,6 +1,7 @@
 """End to end: the process's limits (--timeout, --max-memory) and the resource and OS errors
 a user meets, as one-line messages with their exit statuses (cli/limits.py, cli/main.py)."""
 
+import json
 import os
 import pty
 import resource
@@ -233,6 +234,20 @@ def test_sympy_numpy_and_the_verifier_work_under_a_modest_ceiling(tmp_path):
     assert r.returncode == 0, r.stderr                                             # numpy
 
 
+
+@pytest.mark.parametrize("quoted", ["'{}'", '"{}"', "'{}\\n{}'"])
+def test_a_10_mb_quoted_item_is_read_in_memory_near_its_size(tmp_path, quoted):
+    # Reading it took 3 GB when the tokens' regexes repeated a group per character (issue 32);
+    # 150M is about three times what the reader needs for it now (benchmarks/bench_read_memory.py).
+    text = quoted.format(*["a" * 5_000_000] * quoted.count("{}"))
+    (tmp_path / "big.pl").write_text(f"p({text}).\n/* {'a*' * 1_000_000} */\n")
+    r = run("check", tmp_path / "big.pl", "--max-memory", "150M")
+    assert r.returncode == 0 and clean(r), r.stderr
+    r = run("query", tmp_path / "big.pl", "p(X), atom_length(X, N)", "--max-memory", "150M", "--json")
+    length = 5_000_000 * quoted.count("{}") + quoted.count("\\n")
+    assert r.returncode == 0 and f'"N": {length}' in r.stdout, (r.stderr, r.stdout[-200:])
+
+
 CEILING = """
 import resource, sys
 import schemalog.cli.check as check
@@ -416,3 +431,37 @@ def test_main_in_process_leaves_the_memory_limit_as_it_found_it():
     before = resource.getrlimit(resource.RLIMIT_DATA)
     assert main(["query", "--max-memory", "256M", "X = 1"]) == 0
     assert resource.getrlimit(resource.RLIMIT_DATA) == before
+
+
+# --- wide nodes (issue 32, item 7) --------------------------------------------------------------
+
+def wide_file(path, n):
+    entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
+    path.write_text(f"task(t0).\ninitial(go).\nschema(t0, [{entries}], t0.done).\n"
+                    + "".join(f"schema(c{i}, [], c{i}.done).\n" for i in range(n)))
+    return path
+
+
+def test_every_command_takes_a_10000_child_schema_in_linear_time_but_the_scan(tmp_path):
+    path = wide_file(tmp_path / "wide.pl", 10_000)
+    for args in (["check"], ["show", "--json"], ["compress"], ["run"], ["run", "--compressed"], ["lint"],
+                 ["export", "-o", tmp_path / "t.xml"], ["export", "--to", "py_trees", "-o", tmp_path / "t.py"],
+                 ["convert", "-o", tmp_path / "t.yaml"]):
+        r = run(*args, path, "--timeout", 60)
+        assert r.returncode == 0 and clean(r), (args, r.stderr[-300:])
+    # the proof is bounded: it stops at its work budget with no verdict (docs/semantics.md)
+    r = run("verify", path, "--max-states", 3000, "--timeout", 60)
+    assert r.returncode == 3 and "no proof: stopped at the limit of 3,000,000 units of work" in r.stdout, r.stdout
+
+
+def test_the_scan_selector_is_quadratic_by_design_and_bounded_by_the_time_limit(tmp_path):
+    # the paper's cost model: every behaviour visited at every decision, 10,000 decisions of
+    # 10,001 visits (docs/semantics.md, "Selectors"); --timeout and --max-decisions bound it
+    path = wide_file(tmp_path / "wide.pl", 10_000)
+    r = run("run", "--selector", "scan", path, "--timeout", 1)
+    assert r.returncode == 124 and "time limit of 1 s exceeded" in r.stderr and clean(r), r.stderr
+    r = run("run", "--selector", "scan", path, "--max-decisions", 50, "--json")
+    assert r.returncode == 1 and len(json.loads(r.stdout)["decisions"]) == 50, r.stderr
+    small = wide_file(tmp_path / "small.pl", 300)
+    scan, incremental = (json.loads(run("run", "--selector", s, small, "--json").stdout) for s in ("scan", "incremental"))
+    assert scan["trace"] == incremental["trace"] and len(scan["trace"]) == 300

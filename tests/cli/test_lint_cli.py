@@ -203,3 +203,47 @@ def test_a_free_rule_that_raises_is_a_finding_and_check_still_passes(tmp_path):
     assert r.returncode == 1 and f"{path}:2:1: error: asking free/1 failed: oops" in r.stdout
     checked = run("check", path)
     assert checked.returncode == 1 and "error: asking free/1 failed" in checked.stderr
+
+
+def long_chain_yaml(n, op):
+    """A task whose releaser is an n-literal chain `a0.done OP a1.done OP ...` in YAML."""
+    chain = f" {op} ".join(f"a{i}.done" for i in range(n))
+    return (f"schemalog: 1\nitems:\n- task: t0\n- schema: t0\n  subtasks:\n  - behaviour: b\n"
+            f"    releaser: {chain}\n  post: t0.done\n- schema: b\n  subtasks: []\n  post: b.done\n")
+
+
+@pytest.mark.parametrize("op, n", [("and", 200_000), (";", 20_000)])
+def test_a_long_releaser_nothing_makes_true_is_checked_in_linear_time(tmp_path, op, n):
+    # each literal is a finding on the one line; each was searched for from the clause's start,
+    # quadratic: 44 s for 100,000 literals, about 3 minutes for 200,000 (issue 32), 5 s and 10 s now
+    path = tmp_path / "chain.yaml"
+    path.write_text(long_chain_yaml(n, op))
+    r = run("check", path, "--timeout", 60)
+    assert r.returncode == 1 and "Traceback" not in r.stderr, r.stderr[-500:]   # lint's errors fail check
+    lines = [x for x in r.stderr.splitlines() if "[unreachable-releaser]" in x]
+    assert len(lines) == n
+    line = path.read_text().splitlines()[6]
+    for x in lines:                # each at its own literal
+        where, _, rest = x.partition(": error: ")
+        column = int(where.rsplit(":", 1)[1])
+        atom = rest.split(": ")[1].split(" never holds")[0]
+        end = column - 1 + len(atom)
+        assert line.startswith(atom, column - 1) and line[end:end + 1] in ("", " "), x
+
+
+def test_a_finding_points_at_its_word_not_inside_a_longer_one(tmp_path):
+    path = tmp_path / "t.pl"
+    path.write_text("task(t).\nschema(t, [(b, xa1.done and a1.done)], t.done).\nschema(b, [], b.done).\n")
+    r = run("lint", path, "--json")
+    found = {f["message"].split(": ")[1].split(" never")[0]: f["column"] for f in json.loads(r.stdout)["findings"]}
+    assert found == {"xa1.done": 16, "a1.done": 29}, found
+
+
+@pytest.mark.parametrize("op", ["and", "or", ";"])
+def test_a_long_condition_is_verified_at_the_state_limit_in_linear_time(tmp_path, op):
+    # the decision diagram of a 20,000-literal condition was built top-down, quadratic (106 s)
+    path = tmp_path / "chain.yaml"
+    atoms = [f"a{i}.done" for i in range(20_000)]
+    path.write_text(long_chain_yaml(20_000, op).replace("- task: t0\n", f"- task: t0\n- initial: ({','.join(atoms)})\n"))
+    r = run("verify", path, "--max-states", 3000, "--timeout", 60)
+    assert r.returncode == 0 and "sound and complete" in r.stdout, r.stderr[-500:]

@@ -4,6 +4,7 @@ SCHEMALOG_VERIFY_EXAMPLES sets how many random trees the cross-check draws (300 
 """
 
 import os
+import warnings
 
 import pytest
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
@@ -12,7 +13,8 @@ from schemalog.evaluate.generate import generate
 from schemalog.formats.documents import load_kb
 from schemalog.logic.parse import parse_term
 from schemalog.run import parts
-from schemalog.run.symbolic import OutOfNodes, Unsupported, monotone_settling
+from schemalog.logic.kb import KnowledgeBase
+from schemalog.run.symbolic import OutOfNodes, SymbolicModel, Unsupported, monotone_settling
 from schemalog.run.verify import Verifier, all_states, constraints, free_atoms, verify_by_parts, verify_symbolic
 from schemalog.run.world import World, initial_state
 from schemalog.task import conditions as cond
@@ -196,3 +198,44 @@ def test_symbolic_refuses_what_it_cannot_encode_and_auto_falls_back(tmp_path):
     strict = schemalog("verify", str(task), "--method", "symbolic")
     assert strict.returncode == 2 and "--method symbolic cannot verify this task exactly" in strict.stderr
     assert "Traceback" not in strict.stderr
+
+
+def tree_of(text):
+    kb = KnowledgeBase()
+    kb.consult_text(text, "t.pl")
+    return instantiate(kb, parse_term("t"))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.data())
+def test_a_state_is_in_a_set_as_the_set_says(data):
+    # member walks one path down the diagram; CUDD's substitution is the reference
+    names = ["go", "a.done", "b.done", "c.done", "d.done"]
+    tree = tree_of("schema(t, [(a, go), (b, a.done)], t.done).\nschema(a, [], a.done).\nschema(b, [], b.done).\n")
+    m = SymbolicModel(
+        tree, tree, World(tree), extra_atoms=[parse_term(n) for n in names])
+    literals = st.builds(lambda n, p: n if p else f"not {n}", st.sampled_from(names), st.booleans())
+    text = data.draw(st.recursive(literals, lambda inner: st.builds(
+        lambda a, op, b: f"({a} {op} {b})", inner, st.sampled_from(["and", "or"]), inner), max_leaves=8))
+    u = m.condition(c(text))
+    state = frozenset(parse_term(n) for n in data.draw(st.sets(st.sampled_from(names))))
+    values = {f"x{i}": a in state for i, a in enumerate(m.atoms) if f"x{i}" in m.bdd.support(u)}
+    assert m.member(state, u) == (m.bdd.let(values, u) == m.bdd.true) == cond.holds(c(text), state)
+
+
+def test_a_long_condition_costs_diagram_operations_linear_in_its_literals():
+    # joined bottom-up: a literal above the diagram so far is one operation (issue 32; the
+    # other order walked the whole diagram per literal: 20,000 literals took 106 s)
+    tree = tree_of("schema(t, [(a, true)], t.done).\nschema(a, [], a.done).\n")
+    n = 5_000
+    atoms = [parse_term(f"p{i}") for i in range(n)]
+    m = SymbolicModel(tree, tree, World(tree), extra_atoms=atoms)
+    for join in (cond.And, cond.Or):
+        with warnings.catch_warnings():        # dd's note that 'mem' is now in bytes
+            warnings.simplefilter("ignore")
+            before = m.bdd.statistics()["cache_lookups"]
+            u = m.condition(join(tuple(cond.Lit(a, True) for a in atoms)))   # top of the order first
+            lookups = m.bdd.statistics()["cache_lookups"] - before
+        assert lookups < 4 * n, lookups          # n * n / 2 joined top-down
+        assert len(u) == n + 1                   # its nodes and the constant
+        assert m.member(frozenset(atoms), u) and m.member(frozenset(atoms[1:]), u) == (join is cond.Or)

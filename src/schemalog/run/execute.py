@@ -256,16 +256,22 @@ class ScanSelector:
         best: list[Candidate] = []
         enabled = 0
         lambdas: dict[str | None, float] = {}
+        parent, children = p.parent, p.children
         for i in range(n_total):
-            kids = p.children[i]
-            if p.disjoint[i]:
-                n = sum(len(p.keys[c]) for c in kids if post_ok[c])
+            up = parent[i]
+            # Every behaviour is visited and tested (the paper's cost model); only a live one's
+            # emphasis is computed, which nothing below a behaviour that is not live reads.
+            if not ((up < 0 or live[up]) and pre_ok[i] and not post_ok[i]):
+                continue
+            live[i] = True
+            kids = children[i]
+            if not kids:
+                mu[i] = mu[up] if up >= 0 else BASE_ACTIVATION
+            elif p.disjoint[i]:
+                mu[i] = (mu[up] if up >= 0 else BASE_ACTIVATION) + sum(len(p.keys[c]) for c in kids if post_ok[c])
             else:
-                n = len({k for c in kids if post_ok[c] for k in p.keys[c]})
-            up = p.parent[i]
-            mu[i] = (mu[up] if up >= 0 else BASE_ACTIVATION) + n
-            live[i] = (up < 0 or live[up]) and pre_ok[i] and not post_ok[i]
-            if live[i] and not kids and i not in self.inhibited:
+                mu[i] = (mu[up] if up >= 0 else BASE_ACTIVATION) + len({k for c in kids if post_ok[c] for k in p.keys[c]})
+            if not kids and i not in self.inhibited:
                 enabled += 1
                 obj = p.obj[i]
                 lam = lambdas.get(obj)
