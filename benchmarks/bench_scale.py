@@ -11,6 +11,8 @@ means linear, 1 means the size does not matter, 100 quadratic; from 10k to 50k i
 scaled to a 10x step).
 
 - wide N:   one schema with N sub-tasks in sequence (`c{i}` released by `c{i-1}.done`)
+- flat N:   one schema with N sub-tasks all released at once (`true`): each completion changes
+            every sibling's mu
 - chain N:  t0 has sub-task t1, t1 has t2, ... N deep: refused at --max-depth (256)
 - binary L: t0 has two sub-tasks t1, t1 two t2, ... L levels (2^L behaviours): refused at
             --max-nodes without building it
@@ -44,6 +46,12 @@ def wide(n: int) -> str:
     entries = ", ".join(f"(c{i}, {'go' if i == 0 else f'c{i - 1}.done'})" for i in range(n))
     leaves = "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n))
     return f"task(t0).\ninitial(go).\nschema(t0, [{entries}], t0.done).\n{leaves}\n"
+
+
+def flat(n: int) -> str:
+    entries = ", ".join(f"(c{i}, true)" for i in range(n))
+    leaves = "\n".join(f"schema(c{i}, [], c{i}.done)." for i in range(n))
+    return f"task(t0).\nschema(t0, [{entries}], t0.done).\n{leaves}\n"
 
 
 def chain(n: int) -> str:
@@ -81,6 +89,7 @@ def yor(n: int) -> str:
 
 SHAPES = {
     "wide": (wide, (1_000, 10_000, 50_000), ("check", "compress", "run", "verify --max-states 3000")),
+    "flat": (flat, (1_000, 2_000, 5_000, 10_000), ("run", "verify --max-states 3000", "verify --states all")),
     "chain": (chain, (1_000, 10_000, 100_000), ("check",)),
     "binary": (binary, (20, 40), ("check",)),
     "cond": (cond, (1_000, 10_000, 100_000), ("check", "show --json", "compress", "run",
@@ -89,7 +98,7 @@ SHAPES = {
     "yor": (yor, (10_000, 20_000, 50_000, 100_000), ("check", "verify --max-states 3000")),
 }
 SUFFIX = {"ychain": ".yaml", "yor": ".yaml"}
-QUICK = {"wide": (1_000, 10_000), "chain": (1_000, 10_000), "binary": (20, 40), "cond": (1_000, 10_000),
+QUICK = {"wide": (1_000, 10_000), "flat": (1_000, 10_000), "chain": (1_000, 10_000), "binary": (20, 40), "cond": (1_000, 10_000),
          "ychain": (10_000, 20_000), "yor": (10_000, 20_000)}
 
 

@@ -287,7 +287,13 @@ class ScanSelector:
 
 
 class IncrementalSelector:
-    """Re-evaluate only what an action touched; enabled leaves in a priority queue per object."""
+    """Re-evaluate only what an action touched; enabled leaves in a priority queue per object.
+
+    A leaf's w * mu is its weight times its parent's mu, which changes for every sibling at
+    once when one of them is accomplished. So the live leaves of one parent acting on one object
+    form a group, ordered by (-w, order) within it (the same order as (-w * mu, order): mu > 0
+    is shared), and each object's queue holds one entry per group, keyed by its best leaf's
+    w * mu: a completion under a parent of 10,000 leaves re-keys one entry, not 10,000."""
 
     def __init__(self, plan: Plan, world: World, scene: Scene) -> None:
         self.plan, self.world, self.scene = plan, world, scene
@@ -306,10 +312,16 @@ class IncrementalSelector:
                 self._count(plan.parent[i], i, +1)
         self.inhibited: set[int] = set()
         self.live = [False] * size
-        self.live_kids: list[set[int]] = [set() for _ in range(size)]
-        self.mu = [0] * size
+        self.live_kids: list[set[int]] = [set() for _ in range(size)]   # the live composite children
+        self.mu = [0] * size                                             # of composites; a leaf's is its parent's
         self.version = [0] * size
-        self.heaps: dict[str | None, list[tuple[float, int, int]]] = {}
+        # group (parent, obj) -> heap of (-w, order, version) of its live leaves, and how many
+        self.groups: dict[tuple[int, str | None], list[tuple[float, int, int]]] = {}
+        self.group_size: dict[tuple[int, str | None], int] = {}
+        self.group_version: dict[tuple[int, str | None], int] = {}
+        self.groups_of: list[set[tuple[int, str | None]] | None] = [None] * size   # a parent's groups
+        # obj -> heap of (-(w * mu), order, group, group version): each group's best leaf
+        self.heaps: dict[str | None, list[tuple[float, int, tuple[int, str | None], int]]] = {}
         self.enabled: dict[str | None, int] = {}
         self._refresh([0])
 
@@ -353,6 +365,7 @@ class IncrementalSelector:
         """Recompute liveness and mu from each start down, as far as something changes."""
         p = self.plan
         live, mu, pre_ok, post_ok, n = self.live, self.mu, self.pre_ok, self.post_ok, self.n
+        touched: set[tuple[int, str | None]] = set()
         for start in starts:
             stack = [start]
             while stack:
@@ -360,8 +373,13 @@ class IncrementalSelector:
                 up = p.parent[i]
                 now = (up < 0 or live[up]) and pre_ok[i] and not post_ok[i]
                 kids = p.children[i]
-                if not kids and i in self.inhibited:
-                    now = False
+                if not kids:
+                    if i in self.inhibited:
+                        now = False
+                    if now != live[i]:
+                        live[i] = now
+                        self._leaf_moved(i, now, touched)
+                    continue
                 new_mu = ((mu[up] if up >= 0 else BASE_ACTIVATION) + n[i]) if now else 0
                 if now == live[i] and new_mu == mu[i]:
                     continue
@@ -369,41 +387,93 @@ class IncrementalSelector:
                 live[i], mu[i] = now, new_mu
                 if was != now and up >= 0:
                     (self.live_kids[up].add if now else self.live_kids[up].discard)(i)
-                if kids:
+                if was != now:
+                    stack.extend(kids)            # every child may become live, or stop being so
+                else:
                     # Liveness unchanged: a child that is not live stays so (its own condition
-                    # changes start their own refresh) with mu 0, so only the live ones move:
-                    # 10,000 siblings cost O(1) per decision, not O(10,000).
-                    stack.extend(kids if was != now else self.live_kids[i])
-                    continue
-                obj = p.obj[i]
-                self.version[i] += 1
-                if was:
-                    self.enabled[obj] -= 1
-                if now:
-                    self.enabled[obj] = self.enabled.get(obj, 0) + 1
-                    heap = self.heaps.setdefault(obj, [])
-                    heapq.heappush(heap, (-(p.weight[i] * new_mu), i, self.version[i]))
-                    if len(heap) > 2 * self.enabled[obj] + 64:  # drop stale entries now and then
-                        fresh = [e for e in heap if e[2] == self.version[e[1]]]
-                        heapq.heapify(fresh)
-                        self.heaps[obj] = fresh
+                    # changes start their own refresh), so only the live composites move, and
+                    # the live leaves move as groups: 10,000 siblings cost O(1) per decision.
+                    stack.extend(self.live_kids[i])
+                    touched.update(self.groups_of[i] or ())
+        for group in touched:
+            self._rekey(group)
+
+    def _leaf_moved(self, i: int, now: bool, touched: set) -> None:
+        """Leaf i became live (enter its group) or stopped being so (leave it, lazily)."""
+        p = self.plan
+        up, obj = p.parent[i], p.obj[i]
+        group = (up, obj)
+        self.version[i] += 1
+        if now:
+            heap = self.groups.get(group)
+            if heap is None:
+                heap = self.groups[group] = []
+                self.group_size[group] = 0
+                if self.groups_of[up] is None:
+                    self.groups_of[up] = set()
+                self.groups_of[up].add(group)
+            heapq.heappush(heap, (-p.weight[i], i, self.version[i]))
+            self.group_size[group] += 1
+            self.enabled[obj] = self.enabled.get(obj, 0) + 1
+        else:
+            self.group_size[group] -= 1
+            self.enabled[obj] -= 1
+        touched.add(group)
+
+    def _group_head(self, group: tuple[int, str | None]) -> tuple[float, int] | None:
+        """The best live leaf of a group, as (-w, order), stale entries dropped."""
+        heap = self.groups.get(group)
+        if not heap:
+            return None
+        version, live = self.version, self.live
+        while heap and (heap[0][2] != version[heap[0][1]] or not live[heap[0][1]]):
+            heapq.heappop(heap)
+        if len(heap) > 2 * self.group_size[group] + 64:   # drop stale entries now and then
+            heap[:] = [e for e in heap if e[2] == version[e[1]] and live[e[1]]]
+            heapq.heapify(heap)
+        return (heap[0][0], heap[0][1]) if heap else None
+
+    def _rekey(self, group: tuple[int, str | None]) -> None:
+        """Put a group's best leaf in its object's queue, with its w * mu now (the old entry goes stale)."""
+        self.group_version[group] = version = self.group_version.get(group, 0) + 1
+        head = self._group_head(group)
+        if head is None:
+            return
+        up, obj = group
+        key = -(-head[0] * self.mu[up]) if up >= 0 else -(-head[0] * BASE_ACTIVATION)
+        queue = self.heaps.setdefault(obj, [])
+        heapq.heappush(queue, (key, head[1], group, version))
+        if len(queue) > 2 * len(self.group_version) + 64:
+            queue[:] = [e for e in queue if e[3] == self.group_version[e[2]]]
+            heapq.heapify(queue)
 
     # -- selection ------------------------------------------------------------
     def _top(self, obj: str | None, skip: int = -1) -> tuple[float, int] | None:
-        """The best live entry of one object's queue (optionally the best but `skip`)."""
-        heap = self.heaps.get(obj)
-        if not heap:
+        """The best live leaf of one object, as (w * mu, order) (optionally the best but `skip`)."""
+        queue = self.heaps.get(obj)
+        if not queue:
             return None
-        version = self.version
-        while heap and heap[0][2] != version[heap[0][1]]:
-            heapq.heappop(heap)
-        if not heap:
+        current = self.group_version
+        while queue and queue[0][3] != current[queue[0][2]]:
+            heapq.heappop(queue)
+        if not queue:
             return None
-        if heap[0][1] != skip:
-            return -heap[0][0], heap[0][1]
-        first = heapq.heappop(heap)
+        key, order, group, _ = queue[0]
+        if order != skip:
+            return -key, order
+        # The runner-up: the best of the next group and this group's second leaf.
+        first = heapq.heappop(queue)
         found = self._top(obj)
-        heapq.heappush(heap, first)
+        heapq.heappush(queue, first)
+        heap = self.groups[group]
+        taken = heapq.heappop(heap)                  # the skipped leaf, live and current
+        second = self._group_head(group)
+        heapq.heappush(heap, taken)
+        if second is not None:
+            up = group[0]
+            wmu = -second[0] * (self.mu[up] if up >= 0 else BASE_ACTIVATION)
+            if found is None or (wmu, -second[1]) > (found[0], -found[1]):
+                found = (wmu, second[1])
         return found
 
     def select(self, hand: Position) -> tuple[list[Candidate], int]:
