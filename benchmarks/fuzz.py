@@ -86,7 +86,7 @@ def main() -> int:
                 return
             began = time.monotonic()
             if args.log:   # what is running now, in case the run dies on it (a case beyond every guard)
-                Path(args.log).write_text(f"{name} {drawn!r}\n")
+                Path(args.log).write_text(f"{name} {drawn!r}\n", encoding="utf-8", errors="backslashreplace")
             case, outcome = probe(**drawn)
             spent[name] += time.monotonic() - began
             tried[name] += 1
@@ -135,7 +135,10 @@ def main() -> int:
         Path(args.repro_dir).mkdir(parents=True, exist_ok=True)
         for number, failure in enumerate(sorted(failures.values(), key=lambda f: f["problem"]), 1):
             path = Path(args.repro_dir) / f"failure-{number:02d}.sh"
-            path.write_text(f"# {failure['problem']}\n" + failure["case"].reproducer(limit=10**9) + "\n")
+            # a file name that is not UTF-8 comes back as its own bytes (surrogateescape): the
+            # reproducer makes the very file the case had
+            path.write_text(f"# {failure['problem']}\n" + failure["case"].reproducer(limit=10**9) + "\n",
+                            encoding="utf-8", errors="surrogateescape")
         report.append(f"\nWhole reproducers: {args.repro_dir}/failure-NN.sh")
     text = "\n".join(report) + "\n"
     print(text)

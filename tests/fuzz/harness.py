@@ -327,8 +327,10 @@ def _make_files(directory: Path, case: Case) -> None:
 def _outcome(directory, case, before, status, stdout, stderr, hung=False, died="", extra=None) -> Outcome:
     after = _hashes(directory, before)
     changed = tuple(n for n in before if after.get(n) != before[n])
+    made = {name for name, _ in case.files}     # a case's own file may be named `.x.pl`
     leftovers = tuple(sorted(str(p.relative_to(directory)) for p in directory.rglob("*")
-                             if p.name.endswith(".tmp") or p.name.startswith(".")))
+                             if (p.name.endswith(".tmp") or p.name.startswith("."))
+                             and str(p.relative_to(directory)) not in made))
     output_after, output_kind = None, ""
     if case.output is not None:
         target = directory / case.output
