@@ -13,10 +13,9 @@ from __future__ import annotations
 
 import os
 
-import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
-from test_conformance import record, run_schemalog
+from test_fuzz_iso import differences, swipl  # noqa: F401 (swipl: the live swipl fixture)
 
 PROGRAM = "cut_through.pl"
 
@@ -55,16 +54,6 @@ def queries(draw) -> str:
     return query
 
 
-@pytest.fixture(scope="module")
-def swipl() -> str:
-    path = record.swipl_path()
-    if path is None:
-        if os.environ.get("CI"):
-            pytest.fail("CI is set but swipl is not on PATH: the cuts cannot be checked")
-        pytest.skip("swipl is not on PATH: the cuts through variables need it")
-    return path
-
-
 EXAMPLES = int(os.environ.get("SCHEMALOG_FUZZ_EXAMPLES", "0"))
 
 
@@ -72,12 +61,5 @@ EXAMPLES = int(os.environ.get("SCHEMALOG_FUZZ_EXAMPLES", "0"))
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(st.lists(queries(), min_size=120, max_size=120))
 def test_cuts_through_variables_answer_as_swipl_does(swipl, cases):
-    batch = [record.Case(f"cut-{i}", PROGRAM, q) for i, q in enumerate(cases)]
-    theirs = record.run_program(PROGRAM, batch, swipl)
-    differing = []
-    for case, expected in zip(batch, theirs):
-        expected = {k: expected[k] for k in ("answers", "end", "output")}
-        ours = run_schemalog(PROGRAM, case.query)
-        if ours != expected:
-            differing.append(f"?- {case.query}\n  swipl:     {expected}\n  schemalog: {ours}")
-    assert not differing, f"{len(differing)} of {len(batch)} queries differ:\n" + "\n".join(differing)
+    differing = differences(PROGRAM, cases, swipl)
+    assert not differing, f"{len(differing)} of {len(cases)} queries differ:\n" + "\n".join(differing)

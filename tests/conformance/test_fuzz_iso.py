@@ -69,12 +69,18 @@ EXAMPLES = int(os.environ.get("SCHEMALOG_FUZZ_EXAMPLES", "0"))
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 @given(st.lists(calls(), min_size=150, max_size=150))
 def test_random_iso_calls_answer_as_swipl_does(swipl, queries):
-    cases = [record.Case(f"fuzz-{i}", PROGRAM, q) for i, q in enumerate(queries)]
-    theirs = record.run_program(PROGRAM, cases, swipl)
+    differing = differences(PROGRAM, queries, swipl)
+    assert not differing, f"{len(differing)} of {len(queries)} calls differ:\n" + "\n".join(differing)
+
+
+def differences(program: str, queries: list[str], swipl: str) -> list[str]:
+    """Run `queries` against `program` in one swipl batch and in schemalog: each that differs."""
+    cases = [record.Case(f"live-{i}", program, q) for i, q in enumerate(queries)]
+    theirs = record.run_program(program, cases, swipl)
     differing = []
     for case, expected in zip(cases, theirs):
         expected = {k: expected[k] for k in ("answers", "end", "output")}
-        ours = run_schemalog(PROGRAM, case.query)
+        ours = run_schemalog(program, case.query)
         if ours != expected:
             differing.append(f"?- {case.query}\n  swipl:     {expected}\n  schemalog: {ours}")
-    assert not differing, f"{len(differing)} of {len(cases)} calls differ:\n" + "\n".join(differing)
+    return differing

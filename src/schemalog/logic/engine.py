@@ -130,7 +130,10 @@ def _push(branch: tuple, cutb: int, rest):
 _POLL = 256   # steps between two looks at `interrupted` (a few hundred microseconds)
 
 # Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
-_CLAUSES, _ALT, _NONDET, _CATCH, _DEAD = range(5)
+_CLAUSES, _ALT, _NONDET, _CATCH, _DEAD, _RECATCH = range(6)
+# _RECATCH (kind, mark, height, frame): left above a catch frame whose goal exited with
+# choicepoints; backtracking over it puts the frame's catcher back, so an error raised on a
+# redo of the goal is caught as ISO says (catch/3 is transparent to backtracking).
 
 class Engine:
     """Answers goals against one knowledge base."""
@@ -215,7 +218,8 @@ class Engine:
                 if goals is None:
                     # no alternative left: an exited catch frame and a disabled else-branch are none
                     self.deterministic = not cps or all(
-                        cp[0] == _DEAD or cp[0] == _CATCH and cp[2] is None for cp in reversed(cps))
+                        cp[0] == _DEAD or cp[0] == _RECATCH or cp[0] == _CATCH and cp[2] is None
+                        for cp in reversed(cps))
                     yield b
                     if b.work:       # the answer's printing (resolve_finite) is the query's work too
                         self._charge_work(b)
@@ -301,6 +305,8 @@ class Engine:
                             cp = cps[term.height] if term.height < len(cps) else None
                             if cp is not None and cp[0] == _CATCH:
                                 cps[term.height] = (_CATCH, cp[1], None, cp[3], cp[4], cp[5])
+                                if len(cps) > term.height + 1:    # the goal can be redone
+                                    cps.append((_RECATCH, len(b.trail), term.height, cp))
                             goals = rest
                             continue
                         raise type_error("callable", term)
@@ -485,6 +491,8 @@ class Engine:
                     cps.pop()
                     b.undo(mark)
                     continue
+            if kind == _RECATCH:
+                cps[cp[2]] = cp[3]      # the goal is redone: its catcher is active again
             cps.pop()  # a catch frame is transparent to backtracking
         return False
 
