@@ -11,11 +11,9 @@ each. Derandomized as test_fuzz_iso.py is; SCHEMALOG_FUZZ_EXAMPLES=50 draws fres
 
 from __future__ import annotations
 
-import os
+from hypothesis import given, strategies as st
 
-from hypothesis import HealthCheck, Phase, given, settings, strategies as st
-
-from test_fuzz_iso import differences, swipl  # noqa: F401 (swipl: the live swipl fixture)
+from test_fuzz_iso import LIVE, differences, swipl  # noqa: F401 (swipl: the live swipl fixture)
 
 PROGRAM = "cut_through.pl"
 
@@ -54,11 +52,7 @@ def queries(draw) -> str:
     return query
 
 
-EXAMPLES = int(os.environ.get("SCHEMALOG_FUZZ_EXAMPLES", "0"))
-
-
-@settings(max_examples=EXAMPLES or 3, derandomize=not EXAMPLES, deadline=None, phases=[Phase.generate],
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@LIVE
 @given(st.lists(queries(), min_size=120, max_size=120))
 def test_cuts_through_variables_answer_as_swipl_does(swipl, cases):
     differing = differences(PROGRAM, cases, swipl)

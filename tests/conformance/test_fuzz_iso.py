@@ -63,10 +63,12 @@ def swipl() -> str:
 
 
 EXAMPLES = int(os.environ.get("SCHEMALOG_FUZZ_EXAMPLES", "0"))
+# Three examples, the same on every run, unless SCHEMALOG_FUZZ_EXAMPLES asks for fresh ones.
+LIVE = settings(max_examples=EXAMPLES or 3, derandomize=not EXAMPLES, deadline=None, phases=[Phase.generate],
+                suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 
 
-@settings(max_examples=EXAMPLES or 3, derandomize=not EXAMPLES, deadline=None, phases=[Phase.generate],
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@LIVE
 @given(st.lists(calls(), min_size=150, max_size=150))
 def test_random_iso_calls_answer_as_swipl_does(swipl, queries):
     differing = differences(PROGRAM, queries, swipl)
