@@ -847,14 +847,15 @@ def _float_format(value: int | float, places: int, kind: str) -> str:
 def _forall(e: Machine, a: tuple, b: Bindings) -> bool:
     """forall(+Cond, +Action): \\+ (Cond, \\+ Action), Action called (and checked whole)
     only when Cond has a solution: forall(fail, 4) holds, as in SWI-Prolog."""
-    check_body(a[0], b)
+    check_body(a[0], b)   # the culprit named is Cond itself, not the conjunction run below
     for _ in e.sub_solve(Struct(",", (a[0], Struct("\\+", (Struct("call", (a[1],)),)))), b):
         return False
     return True
 
 
 def _findall(e: Machine, a: tuple, b: Bindings) -> bool:
-    check_body(a[1], b)   # findall(X, (q(X) ; 4), L): type_error(callable, (q(X) ; 4)), as SWI
+    # sub_solve turns the goal into a body first: findall(X, (q(X) ; 4), L) is
+    # type_error(callable, (q(X) ; 4)) before q runs, as in SWI-Prolog
     results = [rename(b.resolve(a[0])) for _ in e.sub_solve(a[1], b)]
     return b.unify(a[2], make_list(results))
 
