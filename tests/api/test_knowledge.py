@@ -93,3 +93,14 @@ def test_every_public_name_resolves_and_private_ones_do_not():
         assert getattr(schemalog, name) is not None
     with pytest.raises(AttributeError):
         schemalog.Engine
+
+
+def test_queries_share_a_session_and_their_output_goes_where_asked():
+    kb = schemalog.load(MIX)
+    written: list[str] = []
+    assert list(kb.query("assertz(seen(1)), write(hi)", output=written.append)) == [{}]
+    assert written == ["hi"]
+    assert list(kb.query("seen(X)")) == [{"X": 1}]
+    assert len(kb.task()) == 12                     # the task reads the files alone
+    with pytest.raises(schemalog.UsageError, match="propagate"):
+        list(kb.query("true", propagate="most"))
