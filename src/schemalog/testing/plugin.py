@@ -71,7 +71,10 @@ def pytest_report_header(config: pytest.Config) -> str | None:
     paths, propagate, states = _settings(config)
     if not paths:
         return None
-    return f"schemalog: proving the tasks under {', '.join(map(str, paths))} (propagate {propagate}, states {states})"
+    here = config.invocation_params.dir
+    shown = ", ".join(p.relative_to(here).as_posix() if p.is_absolute() and p.is_relative_to(here) else str(p)
+                      for p in paths)
+    return f"schemalog: proving the tasks under {shown} (propagate {propagate}, states {states})"
 
 
 def task_files(paths: list[Path]) -> Iterator[Path]:

@@ -59,6 +59,8 @@ def task_files(draw, *, levels: tuple[int, int] = (2, 4), max_children: int = 4,
     def node(level: int) -> tuple[str, str]:
         """Write the schema of a new behaviour at `level`; its (head, name)."""
         n = next(ids)
+        slot = len(clauses)                  # the schema goes before its sub-behaviours'
+        clauses.append("")
         count = 0
         if level < depth and budget[0] > 0:
             count = min(draw(st.integers(1 if level == 1 else 0, max_children)), budget[0])
@@ -84,16 +86,16 @@ def task_files(draw, *, levels: tuple[int, int] = (2, 4), max_children: int = 4,
             gripped.append(head)
         if kids:
             entries = ",\n".join(f"    ({h}, {r})" for h, _, r in kids)
-            clauses.append(f"schema({head},\n  [\n{entries}\n  ],\n  {post}).")
+            clauses[slot] = f"schema({head},\n  [\n{entries}\n  ],\n  {post})."
         else:
-            clauses.append(f"schema({head}, [], {post}).")
+            clauses[slot] = f"schema({head}, [], {post})."
         return head, name
 
     node(1)
     lines = [f"% A task drawn by schemalog.testing.strategies.task_files: {depth} levels.",
              f"task({root}).", "", "object(cup).", "object(spoon).",
              *(f"initial({atom})." for atom in initial),
-             *(f"agent({head}, gripper)." for head in gripped), "", *reversed(clauses), ""]
+             *(f"agent({head}, gripper)." for head in gripped), "", *clauses, ""]
     return "\n".join(lines)
 
 
