@@ -13,6 +13,7 @@ import sys
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .. import defaults
 from ..errors import CannotWrite, SchemalogError, UsageError, readable_name
@@ -25,6 +26,49 @@ from ..run.scene import NO_SCENE, Scene, object_name, read_scene
 from ..run.world import state_atoms
 from ..task.schema import check_schemas, knowledge_base
 from ..task.tree import Behaviour, Instantiator, declared_tasks, walk
+
+if TYPE_CHECKING:
+    from ..api.knowledge import Knowledge
+    from ..api.task import Task
+
+
+def load_knowledge(args: argparse.Namespace) -> Knowledge:
+    """The files of the command line as one program (schemalog.load), its warnings on stderr;
+    -o is checked against them before they are read and against every file they consulted once
+    they are."""
+    from ..api.knowledge import _load
+
+    output = getattr(args, "output", None)
+    check_output(output, inputs_of(args))
+    knowledge = _load(args.files, args.max_bytes, args.max_steps, uncollected)
+    gc.freeze()             # the knowledge base lives as long as the command: never scanned again
+    for warning in knowledge.warnings:
+        print(warning, file=sys.stderr)
+    check_output(output, inputs_of(args, knowledge.files))
+    return knowledge
+
+
+def task_of(knowledge: Knowledge, args: argparse.Namespace) -> Task:
+    """--task's tree (default: the first task/1), what the instantiation noted on stderr."""
+    task = knowledge.task(args.task, max_depth=args.max_depth, max_nodes=args.max_nodes)
+    said(task.notes)
+    return task
+
+
+def said(notes) -> None:
+    """The notes and warnings an API call collected, on stderr."""
+    for note in notes:
+        print(note, file=sys.stderr)
+
+
+def task_to_use(knowledge: Knowledge, args: argparse.Namespace) -> Task:
+    """The file's own task (a compressed file's, or the original), or with --compressed the
+    original compressed (--propagate, its notes on stderr): run, export."""
+    task = task_of(knowledge, args)
+    if args.compressed:
+        task = task.original.compress(args.propagate, sympy_budget=args.sympy_budget)
+        said(task.notes)
+    return task
 
 
 def load_files(args: argparse.Namespace) -> tuple[KnowledgeBase, list[Document]]:
@@ -238,8 +282,8 @@ def scene_of(args: argparse.Namespace, original: Behaviour) -> Scene:
 
 
 def workspace_of(args: argparse.Namespace, files: list[str]):
-    """The files as a query workspace (relations.py), focused as --task/--compressed/--state ask."""
-    from .relations import COMPRESSED, Options, Workspace
+    """The files as a query workspace (api/workspace.py), focused as --task/--compressed/--state ask."""
+    from ..api.workspace import COMPRESSED, Options, Workspace
 
     options = Options(propagate=args.propagate, max_bytes=args.max_bytes, max_depth=args.max_depth,
                       max_nodes=args.max_nodes, max_steps=args.max_steps, sympy_budget=args.sympy_budget,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 
 from ..logic.terms import Atom, Struct, Term
-from .relations import RELATIONS, Workspace
+from ..api.workspace import RELATIONS, Workspace
 
 
 def _completer(workspace: Workspace):

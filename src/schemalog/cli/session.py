@@ -17,7 +17,7 @@ from ..errors import SchemalogError
 from ..logic.exceptions import PrologError, StepLimitExceeded
 from ..logic.parse import parse_term
 from ..logic.terms import term_to_text
-from .relations import COMPRESSED, ORIGINAL, RELATIONS, Workspace
+from ..api.workspace import COMPRESSED, ORIGINAL, RELATIONS, Workspace
 from .toplevel import _Output, answer_text, answers, error_text, read_query, split_queries
 
 
@@ -211,7 +211,7 @@ class Repl:
     def run(self, view, kind: str) -> None:
         """Run `view`'s tree from the current state, each decision as `schemalog run` prints it."""
         from ..task.tree import walk
-        from .run import decision_lines
+        from ..api.execution import decision_lines
 
         ws = self.workspace
         ws.set_focus(view, kind)
@@ -227,7 +227,7 @@ class Repl:
 
     def verify(self, view) -> None:
         from ..run.vacuity import verdict_term
-        from .verify import vacuity_lines
+        from ..api.report import vacuity_lines
 
         report, vacuity = self.workspace.verify(view)
         self.say(f"% {term_to_text(view.task)}: {term_to_text(verdict_term(report, vacuity))} "
