@@ -34,6 +34,8 @@ def _layer(module: str) -> int:
         return len(LAYERS)  # `python -m schemalog` sits on top of everything
     if module == "schemalog":
         return LAYERS.index("api")  # the package's own names are the API's, imported when first used
+    if len(parts) == 2 and parts[1] in LAYERS:
+        return LAYERS.index(parts[1])  # a layer's own __init__ (schemalog.testing imports schemalog)
     return LAYERS.index(parts[1]) if len(parts) > 2 else 0
 
 
