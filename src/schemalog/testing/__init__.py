@@ -6,9 +6,9 @@
     def test_my_task_compresses_soundly():
         assert_compression_sound(schemalog.load("tasks/pour.pl").task())
 
-`assert_compression_sound` and `assert_equivalent` prove with `schemalog.verify` and raise an
-AssertionError (NotProved) whose message is the report `schemalog verify` prints (the counterexample, or
-why the task itself cannot complete) unless the result is a proof. The strategies are in
+`assert_compression_sound` and `assert_equivalent` prove with `schemalog.verify` and, unless the
+result is a proof, raise an AssertionError (NotProved) whose message is the report `schemalog
+verify` prints: the counterexample, or why the task itself cannot complete, or the limit hit. The strategies are in
 `schemalog.testing.strategies` (they need hypothesis), the pytest plugin (`pytest
 --schemalog-tasks DIR`) in `schemalog.testing.plugin`. docs/testing.md has an example suite.
 
@@ -41,8 +41,9 @@ def assert_compression_sound(task: "Task", *, propagate: str = "full", states: s
     provenance) is proved against its own original instead, and `propagate` is not used.
     `states` and `verify_options` (method, max_states, max_bdd_nodes, split, scene) are those of
     `schemalog.verify`. Returns the report of a proof; raises NotProved (an AssertionError), with
-    the report's text as its message and the report as `.report`, when the result is refuted (a counterexample), vacuous (the task
-    itself cannot complete) or inconclusive (a limit stopped the search).
+    the report's text as its message and the report as `.report`, when the result is refuted (a
+    counterexample), vacuous (the task itself cannot complete) or inconclusive (a limit stopped
+    the search).
     """
     __tracebackhide__ = True  # pytest: the failure is the report, not this frame
     if task.compressed:
