@@ -31,20 +31,19 @@ class Run:
         self.task = task
         self.initial = initial
         self.notes: tuple[str, ...] = tuple(notes)
-        self._started = False
+        self._decisions: Iterator[Decision] | None = None
 
     def __iter__(self) -> Iterator[Decision]:
-        """The decisions as the executive takes them (once)."""
-        if self._started:
-            raise SchemalogError("this run has already been run: start another with Task.start()")
-        self._started = True
-        yield from self.executive
+        """The decisions still to come, as the executive takes them (a run is taken once:
+        iterating again goes on where the last iteration stopped)."""
+        if self._decisions is None:
+            self._decisions = iter(self.executive)
+        return self._decisions
 
     def finish(self) -> Run:
         """Run to the end (what is left of it)."""
-        if not self._started:
-            for _ in self:
-                pass
+        for _ in self:
+            pass
         return self
 
     @property
@@ -101,7 +100,7 @@ class Run:
         return f"the run of {self.task.name}, {len(ex.decisions)} decisions, {ex.outcome.status.value} ({fmt})"
 
     def __repr__(self) -> str:
-        if not self._started:
+        if self._decisions is None:
             return f"<Run {self.task.name}: not started>"
         return f"<Run {self.task.name}: {self.status}, {len(self.executive.trace)} actions>"
 

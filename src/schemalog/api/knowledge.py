@@ -37,6 +37,7 @@ class Knowledge:
         self._sources = sources       # (name, text) to read again for a query; text None: a file
         self._max_bytes = max_bytes
         self._max_steps = max_steps
+        self._workspaces: dict = {}   # propagate -> the query workspace (api/workspace.py)
         self.files: tuple[str, ...] = files
         self.warnings: tuple[str, ...] = tuple(kb.warnings)
 
@@ -62,17 +63,27 @@ class Knowledge:
 
         return Task.instantiated(self, choose_task(self._kb, name), max_depth, max_nodes)
 
-    def query(self, goal: str, *, first: bool = False, max_steps: int | None = None,
-              propagate: str = "full") -> Iterator[dict[str, Value]]:
+    def query(self, goal: str, *, first: bool = False, max_steps: int | None = None, propagate: str = "full",
+              output: Callable[[str], None] | None = None) -> Iterator[dict[str, Value]]:
         """Each answer of a Prolog query over the knowledge and its tasks' relations
-        (docs/queries.md: merged/3, sequential/2, ...), as a dict of Python values."""
-        from .answers import answers, read_query
-        from .workspace import Options, Workspace
+        (docs/queries.md: merged/3, sequential/2, ...), as a dict of Python values; what the
+        query writes (write/1, format/2) goes to `output` (default: standard output).
 
+        Queries share one workspace per propagation mode, as goals share one Prolog session:
+        what one asserts, the next sees (Knowledge.task() reads the files' knowledge alone)."""
+        from .answers import answers, read_query
+
+        if propagate not in defaults.PROPAGATE_MODES:
+            raise UsageError(f"propagate {propagate!r}: choose {', '.join(defaults.PROPAGATE_MODES)}")
         query = read_query(goal)
-        options = Options(propagate=propagate, max_bytes=self._max_bytes, max_steps=self._max_steps)
-        workspace = Workspace([name for name, _ in self._sources], options, self._reread)
-        for answer, _ in answers(workspace, query, None, max_steps or self._max_steps):
+        workspace = self._workspaces.get(propagate)
+        if workspace is None:
+            from .workspace import Options, Workspace
+
+            options = Options(propagate=propagate, max_bytes=self._max_bytes, max_steps=self._max_steps)
+            workspace = self._workspaces[propagate] = Workspace([n for n, _ in self._sources], options,
+                                                                self._reread)
+        for answer, _ in answers(workspace, query, output, max_steps or self._max_steps):
             yield {name: python_value(value) for name, value in answer.values}
             if first:
                 return

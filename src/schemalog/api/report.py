@@ -37,6 +37,8 @@ class Counterexample:
     actions: tuple[tuple[str, ...], ...]   # the actions each step performed
     state: tuple[str, ...]            # the state where the property fails
     lines: tuple[str, ...]            # as `schemalog verify` prints it
+    behaviour: str | None = None      # soundness: the compressed tree's next behaviour, which the
+    action: str | None = None         # ... original does not allow: its action the original would not take
 
     def text(self) -> str:
         return "\n".join(self.lines)
@@ -109,7 +111,9 @@ class Report:
                     name, tuple(sorted(term_to_text(a) for a in ce.initial)),
                     tuple(term_to_text(s.behaviour) for s in ce.path),
                     tuple(tuple(term_to_text(a) for a in s.actions) for s in ce.path),
-                    tuple(sorted(term_to_text(a) for a in ce.state)), tuple(counterexample_lines(ce)))
+                    tuple(sorted(term_to_text(a) for a in ce.state)), tuple(counterexample_lines(ce)),
+                    None if ce.behaviour is None else term_to_text(ce.behaviour),
+                    None if ce.action is None else term_to_text(ce.action))
         return None
 
     def text(self) -> str:
