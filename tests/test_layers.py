@@ -34,6 +34,8 @@ def _layer(module: str) -> int:
         return len(LAYERS)  # `python -m schemalog` sits on top of everything
     if module == "schemalog":
         return LAYERS.index("api")  # the package's own names are the API's, imported when first used
+    if len(parts) == 2 and parts[1] in LAYERS:
+        return LAYERS.index(parts[1])  # a layer's own __init__ (schemalog.testing imports schemalog)
     return LAYERS.index(parts[1]) if len(parts) > 2 else 0
 
 
@@ -155,3 +157,29 @@ def test_test_modules_have_unique_names():
     # different folders stop the whole run at collection
     names = [p.name for p in Path(__file__).parent.rglob("test_*.py")]
     assert sorted(n for n in set(names) if names.count(n) > 1) == []
+
+
+EXAMPLE = Path(__file__).parent / "example_project"
+
+
+def test_the_example_project_uses_only_the_public_api():
+    """A user's project (tests/example_project) imports schemalog and schemalog.testing (its
+    strategies too), nothing else of the package: what is not exported there is private."""
+    allowed = {"schemalog", "schemalog.testing", "schemalog.testing.strategies"}
+    files = sorted(EXAMPLE.rglob("*.py"))
+    assert len(files) >= 2
+    found = {}
+    for path in files:
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level:
+                names = [node.module or ""]
+                names += [f"{node.module}.{a.name}" for a in node.names
+                          if f"{node.module}.{a.name}" in MODULES]       # `from schemalog import api`
+            else:
+                continue
+            for name in names:
+                if name.split(".")[0] == "schemalog" and name not in allowed:
+                    found.setdefault(str(path.relative_to(EXAMPLE)), []).append(name)
+    assert not found, f"the example project imports private modules: {found}"
