@@ -202,8 +202,8 @@ def run_dot(run: Run) -> str:
             break
         steps.append((d.behaviour, d.executed))
     indices = replayed(ex.given_tree, run.task.original.tree, run.initial, steps)
-    title = (f"{run.task.name}: run of the {run.task.kind} tree, {run.status} after {len(ex.decisions)} "
-             f"decisions (#k: the k-th decision took it)")
+    title = (f"{run.task.name}: run of the {run.task.kind} tree, {run.status} after "
+             f"{plural(len(ex.decisions), 'decision')} (#k: the k-th decision took it)")
     initial = World(run.task.original.tree, run.initial).atoms
     return fitted_dot(run.task.name, [Panel("run", title, ex.given_tree)], initial, numbered(indices, "decision"))[0]
 
@@ -228,6 +228,10 @@ def image(svg: str | None) -> str:
     return f'<div><img alt="picture" src="data:image/svg+xml;base64,{data}"/></div>'
 
 
+def plural(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
 def pre(text: str) -> str:
     return f'<pre style="white-space: pre; overflow-x: auto">{html.escape(text)}</pre>'
 
@@ -241,8 +245,9 @@ def report_html(report: Report) -> str:
             f"({html.escape(report.how)}; {report.nodes_before} behaviours, compressed "
             f"{report.nodes_after})")
     if ce is not None:
-        head += (f" &mdash; counterexample to {ce.property}: {len(ce.steps)} step"
-                 f"{'s' if len(ce.steps) != 1 else ''} from {html.escape(', '.join(ce.initial) or 'nothing true')}")
+        steps = f"after {plural(len(ce.steps), 'step')}" if ce.steps else "at the start"
+        head += (f" &mdash; counterexample to {ce.property} {steps}, from "
+                 f"{html.escape(', '.join(ce.initial) or 'nothing true')}")
     parts = [head + "</p>", image(report_svg(report)) if ce is not None else ""]
     if report.notes:
         parts.append(pre("\n".join(report.notes)))
@@ -271,7 +276,7 @@ def run_html(run: Run) -> str:
     summary = summary_lines(ex)
     parts = [f'<p>{head}<br/><b style="color: {colour}">{html.escape(summary[0])}</b></p>',
              image(run_svg(run)),
-             f"<details{' open' if len(ex.decisions) <= 20 else ''}><summary>{len(ex.decisions)} decisions"
+             f"<details{' open' if len(ex.decisions) <= 20 else ''}><summary>{plural(len(ex.decisions), 'decision')}"
              f"</summary>{table}</details>",
              pre("\n".join([*summary[1:], *run.notes]))]
     return "\n".join(p for p in parts if p)
