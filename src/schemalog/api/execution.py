@@ -113,7 +113,7 @@ class Run:
 
         if not self._started:       # showing a run does not start it
             return f"<pre>{html.escape(repr(self))}</pre>"
-        return run_html(self)
+        return run_html(self, summary_lines(self.finish().executive))
 
     def _repr_svg_(self) -> str | None:
         """The tree that ran, each behaviour numbered by the decisions that took it; None without `dot`."""

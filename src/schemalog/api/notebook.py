@@ -255,10 +255,9 @@ def report_html(report: Report) -> str:
     return "\n".join(p for p in parts if p)
 
 
-def run_html(run: Run) -> str:
-    """The run's header, a table of its decisions, how it ended, and its picture."""
-    from .execution import summary_lines
-
+def run_html(run: Run, summary: list[str]) -> str:
+    """The run's header, a table of its decisions, how it ended (`summary`: execution's
+    summary_lines, its status first), and its picture."""
     run.finish()
     ex = run.executive
     colour = VERDICT_COLOURS["proved"] if run.completed else VERDICT_COLOURS["refuted"]
@@ -273,7 +272,6 @@ def run_html(run: Run) -> str:
                     f"<td>{html.escape(', '.join(actions))}</td></tr>")
     table = ('<table><thead><tr><th>#</th><th>winner</th><th>emphasis</th><th>runner-up (emphasis)</th>'
              '<th>enabled</th><th>actions</th></tr></thead><tbody>' + "".join(rows) + "</tbody></table>")
-    summary = summary_lines(ex)
     parts = [f'<p>{head}<br/><b style="color: {colour}">{html.escape(summary[0])}</b></p>',
              image(run_svg(run)),
              f"<details{' open' if len(ex.decisions) <= 20 else ''}><summary>{plural(len(ex.decisions), 'decision')}"
