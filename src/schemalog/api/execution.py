@@ -105,9 +105,20 @@ class Run:
         return f"<Run {self.task.name}: {self.status}, {len(self.executive.trace)} actions>"
 
     def _repr_html_(self) -> str:
+        """How it ended, the tree with its decisions numbered (Graphviz) and a table of them."""
         import html
 
-        return f"<pre>{html.escape(self.text())}</pre>"
+        from .notebook import run_html
+
+        if not self._started:       # showing a run does not start it
+            return f"<pre>{html.escape(repr(self))}</pre>"
+        return run_html(self, summary_lines(self.finish().executive))
+
+    def _repr_svg_(self) -> str | None:
+        """The tree that ran, each behaviour numbered by the decisions that took it; None without `dot`."""
+        from .notebook import run_svg
+
+        return run_svg(self) if self._started else None
 
 
 def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple[str, ...], fail_times,

@@ -51,7 +51,8 @@ class Report:
     """The verdict of one proof: soundness, completion, the diagnostics, and whether it says anything."""
 
     def __init__(self, raw, vacuity: Vacuity | None, how: str, before: int, after: int,
-                 states_option: str = "default", notes: Iterable[str] = ()) -> None:
+                 states_option: str = "default", notes: Iterable[str] = (),
+                 tasks: tuple[Task, Task] | None = None) -> None:
         self.raw = raw                  # run.verify.Report: every figure of the exploration
         self.vacuity = vacuity
         self.how = how
@@ -59,6 +60,7 @@ class Report:
         self.nodes_after = after
         self.states_option = states_option
         self.notes: tuple[str, ...] = tuple(notes)
+        self.tasks = tasks              # (original, compressed) as verified, for the picture
 
     @property
     def task(self) -> str:
@@ -136,9 +138,16 @@ class Report:
         return f"<Report {self.task}: {self.verdict}>"
 
     def _repr_html_(self) -> str:
-        import html
+        """The verdict, the counterexample's picture (Graphviz) and the report as verify prints it."""
+        from .notebook import report_html
 
-        return f"<pre>{html.escape(self.text())}</pre>"
+        return report_html(self)
+
+    def _repr_svg_(self) -> str | None:
+        """The compressed tree with the counterexample's steps numbered; None without one or `dot`."""
+        from .notebook import report_svg
+
+        return report_svg(self)
 
 
 def verify(original: Task, compressed: Task, *, states: str | Iterable[str] = "default", method: str = "auto",
@@ -184,7 +193,7 @@ def verify(original: Task, compressed: Task, *, states: str | Iterable[str] = "d
                     split=split)
     vacuity = vacuity_of(first, World(first), raw.initial_states, max_states, raw.original_completes)
     return Report(raw, vacuity, how_compressed(original, compressed), len(original), len(compressed),
-                  states_option, notes)
+                  states_option, notes, tasks=(original, compressed))
 
 
 def how_compressed(original: Task, compressed: Task) -> str:

@@ -272,19 +272,21 @@ class Task:
 
     # -- notebooks ----------------------------------------------------------------------
     def _repr_svg_(self) -> str | None:
-        """The tree drawn by Graphviz when `dot` is installed (Jupyter shows it), else None."""
-        import shutil
+        """The tree drawn by Graphviz, sized for a notebook (a compressed task beside its
+        original when both fit, its aliased behaviours marked); None without `dot`."""
+        from .notebook import task_svg
 
-        if shutil.which("dot") is None:
-            return None
-        from ..formats.graphviz import render
+        return task_svg(self)
 
-        return render(self.to_dot(), "svg").decode("utf-8")
-
-    def _repr_html_(self) -> str:
-        """The tree as text, for a notebook without Graphviz."""
+    def _repr_html_(self) -> str | None:
+        """The tree as text, for a notebook without Graphviz (None with it: the picture shows,
+        since notebooks prefer HTML to SVG)."""
         import html
 
+        from .notebook import have_dot
+
+        if have_dot():
+            return None
         return f"<pre>{html.escape(self.tree_text())}</pre>"
 
     def tree_text(self, width: int = 120) -> str:
