@@ -110,7 +110,7 @@ class Run:
 
         from .notebook import run_html
 
-        if not self._started:       # showing a run does not start it
+        if self._decisions is None:       # showing a run does not start it
             return f"<pre>{html.escape(repr(self))}</pre>"
         return run_html(self, summary_lines(self.finish().executive))
 
@@ -118,7 +118,7 @@ class Run:
         """The tree that ran, each behaviour numbered by the decisions that took it; None without `dot`."""
         from .notebook import run_svg
 
-        return run_svg(self) if self._started else None
+        return run_svg(self) if self._decisions is not None else None
 
 
 def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple[str, ...], fail_times,
