@@ -54,16 +54,24 @@ def _same_file(a: str, b: str) -> bool:
 def read_scene_for(task: Task, scene: str | os.PathLike | None, seed: int | None, jitter: float | None,
                    max_bytes: int = defaults.MAX_BYTES) -> Scene:
     """The scene file, jittered by seed/jitter, checked against the task's objects."""
-    from ..run.scene import NO_SCENE, object_name, read_scene
-    from ..task.tree import walk
+    from ..run.scene import NO_SCENE
 
     if scene is None:
         if seed is not None or jitter is not None:
             raise UsageError("--seed and --jitter move the objects of a scene: give --scene too")
         return NO_SCENE
+    return scene_for_tree(task.original.tree, scene, seed, jitter, max_bytes)
+
+
+def scene_for_tree(tree, scene: str | os.PathLike, seed: int | None, jitter: float | None,
+                   max_bytes: int = defaults.MAX_BYTES) -> Scene:
+    """The scene file, checked against the objects of an original tree, jittered by seed/jitter."""
+    from ..run.scene import object_name, read_scene
+    from ..task.tree import walk
+
     name = os.fspath(scene)
     found = read_scene(name, max_bytes)
-    for node in walk(task.original.tree):
+    for node in walk(tree):
         for obj in node.objects[:1]:    # lambda reads the distance to a behaviour's first object
             if object_name(obj) not in found.objects:
                 known = ", ".join(sorted(found.objects)) or "none"
@@ -72,3 +80,26 @@ def read_scene_for(task: Task, scene: str | os.PathLike | None, seed: int | None
     if seed is not None or jitter is not None:
         found = found.jittered(seed if seed is not None else 0, jitter if jitter is not None else defaults.JITTER)
     return found
+
+
+def term_option(text: str, option: str) -> Term:
+    """A term given as an option's text, or a usage error naming the option."""
+    from ..logic.parse import parse_term
+
+    try:
+        return parse_term(text, option)
+    except SchemalogError as err:
+        raise UsageError(f"{option} {text!r} is not a term: {err.message}") from None
+
+
+def atoms_option(text: str, option: str) -> list[Term]:
+    """A state given as an option's text, 'hand.free, a1.done' (query and repl's --state):
+    its atoms, or a usage error (`is not a term` when it does not parse)."""
+    from ..run.world import state_atoms as atoms_of
+
+    try:
+        return atoms_of(term_option(text, option), option)
+    except UsageError:
+        raise
+    except SchemalogError as err:
+        raise UsageError(err.message) from None

@@ -176,6 +176,13 @@ def _failures(task: Task, fail: tuple[str, ...], fail_times, notes: list[str]) -
     return failures
 
 
+def decision_width(tree) -> int:
+    """The column a tree's decisions are printed in: its longest behaviour name, at most 40."""
+    from ..task.tree import walk
+
+    return min(40, max(len(n.name) for n in walk(tree)))
+
+
 def decision_lines(d: Decision, width: int) -> list[str]:
     """One decision as text: the winner, its emphasis, the runner-up, merged actions beneath."""
     runner = f"{term_to_text(d.runner_up[0])} {d.runner_up[1]:.4g}" if d.runner_up else "-"

@@ -17,11 +17,12 @@ from .. import defaults
 from ..errors import SchemalogError, UsageError
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import parse_term
-from ..logic.terms import Atom, Float, Int, Str, Struct, Term, Var, term_to_text
-from ..logic.unify import Bindings
+from ..logic.terms import Atom, Float, Int, Str, Struct, Term, term_to_text
+from .choosing import choose_task, choose_tasks, defines, root_candidates, task_term  # noqa: F401 (the API layer's)
 
 if TYPE_CHECKING:
     from ..run.lint import Finding
+    from .check import Checked
     from .task import Task
 
 Path = Union[str, "os.PathLike[str]"]
@@ -96,6 +97,14 @@ class Knowledge:
         tasks = None if task is None else [(task_term(task), None)]
         return list(lint_kb(self._kb, max_depth, max_nodes, tasks))
 
+    def check(self, task: str | None = None, *, lint: bool = True, max_depth: int = defaults.MAX_DEPTH,
+              max_nodes: int = defaults.MAX_NODES) -> Checked:
+        """What `schemalog check` does: every schema read, the tasks instantiated (task None:
+        every task/1), then linted; .schemas, .tasks, .findings, .errors."""
+        from .check import check
+
+        return check(self, task, lint, max_depth, max_nodes)
+
     def _reread(self) -> KnowledgeBase:
         """A fresh knowledge base of the same sources (a query's workspace adds facts to its own)."""
         return _read(self._sources, self._max_bytes, self._max_steps, nullcontext)[0]
@@ -169,59 +178,6 @@ def xml_document(path: str, max_bytes: int = defaults.MAX_BYTES):
 
 
 # ---------------------------------------------------------------------------
-# Choosing a task
-
-def task_term(text: str) -> Term:
-    """A task named in text, `prepareboth` or `take(cup)`."""
-    try:
-        return parse_term(text, "--task")
-    except SchemalogError as err:
-        raise UsageError(f"--task {text!r} is not a term: {err.message}") from None
-
-
-def root_candidates(kb: KnowledgeBase) -> list[str]:
-    """Schemas never used as a sub-task: likely tasks, for a helpful message."""
-    from ..task.schema import check_schemas
-
-    schemas = check_schemas(kb)
-    used = {term_to_text(e.behaviour) for s in schemas for e in s.entries}
-    return [term_to_text(s.task) for s in schemas if s.entries and term_to_text(s.task) not in used]
-
-
-def choose_task(kb: KnowledgeBase, name: str | None) -> Term:
-    """The task named (it must have a schema), or the first task/1."""
-    return choose_tasks(kb, name)[0]
-
-
-def choose_tasks(kb: KnowledgeBase, task: str | None, every: bool = False) -> list[Term]:
-    """The task named, or the declared ones (every: all of them, else the first)."""
-    from ..task.tree import declared_tasks
-
-    if task is not None:
-        term = task_term(task)
-        if not defines(kb, term):
-            known = [term_to_text(t) for t in declared_tasks(kb)] or root_candidates(kb)
-            hint = f"; tasks here: {', '.join(known[:8])}" if known else ""
-            raise SchemalogError(f"unknown task {term_to_text(term)}: no schema({term_to_text(term)}, "
-                                 f"Subtasks, Post) in {', '.join(kb.files) or 'the knowledge'}{hint}")
-        return [term]
-    declared = declared_tasks(kb)
-    if declared:
-        return declared if every else declared[:1]
-    if every:
-        return []
-    roots = root_candidates(kb)
-    hint = f" (candidates: {', '.join(roots[:8])})" if roots else ""
-    raise UsageError(f"no task declared with task/1: name one with --task{hint}")
-
-
-def defines(kb: KnowledgeBase, task: Term) -> bool:
-    """Whether some schema/3 head unifies with `task`."""
-    goal = Struct("schema", (task, Var("_"), Var("_")))
-    return any(Bindings().unify(c.head, goal) for c in kb.candidates("schema", 3, task) or [])
-
-
-# ---------------------------------------------------------------------------
 # Query answers as Python values
 
 def python_value(term: Term) -> Value:
@@ -248,3 +204,12 @@ def python_value(term: Term) -> Value:
     if items and rest == Atom("[]"):
         return [python_value(t) for t in items]
     return term
+
+
+def task_as_read(knowledge: Knowledge, name: str | None, max_depth: int = defaults.MAX_DEPTH,
+                 max_nodes: int = defaults.MAX_NODES):
+    """The task's tree exactly as its knowledge gives it, provenance not followed (show,
+    decompress: a merged behaviour of a compressed file is shown, not refused)."""
+    from .task import Task
+
+    return Task.instantiated(knowledge, choose_task(knowledge._kb, name), max_depth, max_nodes, provenance=False)

@@ -69,14 +69,17 @@ class Task:
 
     @classmethod
     def instantiated(cls, knowledge: Knowledge, task: Term, max_depth: int = defaults.MAX_DEPTH,
-                     max_nodes: int = defaults.MAX_NODES, read: dict | None = None) -> Task:
-        """The task's tree from its schemas (a compressed file's tree keeps its provenance)."""
+                     max_nodes: int = defaults.MAX_NODES, read: dict | None = None, provenance: bool = True) -> Task:
+        """The task's tree from its schemas (a compressed file's tree keeps its provenance;
+        provenance False: the tree as read, its original not rebuilt, as show prints it)."""
         from ..task.compress import original_of
         from ..task.tree import Instantiator
 
         instantiator = Instantiator(knowledge._kb, max_depth=max_depth, max_nodes=max_nodes, read=read)
         tree = instantiator.instantiate(task)
         notes = tuple(instantiator.warnings)
+        if not provenance:
+            return cls(tree, knowledge, notes=notes)
         before = original_of(tree)
         original = None if before is tree else cls(before, knowledge, notes=notes)
         return cls(tree, knowledge, original, notes=notes)
@@ -144,6 +147,15 @@ class Task:
                               result.simplifier.calls, result.simplifier.sympy_calls)
         return Task(result.tree, self.knowledge, self, figures, tuple(f"note: {n}" for n in result.notes))
 
+    def decompress(self) -> Task:
+        """The original tree rebuilt from the provenance (origins/2) a compressed file carries;
+        a tree without it is itself (said in `notes`)."""
+        from ..task.compress import decompress
+
+        notes = () if self.tree.origins else \
+            (f"note: {self.name} carries no provenance (origins/2): it is shown as it is",)
+        return Task(decompress(self.tree), self.knowledge, notes=notes)
+
     def verify(self, compressed: Task | None = None, **options) -> Report:
         """Prove `compressed` (default: this task compressed, propagate full) against this
         task's original: schemalog.verify's options."""
@@ -202,13 +214,15 @@ class Task:
         """A Python module that builds and runs this tree in py_trees."""
         return self.text("py_trees", state)
 
-    def text(self, fmt: str, state: str | Iterable[str] | None = None) -> str:
-        """This task written in one format: pl, yaml, seed, json, dot, btcpp, py_trees."""
+    def text(self, fmt: str, state: str | Iterable[str] | None = None, *, header: str | None = None) -> str:
+        """This task written in one format: pl, yaml, seed, json, dot, btcpp, py_trees
+        (header: the comment pl and seed start with, default header())."""
         from ..formats.render import carried_clauses, show_json, to_dot, tree_document
 
         kb = self.knowledge._kb
         if fmt in ("pl", "yaml", "seed"):
-            return written(tree_document(self.tree, carried=carried_clauses(kb)), fmt, self.header())
+            return written(tree_document(self.tree, carried=carried_clauses(kb)), fmt,
+                           self.header() if header is None else header)
         if fmt == "json":
             import json
             return json.dumps(show_json(self.tree.label, self.tree), indent=2) + "\n"

@@ -30,7 +30,8 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Merge sequential behaviours (Algorithm 1) and report the paper's figures."""
     import schemalog
-    from ..formats.render import rich_tree, tree_json
+    from ..api.figures import compression_json, figure2
+    from ..formats.render import rich_tree
     from .common import emit, inputs_of, load_knowledge, said, task_of
     from .output import PICTURES, emit_picture, output_format, print_rich, FORMAT_WORDS
 
@@ -47,21 +48,12 @@ def run(args: argparse.Namespace) -> int:
     what = (f"{task.name} compressed ({how}): {result.nodes_after} behaviours from "
             f"{result.nodes_before}, RD {result.reduction_degree:.2f} ({FORMAT_WORDS.get(fmt, fmt)})")
     if fmt == "json":
-        data = {"task": task.name, "propagate": result.propagate,
-                "nodes_before": result.nodes_before, "nodes_after": result.nodes_after,
-                "depth_before": result.depth_before, "depth_after": result.depth_after,
-                "reduction_degree": round(result.reduction_degree, 4),
-                "conditions": {"simplified": result.conditions_simplified,
-                               "needed_sympy": result.conditions_needing_sympy},
-                "notes": list(result.notes), "tree": tree_json(small.tree)}
-        if report is not None:
-            data["verification"] = report.as_json()
-        emit(json.dumps(data, indent=2) + "\n", args.output, inputs, what)
+        emit(json.dumps(compression_json(small, report), indent=2) + "\n", args.output, inputs, what)
         return code
     elif fmt == "dot" or fmt in PICTURES:    # the paper's Figure 2; the picture and its DOT text alike
         from ..formats.render import panels_dot
 
-        panels, initial = _figure2(small, args)
+        panels, initial = figure2(small, args.sympy_budget)
         if fmt == "dot":
             emit(panels_dot(small.original.name, panels, initial), args.output, inputs, what)
         else:
@@ -91,22 +83,3 @@ def run(args: argparse.Namespace) -> int:
         said(report.notes)
         print("\n" + report.text(), end="")
     return code
-
-
-def _figure2(small, args: argparse.Namespace) -> tuple[list, frozenset]:
-    """The paper's Figure 2's panels: the learned tree, the merge with perceptual aliasing
-    (--propagate none, its aliased behaviours marked), and the merge with --propagate; and
-    the initial state they are coloured in."""
-    from ..formats.render import aliased_behaviours, figure2_panels
-
-    original = small.original.tree
-    initial = small.original.initial_atoms()
-    merged, complete = aliased_behaviours(original, small.tree, initial)
-    searched = "" if complete else "in the first 2,000 reachable states"
-    propagate = small.compression.propagate
-    if propagate == "none":
-        return figure2_panels(original, small.tree, propagate, initial,
-                              merged_aliased=merged, searched=searched), initial
-    aliasing = small.original.compress("none", sympy_budget=args.sympy_budget).tree
-    return figure2_panels(original, small.tree, propagate, initial, aliasing,
-                          aliased_behaviours(original, aliasing, initial)[0], merged, searched), initial

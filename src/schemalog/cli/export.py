@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 
 from .. import defaults
-from ..errors import readable_name
 from .options import TOGETHER, Parents, budget
 
 TARGETS = ("btcpp", "py_trees")
@@ -46,27 +45,4 @@ def run(args: argparse.Namespace) -> int:
     what = "BehaviorTree.CPP v4 XML" if target == "btcpp" else "a py_trees module"
     emit(text, args.output, inputs_of(args, knowledge.files),
          f"{task.name}, {task.kind} tree of {len(task)} behaviours ({what})")
-    return 0
-
-
-def convert_xml(args: argparse.Namespace) -> int:
-    """`convert tree.xml`: a BT.CPP v4 document as schema knowledge (or YAML)."""
-    from ..api.knowledge import task_term, xml_document
-    from ..errors import SchemalogError, UsageError
-    from ..formats.documents import YAML_SUFFIXES, to_pl, to_yaml
-    from ..logic.terms import term_to_text
-    from .common import emit, inputs_of
-
-    if getattr(args, "to", None) not in (None, "pl", "yaml"):
-        raise UsageError(f"--to {args.to}: a BT.CPP document converts to pl or yaml")
-    doc, imported = xml_document(args.input, args.max_bytes)
-    if args.task and task_term(args.task) != imported.tree.label:
-        raise SchemalogError(f"--task {args.task}: the task of {args.input} is {term_to_text(imported.tree.label)}")
-    yaml = args.to == "yaml" or (args.to is None and args.output and args.output.endswith(YAML_SUFFIXES))
-    out = to_yaml(doc) if yaml else to_pl(doc, header=f"Converted by schemalog from the BehaviorTree.CPP "
-                                                      f"document {readable_name(args.input)}.")
-    from ..task.tree import count_nodes
-    emit(out, args.output, inputs_of(args, imported.includes),
-         f"{term_to_text(imported.tree.label)}: {count_nodes(imported.tree)} behaviours as "
-         f"{'YAML' if yaml else 'schema text'}")
     return 0

@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     """Load the files, instantiate their tasks, print every finding; 1 with errors (--strict: any)."""
     from ..api.knowledge import task_term
     from ..errors import SchemalogError, UsageError
-    from ..run.lint import ERROR, error_finding
+    from ..api.check import errors as count_errors, finding_of
     from .common import load_knowledge
 
     if args.task is not None:
@@ -35,12 +35,12 @@ def run(args: argparse.Namespace) -> int:
     except UsageError:
         raise
     except SchemalogError as err:        # what the loader refuses is the first finding, and the last
-        findings, loaded, names = [error_finding(err)], False, [] if args.task is None else [args.task]
+        findings, loaded, names = [finding_of(err)], False, [] if args.task is None else [args.task]
     else:
         loaded = True
         findings = knowledge.lint(args.task, max_depth=args.max_depth, max_nodes=args.max_nodes)
         names = knowledge.declared() if args.task is None else [args.task]
-    errors = sum(1 for f in findings if f.severity == ERROR)
+    errors = count_errors(findings)
     warnings = len(findings) - errors
     if args.json:
         print(json.dumps({"files": list(args.files), "tasks": names, "errors": errors, "warnings": warnings,

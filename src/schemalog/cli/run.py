@@ -52,8 +52,7 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Execute a task with the attentional executive against an emulated robot."""
-    from ..api.execution import decision_lines, summary_lines
-    from ..task.tree import walk
+    from ..api.execution import decision_lines, decision_width, summary_lines
     from .common import check_output, emit, inputs_of, load_knowledge, said, task_to_use
 
     knowledge = load_knowledge(args)
@@ -72,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
         return 0 if run.completed else 1
     lines = run.header()
     out = sys.stdout if not args.output or args.output == "-" else None
-    width = min(40, max(len(n.name) for n in walk(task.tree)))
+    width = decision_width(task.tree)
     if out:
         print("\n".join(lines), flush=True)
         lines = []

@@ -11,72 +11,35 @@ An answer prints `X = f(Y), Z = 1`, or `true` when it binds nothing; no answer p
 
 from __future__ import annotations
 
-import json
-import math
-import secrets
 import sys
-from dataclasses import dataclass
-from typing import Callable, Iterator, TextIO
+from typing import Callable, TextIO
 
 from .. import defaults
-from ..errors import SchemalogError
-from ..logic.builtins import compare_terms
-from ..logic.exceptions import PrologError, StepLimitExceeded
-from ..logic.parse import parse_term
-from ..logic.terms import Atom, Float, Int, Struct, Term, Var, int_text, iter_vars, term_to_text, variable_names
-from ..logic.unify import Bindings
-from ..api.answers import (Query, Answer, answer_json, answer_of, answer_text, answers, behaviour_labels,
+from ..api import failures
+from ..api.answers import (Query, answer_json, answer_of, answer_text, answers, behaviour_labels,
                            behaviour_variables, json_text, labels_comment, read_query)
-from ..api.workspace import COMPRESSED, ORIGINAL, Workspace
+from ..api.failures import PrologError
+from ..api.workspace import Workspace
+from ..errors import SchemalogError
 
 
 def error_text(err: BaseException, raise_limit: str = "--max-steps N") -> str:
-    """An uncaught exception as the user should read it."""
-    if isinstance(err, RecursionError):
-        return "error: a term nests too deeply for schemalog to process (Python's recursion limit)"
-    if isinstance(err, PrologError):
-        return f"error: uncaught exception: {_explain(err.ball)}"
-    if isinstance(err, StepLimitExceeded):
-        return f"error: {err.message}; raise it with {raise_limit}"
-    return str(err)
+    """An uncaught exception as the user should read it (api/failures.py), running out of
+    memory with the ceiling in force."""
+    return failures.error_text(err, raise_limit, _memory_words)
 
 
-def _explain(ball: Term) -> str:
-    """`error(type_error(integer, a), _)` with a plain-words gloss for the ISO errors."""
-    text = term_to_text(ball, names=variable_names([ball]))
-    if isinstance(ball, Struct) and ball.name == "error" and len(ball.args) == 2:
-        formal = ball.args[0]
-        name = formal.name if isinstance(formal, (Atom, Struct)) else ""
-        args = formal.args if isinstance(formal, Struct) else ()
-        if name == "existence_error" and len(args) == 2 and args[0] == Atom("procedure"):
-            return f"{text}\n  unknown procedure {term_to_text(args[1])}"
-        if name == "instantiation_error":
-            return f"{text}\n  arguments are not sufficiently instantiated"
-        if name == "type_error" and len(args) == 2:
-            return f"{text}\n  {term_to_text(args[0])} expected, found {term_to_text(args[1])}"
-        if name == "evaluation_error" and len(args) == 1:
-            return f"{text}\n  arithmetic: {term_to_text(args[0])}"
-        if name == "resource_error" and len(args) == 1:
-            return f"{text}\n  {_resource_words(term_to_text(args[0]))}"
-    return text
+def _memory_words() -> str:
+    """What running out of memory means here: the ceiling in force as the error is told
+    (--max-memory's, not the default, when that option set it)."""
+    from .limits import ceiling_in_force, size_text
 
-
-def _resource_words(resource: str) -> str:
-    """What a resource error means here, and the limit behind it: for memory the ceiling in
-    force as the error is told (--max-memory's, not the default, when that option set it)."""
-    if resource == "memory":
-        from .limits import ceiling_in_force, size_text
-
-        ceiling = ceiling_in_force()
-        if ceiling is None:
-            return f"out of memory (no ceiling was set: the system refused more; set one with --max-memory " \
-                   f"or {defaults.MEMORY_ENV})"
-        return (f"out of memory: the ceiling is {size_text(ceiling)} (raise it with --max-memory or "
-                f"{defaults.MEMORY_ENV}, or set it to off)")
-    if resource == "stack":
-        return (f"an integer result would exceed {defaults.MAX_INTEGER_BITS:,} bits (a fixed limit, "
-                f"as swipl's 1 GB stack is: docs/syntax.md)")
-    return f"resource: {resource}"
+    ceiling = ceiling_in_force()
+    if ceiling is None:
+        return f"out of memory (no ceiling was set: the system refused more; set one with --max-memory " \
+               f"or {defaults.MEMORY_ENV})"
+    return (f"out of memory: the ceiling is {size_text(ceiling)} (raise it with --max-memory or "
+            f"{defaults.MEMORY_ENV}, or set it to off)")
 
 
 # ---------------------------------------------------------------------------
