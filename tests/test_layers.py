@@ -107,7 +107,8 @@ def test_the_engine_loads_nothing_above_logic():
     assert "schemalog.logic.engine" in loaded
 
 
-HEAVY = ("matplotlib", "numpy", "sympy", "py_trees", "rich", "yaml", "prompt_toolkit")
+HEAVY = ("matplotlib", "numpy", "sympy", "py_trees", "rich", "yaml", "prompt_toolkit", "dask", "distributed",
+         "pyarrow")
 
 
 @pytest.mark.parametrize("argv", [["--help"], ["query", "kb/tasks/mix_with_spoon.pl", "true"]])
