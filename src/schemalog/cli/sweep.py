@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
         written.insert(0, store.path)
     done = stats.total - stats.failed
     print(f"sweep {grid.name}: {done} of {stats.total} cells done, {stats.failed} failed; {stats.computed} computed "
-          f"in {stats.seconds:,.1f} s, {stats.stored} already stored; on {stats.where}")
+          f"in {stats.seconds:,.1f} s, {stats.stored} already stored; {stats.where}")
     for row in store.in_order(grid.cells()):
         if row["status"] != "done":
             print(f"  FAILED {row['key']}: {row['message']}")

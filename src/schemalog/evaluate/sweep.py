@@ -255,7 +255,7 @@ class Serial:
     """In this process, one task after the other: no Dask imported."""
 
     workers = 1
-    where = "this process (--serial)"
+    where = "in this process (--serial)"
 
     def __enter__(self) -> "Serial":
         return self
@@ -320,7 +320,7 @@ class DaskEngine:
         threads = sum(w.get("nthreads", 1) for w in info.values())
         place = f"a LocalCluster on this machine ({local_cores()} cores)" if self.cluster else \
             f"the scheduler at {self.scheduler}, {len(hosts)} host{'s' if len(hosts) != 1 else ''}"
-        return f"{len(info)} Dask worker processes, {threads} thread{'s' if threads != 1 else ''} in all, on {place}"
+        return f"on {len(info)} Dask worker processes, {threads} thread{'s' if threads != 1 else ''} in all, on {place}"
 
     def map(self, fn, items: list, *args, priority=None) -> Iterator[tuple]:
         """Submit every item; yield (item, result or the exception) as each finishes."""
@@ -454,7 +454,7 @@ def sweep_markdown(grid: Grid, rows: list[dict], command: str, stats: SweepStats
            f"Command: `{command}`.", "",
            f"{done} of {stats.total} cells done, {stats.failed} failed, {stats.total - len(rows)} not run; "
            f"this run computed {stats.computed} in {stats.seconds:,.1f} s and skipped {stats.stored} already stored.",
-           f"Ran on {stats.where}: up to {stats.workers} cell{'s' if stats.workers != 1 else ''} at once on "
+           f"Ran {stats.where}: up to {stats.workers} cell{'s' if stats.workers != 1 else ''} at once on "
            f"{stats.cores} core{'s' if stats.cores != 1 else ''} of this machine"
            + (" (timings of cells that ran at once share the machine: compare with care)."
               if grid.timed and stats.workers > 1 else "."), "",

@@ -1,0 +1,103 @@
+"""`schemalog verify --each FOLDER_OR_FILES...`: prove every task of many files as one sweep."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+from ..errors import UsageError
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """verify's --each, and where its sweep runs."""
+    from .sweep import engine_options
+
+    p.add_argument("--each", action="store_true",
+                   help="prove every task (task/1) of every file given, folders meaning their .pl files, as "
+                        "one sweep on Dask (or --serial): one line per task, a summary; exit 1 if any is "
+                        "refuted, vacuous or unreadable, 3 if any has no proof")
+    engine_options(p)
+
+
+def files_of(paths: list[str]) -> list[str]:
+    """The files named, a folder standing for the .pl files under it (sorted)."""
+    out: list[str] = []
+    for path in paths:
+        if os.path.isdir(path):
+            found = sorted(str(p) for p in Path(path).rglob("*.pl") if p.is_file())
+            if not found:
+                raise UsageError(f"{path}: a folder with no .pl task file")
+            out += found
+        elif os.path.exists(path):
+            out.append(path)
+        else:
+            raise UsageError(f"{path}: no such file or folder")
+    return list(dict.fromkeys(out))
+
+
+def run_each(args: argparse.Namespace) -> int:
+    """Prove every task of the files; print one line per task and a summary."""
+    from ..evaluate.proofs import ProofOptions, exit_status, prove_file
+    from ..evaluate.sweep import engine
+    from .sweep import progress_display
+
+    for option, given in (("--task", args.task), ("--sample", args.sample), ("--scene", args.scene),
+                          ("--seed", args.seed), ("--states", args.states != "default")):
+        if given:
+            raise UsageError(f"{option} is not for --each (each file's tasks are proved from its own initial state)")
+    files = files_of(args.files)
+    options = ProofOptions(args.propagate, args.method, args.max_states, args.max_bdd_nodes, args.max_bytes,
+                           args.max_steps, args.max_depth, args.max_nodes, not args.no_split)
+    where = engine(args.serial, args.workers, args.scheduler)
+    by_file: dict[str, list[dict]] = {}
+    with where, progress_display("verify --each", len(files)) as show:
+        from ..evaluate.sweep import Progress
+
+        state = Progress(len(files), running=where.running(len(files)))
+        show(state)
+        for path, rows in where.map(prove_file, files, options, priority=lambda f: _size(f)):
+            if isinstance(rows, BaseException):        # the task failed in Dask itself (a killed worker)
+                rows = [{"file": path, "task": "", "verdict": "error", "detail": f"{type(rows).__name__}: {rows}",
+                         "seconds": 0.0, "original": None, "compressed": None, "states": None}]
+            by_file[path] = rows
+            bad = any(r["verdict"] != "proved" for r in rows)
+            state.done += not bad
+            state.failed += bad
+            state.running = where.running(len(files) - len(by_file))
+            state.last = f"{path}: " + ", ".join(f"{r['task'] or '-'} {r['verdict']}" for r in rows)
+            show(state)
+        place = where.where
+    rows = [r for f in files for r in by_file.get(f, [])]
+    counts = {v: sum(r["verdict"] == v for r in rows) for v in ("proved", "refuted", "vacuous", "no proof", "error")}
+    summary = (f"verify --each: {len(rows)} task{'s' if len(rows) != 1 else ''} in {len(files)} file"
+               f"{'s' if len(files) != 1 else ''}: " + ", ".join(f"{n} {v}" for v, n in counts.items())
+               + f" ({place})")
+    if args.json:
+        text = json.dumps({"tasks": rows, "summary": counts}, indent=2) + "\n"
+    else:
+        text = "".join(_line(r) + "\n" for r in rows) + summary + "\n"
+    if args.output:
+        from ..formats.documents import write_atomically
+
+        write_atomically(args.output, text)
+        print(f"wrote {args.output}: {summary}", file=sys.stderr)
+    else:
+        sys.stdout.write(text)
+    return exit_status(rows)
+
+
+def _line(row: dict) -> str:
+    sizes = (f"; {row['original']:,} -> {row['compressed']:,} behaviours, {row['states']:,} states"
+             if row.get("original") is not None else "")
+    task = f": {row['task']}" if row["task"] else ""
+    return f"{row['verdict'].upper():9} {row['file']}{task}: {row['detail']}{sizes}, {row['seconds']:.2f} s"
+
+
+def _size(path: str) -> int:
+    try:
+        return os.path.getsize(path)
+    except OSError:
+        return 0
