@@ -93,7 +93,8 @@ def _line(row: dict) -> str:
     sizes = (f"; {row['original']:,} -> {row['compressed']:,} behaviours, {row['states']:,} states"
              if row.get("original") is not None else "")
     task = f": {row['task']}" if row["task"] else ""
-    return f"{row['verdict'].upper():9} {row['file']}{task}: {row['detail']}{sizes}, {row['seconds']:.2f} s"
+    where = "" if row["detail"].startswith(f"{row['file']}:") else f"{row['file']}{task}: "  # file:line:col said
+    return f"{row['verdict'].upper():9} {where}{row['detail']}{sizes}, {row['seconds']:.2f} s"
 
 
 def _size(path: str) -> int:

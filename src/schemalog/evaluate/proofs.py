@@ -64,7 +64,7 @@ def _message(err: BaseException) -> str:
         return "out of memory"
     if isinstance(err, OSError):
         return f"cannot read it: {err.strerror or err}"
-    return str(err).removeprefix("error: ")
+    return str(err).removeprefix("error: ").split("\n")[0]      # one line: the place, not the caret
 
 
 def _row(path: str, task: str, verdict: str, detail: str, started: float, **more) -> dict:
