@@ -14,6 +14,7 @@ and gathered exactly as cells are. The three runs must agree on every non-timing
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import sys
 import time
@@ -51,10 +52,13 @@ def main() -> int:
         stats = run_sweep(grid, store, where, cells=cells)
         wall = time.perf_counter() - started
         busy = sum(r["seconds"] for r in store.rows.values())
+        load = os.getloadavg()[0]
         runs[label] = {"wall": wall, "busy": busy, "failed": stats.failed,
                        "results": {k: non_timing(r) for k, r in store.rows.items()},
-                       "large": sum(r["seconds"] for r in store.rows.values() if r["behaviours"] > 5000)}
-        print(f"{label}: {wall:,.1f} s wall, {busy:,.1f} s in cells, {stats.failed} failed", file=sys.stderr)
+                       "large": sum(r["seconds"] for r in store.rows.values() if r["behaviours"] > 5000),
+                       "load": load}
+        print(f"{label}: {wall:,.1f} s wall, {busy:,.1f} s in cells, {stats.failed} failed; load average "
+              f"{load:.2f} at the end", file=sys.stderr)
 
     sweep("serial", Serial())
     starts = {}
@@ -76,13 +80,14 @@ def main() -> int:
     print(f"\n`python benchmarks/bench_sweep.py --seeds {args.seeds} --large {args.large}`: {len(cells)} cells, "
           f"{proved} proved, {len(cells) - proved} not (a limit or a counterexample); non-timing results identical in every run: "
           f"{'yes' if same else 'NO'}\n")
-    print("| run | cluster start s | sweep wall s | speed-up vs serial | time inside cells s | of which large cells s |")
-    print("|---|---:|---:|---:|---:|---:|")
+    print("| run | cluster start s | sweep wall s | speed-up vs serial | time inside cells s | of which large cells s "
+          "| load average (1 min) at its end |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for label, r in runs.items():
         workers = int(label.split()[0]) if label != "serial" else None
         start = f"{starts[workers]:.1f}" if workers else "-"
         print(f"| {label} | {start} | {r['wall']:,.1f} | x{serial['wall'] / r['wall']:.2f} | {r['busy']:,.1f} | "
-              f"{r['large']:,.1f} |")
+              f"{r['large']:,.1f} | {r['load']:.2f} |")
     if "4 workers" in runs:
         four = runs["4 workers"]
         print(f"\n4 workers on 2 cores: scheduler overhead per task {noop * 1e3:.2f} ms (round trip of "

@@ -6,7 +6,7 @@ import os
 import subprocess
 import sys
 
-from conftest import COFFEE, MIX, ROOT
+from conftest import COFFEE, GRIPPER, MIX, ROOT
 
 GRID = """\
 name: tiny
@@ -18,19 +18,6 @@ runs: 2
 ticks: 1
 """
 
-VACUOUS = """task(t).
-object(cup).
-agent(gripper(_), gripper).
-initial(hand.free).
-schema(t, [(subtask(move, cup), hand.free)], cup.moved).
-schema(subtask(move, cup),
-       [ (a1(cup), true), (gripper(close), a1.done), (a2(cup), not hand.free), (gripper(open), a2.done) ],
-       cup.moved).
-schema(a1(cup), [], a1.done).
-schema(a2(cup), [], a2.done).
-schema(gripper(close), [], not hand.free).
-schema(gripper(open), [], hand.free).
-"""
 
 # Dask missing: the modules' names are None in sys.modules, so importing them fails.
 WITHOUT_DASK = """
@@ -111,7 +98,7 @@ def test_verify_each_proves_every_task_of_a_folder(tmp_path):
 
 
 def test_verify_each_on_two_workers_refutes_flags_vacuous_and_unreadable(tmp_path):
-    (tmp_path / "vacuous.pl").write_text(VACUOUS)
+    (tmp_path / "vacuous.pl").write_text(GRIPPER)
     (tmp_path / "broken.pl").write_text("task(t).\nschema(t, [(a, true)] a.done).\n")
     r = run("verify", "--each", MIX, COFFEE, tmp_path, "--propagate", "pre", "--workers", "2")
     assert r.returncode == 1, r.stderr

@@ -200,3 +200,13 @@ def test_a_cpu_budget_holds_outside_the_main_thread():
     thread.start()
     thread.join(30)
     assert caught == ["_OutOfTime"]
+
+
+def test_a_runtimes_grid_writes_bench_runtimes_tables(tmp_path):
+    grid = grid_from_yaml("shapes: [3x2]\nreductions: [0.5]\nmeasures: [runtimes]\n", "r.yaml")
+    store = Store.open(tmp_path, grid.settings())
+    stats = run_sweep(grid, store, Serial())
+    written = sweep.write_reports(grid, store, tmp_path, "schemalog sweep r.yaml", stats)
+    assert [p.name for p in written] == ["sweep.md", "runtimes.csv", "runtimes.md"]
+    assert "| 3x2 RD 0.5 | 7 -> " in (tmp_path / "runtimes.md").read_text()
+    assert non_timing(store.rows["generated/3x2/rd0.5/seed1/full"])["ticks"]["btcpp/original"] > 0

@@ -147,20 +147,15 @@ def _out_dir(args: argparse.Namespace) -> Iterator[Path]:
     into a hidden folder inside it and moved in when the command ends well. A run stopped early
     (--timeout, Ctrl-C, an error, memory) leaves --out as it found it: the folders it made are
     removed, a folder that was there keeps its old results."""
+    from .sweep import out_folder
+
     if not args.out.strip():             # Path('') is '.': the results would land among the user's files
         raise UsageError("--out needs a directory name (it is empty)")
     out = Path(args.out)
     made = [p for p in (out, *out.parents) if not os.path.lexists(p)]   # innermost first
     staging = None
     try:
-        try:
-            out.mkdir(parents=True, exist_ok=True)
-        except FileExistsError:
-            raise UsageError(f"--out {args.out} is a file, not a directory") from None
-        except OSError as err:
-            raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
-        if not os.access(out, os.W_OK):
-            raise UsageError(f"--out {args.out}: the directory is not writable")
+        out_folder(args.out)             # made, and checked writable
         staging = Path(tempfile.mkdtemp(prefix=".bench-", suffix=".tmp", dir=out))
         yield staging
         for written in sorted(staging.iterdir()):

@@ -43,12 +43,14 @@ def engine_options(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the grid's cells not yet in DIR; write the reports; exit 1 if a cell failed."""
     from ..evaluate.grid import read_grid
-    from ..evaluate.sweep import Store, engine, run_sweep, write_reports
+    from ..evaluate.sweep import Serial, Store, engine, run_sweep, write_reports
 
     grid = read_grid(args.grid)
     where = engine(args.serial, args.workers, args.scheduler)     # says how to install Dask, before any work
     out = out_folder(args.out)
     store = Store.open(out, grid.settings(), args.fresh)
+    if all(store.done(c.key) for c in grid.cells()):
+        where = Serial()                 # nothing left to run: no cluster to start
     command = "schemalog " + " ".join(sys.argv[1:]) if sys.argv[1:2] == ["sweep"] else f"schemalog sweep {args.grid}"
     try:
         with where, progress_display(f"sweep {grid.name}", len(grid.cells())) as show:

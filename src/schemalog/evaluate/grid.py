@@ -21,7 +21,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..errors import SchemalogError, SourcePos, UsageError
-from ..inputs import check_yaml_nesting, read_limited
+from ..inputs import compose_yaml, read_limited
 from .generate import node_count
 
 Shape = tuple[int, int]
@@ -143,20 +143,11 @@ def grid_from_yaml(text: str, file: str = "<grid>") -> Grid:
     import yaml  # loaded only when YAML is read
 
     lines = text.split("\n")
+    root, compose_fail = compose_yaml(text, file)
 
     def fail(message: str, node) -> SchemalogError:
-        mark = node.start_mark
-        return SchemalogError(f"grid: {message}", SourcePos(file, mark.line + 1, mark.column + 1),
-                              lines[mark.line] if mark.line < len(lines) else None)
+        return compose_fail(f"grid: {message}", node)
 
-    check_yaml_nesting(text, file)
-    try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        pos = SourcePos(file, mark.line + 1, mark.column + 1) if mark else SourcePos(file, 1, 1)
-        line = lines[mark.line] if mark and mark.line < len(lines) else None
-        raise SchemalogError(f"YAML syntax error: {getattr(err, 'problem', None) or err}", pos, line) from None
     if not isinstance(root, yaml.MappingNode):
         raise SchemalogError("a grid is a mapping: shapes, reductions, seeds, propagate, measures, ... "
                              "(docs/evaluation.md)", SourcePos(file, 1, 1))
@@ -227,15 +218,20 @@ def grid_from_yaml(text: str, file: str = "<grid>") -> Grid:
             out.append(word)
         return distinct(out, nodes, what)
 
+    def entries(node, known: tuple[str, ...], what: str):
+        """(name, value node) of a mapping whose keys are all known, none twice."""
+        seen: set[str] = set()
+        for key_node, value in node.value:
+            key = key_node.value if isinstance(key_node, yaml.ScalarNode) else None
+            if key not in known:
+                raise fail(f"unknown {what} {key!r} (known: {', '.join(known)})", key_node)
+            if key in seen:
+                raise fail(f"{key!r} appears twice", key_node)
+            seen.add(key)
+            yield key, value
+
     values: dict = {}
-    seen: set[str] = set()
-    for key_node, value in root.value:
-        key = key_node.value if isinstance(key_node, yaml.ScalarNode) else None
-        if key not in _KEYS:
-            raise fail(f"unknown key {key!r} (known: {', '.join(_KEYS)})", key_node)
-        if key in seen:
-            raise fail(f"{key!r} appears twice", key_node)
-        seen.add(key)
+    for key, value in entries(root, _KEYS, "key"):
         if key == "name":
             name = scalar(value, "name")
             if not name or not all(c.isalnum() or c in "-_." for c in name):
@@ -270,14 +266,7 @@ def grid_from_yaml(text: str, file: str = "<grid>") -> Grid:
         elif key == "limits":
             if not isinstance(value, yaml.MappingNode):
                 raise fail(f"limits maps each limit to its value ({', '.join(_LIMITS)})", value)
-            limit_seen: set = set()
-            for limit_node, limit in value.value:
-                name = limit_node.value if isinstance(limit_node, yaml.ScalarNode) else None
-                if name not in _LIMITS:
-                    raise fail(f"unknown limit {name!r} (known: {', '.join(_LIMITS)})", limit_node)
-                if name in limit_seen:
-                    raise fail(f"{name!r} appears twice", limit_node)
-                limit_seen.add(name)
+            for name, limit in entries(value, _LIMITS, "limit"):
                 if name in ("max_states", "max_bdd_nodes"):
                     values[name] = number(limit, name, int, 1, 10 ** 12)
                 else:
