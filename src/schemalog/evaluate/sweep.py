@@ -298,6 +298,9 @@ class DaskEngine:
             self.cluster = LocalCluster(n_workers=self.requested or local_cores(), threads_per_worker=1,
                                         processes=True, dashboard_address=None, silence_logs=logging.ERROR)
             self.client = Client(self.cluster)
+            from .workers import IgnoreInterrupt
+
+            self.client.register_plugin(IgnoreInterrupt())
         return self
 
     def __exit__(self, *exc) -> None:
@@ -352,7 +355,8 @@ class DaskEngine:
             processing = self.client.processing()
         except Exception:
             return min(left, self.workers)
-        return sum(1 for keys in processing.values() for k in keys if k in self._keys)
+        # a worker holds more than it runs (Dask sends a few ahead): at most one per thread runs
+        return min(self.workers, sum(1 for keys in processing.values() for k in keys if k in self._keys))
 
 
 def engine(serial: bool = False, workers: int | None = None, scheduler: str | None = None):
