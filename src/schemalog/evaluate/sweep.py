@@ -393,7 +393,7 @@ class SweepStats:
 
 
 def run_sweep(grid: Grid, store: Store, where, progress: Callable[[Progress], None] | None = None,
-              cells: list[CellSpec] | None = None, serial_order: bool = True) -> SweepStats:
+              cells: list[CellSpec] | None = None) -> SweepStats:
     """Run every cell not yet done in `store` on `where` (Serial or DaskEngine)."""
     cells = grid.cells() if cells is None else cells
     todo = [c for c in cells if not store.done(c.key)]
