@@ -27,6 +27,10 @@ tune_gc()
 if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
+# tests/example_project is a separate project (its own pyproject.toml and tests), installed and
+# run in a fresh virtual environment by tests/testing/test_example_project.py, not collected here
+collect_ignore = ["example_project"]
+
 ROOT = Path(__file__).resolve().parents[1]
 MIX = ROOT / "kb" / "tasks" / "mix_with_spoon.pl"
 COFFEE = ROOT / "kb" / "tasks" / "prepare_coffee_and_tea.pl"

@@ -65,6 +65,19 @@ class SchemalogError(Exception):
         self.source_line = source_line
         self.exit_code = exit_code
 
+    @property
+    def file(self) -> str | None:
+        """The file the problem is in, or None when it is in no file."""
+        return self.pos.file if self.pos else None
+
+    @property
+    def line(self) -> int | None:
+        return self.pos.line if self.pos else None
+
+    @property
+    def column(self) -> int | None:
+        return self.pos.column if self.pos else None
+
     def __str__(self) -> str:
         head = f"{self.pos}: error: {self.message}" if self.pos else f"error: {self.message}"
         if self.source_line is None or self.pos is None:

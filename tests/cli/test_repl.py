@@ -13,7 +13,7 @@ import pytest
 
 from schemalog.cli import session
 from schemalog.cli.completion import completion_words
-from schemalog.cli.relations import Workspace
+from schemalog.api.workspace import Workspace
 
 from conftest import MIX, ROOT
 

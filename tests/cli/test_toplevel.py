@@ -7,8 +7,9 @@ import sys
 
 import pytest
 
-from schemalog.cli.relations import Workspace
-from schemalog.cli.toplevel import answer_of, answer_text, answers, complete_input, read_query
+from schemalog.api.workspace import Workspace
+from schemalog.api.answers import answer_of, answer_text, answers, read_query
+from schemalog.cli.toplevel import complete_input
 from schemalog.logic.engine import Engine
 from schemalog.logic.kb import KnowledgeBase
 

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from conftest import COFFEE, MIX
-from strategies import task_trees
+from schemalog.testing.strategies import task_trees
 from schemalog.errors import SchemalogError
 from schemalog.evaluate.generate import generate
 from schemalog.formats.btcpp import (export_btcpp, import_btcpp, key_atom, literal_key, parse_script_condition,

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 
 from conftest import COFFEE, MIX
-from strategies import task_trees
+from schemalog.testing.strategies import task_trees
 from schemalog.evaluate.generate import generate
 from schemalog.formats.documents import read_document
 from schemalog.formats.pytrees import export_pytrees, load_module, run_pytrees

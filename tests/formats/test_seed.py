@@ -21,7 +21,7 @@ from schemalog.task.compress import compress, decompress
 from schemalog.task.tree import count_nodes, depth, instantiate, walk
 
 from conftest import COFFEE, MIX, SEED_COFFEE
-from strategies import task_trees
+from schemalog.testing.strategies import task_trees
 
 
 def test_seed_example_instantiates_to_the_shipped_task():

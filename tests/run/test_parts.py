@@ -20,7 +20,7 @@ from schemalog.task.compress import compress
 from schemalog.task.tree import Behaviour
 
 from conftest import assert_replays, settled
-from strategies import starts, trees
+from schemalog.testing.strategies import starts, trees
 
 EXAMPLES = int(os.environ.get("SCHEMALOG_VERIFY_EXAMPLES", "300"))
 

@@ -14,7 +14,7 @@ from schemalog.run.verify import Verifier, all_states, constraints, free_atoms, 
 from schemalog.run.world import World, initial_state
 
 from conftest import COFFEE, MIX, wide_task
-from strategies import task_trees
+from schemalog.testing.strategies import task_trees
 
 
 def t(text):

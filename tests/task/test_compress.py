@@ -18,7 +18,7 @@ from schemalog.logic.terms import term_to_text
 from schemalog.task.tree import Behaviour, count_nodes, instantiate, walk
 
 from conftest import COFFEE, MIX
-from strategies import task_trees
+from schemalog.testing.strategies import task_trees
 
 
 def tree_of(path, task):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import re
 
-from ..logic.terms import Atom, Struct, Term
-from .relations import RELATIONS, Workspace
+from ..api.repl import vocabulary
+from ..api.workspace import Workspace
 
 
 def _completer(workspace: Workspace):
@@ -37,18 +37,6 @@ COMMANDS = (":load", ":tree", ":compress", ":original", ":run", ":reset", ":veri
             ":limit", ":help", ":quit")
 
 
-def vocabulary(workspace: Workspace) -> set[str]:
-    """Predicate names (the files', built-in, relations) and the atoms of the files' clauses."""
-    from ..logic.engine import BUILTINS, NONDET_BUILTINS
-
-    words = {name for name, _ in workspace.kb.predicates} | {name for name, _ in BUILTINS} | \
-        {name for name, _ in NONDET_BUILTINS} | {name for name, _ in RELATIONS}
-    for pred in workspace.kb.predicates.values():
-        for clause in pred.clauses[:2000]:      # atoms of the files' clauses, not of huge fact sets
-            _atoms_of(clause.head, words)
-    return {w for w in words if re.fullmatch(r"[a-z][A-Za-z0-9_]*", w)}
-
-
 def completions(words: set[str], prefix: str) -> set[str]:
     """The words that complete `prefix`: commands after ':', else `words`."""
     pool = COMMANDS if prefix.startswith(":") else words
@@ -58,14 +46,3 @@ def completions(words: set[str], prefix: str) -> set[str]:
 def completion_words(workspace: Workspace, prefix: str) -> set[str]:
     """The words that complete `prefix` in `workspace`."""
     return completions(vocabulary(workspace) if not prefix.startswith(":") else set(), prefix)
-
-
-def _atoms_of(term: Term, out: set[str]) -> None:
-    stack = [term]
-    while stack:
-        t = stack.pop()
-        if isinstance(t, Atom):
-            out.add(t.name)
-        elif isinstance(t, Struct):
-            out.add(t.name)
-            stack.extend(t.args)

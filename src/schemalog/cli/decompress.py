@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import sys
 
-from ..logic.terms import term_to_text
 from .options import TOGETHER, Parents
 
 
@@ -20,17 +18,11 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Restore the original tree of a compressed task from its provenance."""
-    from ..task.compress import decompress
-    from .common import choose_tasks, instantiate_task, load_files
+    from .common import load_knowledge, said, task_as_read
     from .output import output_tree
 
-    kb, _ = load_files(args)
-    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
-    task = tree.label
-    if not tree.origins:
-        print(f"note: {term_to_text(task)} carries no provenance (origins/2): it is shown as it is",
-              file=sys.stderr)
-    original = decompress(tree)
-    output_tree(args, original.label, original,
-                 f"The original tree of {term_to_text(task)}, restored by schemalog decompress.", kb)
+    task = task_as_read(load_knowledge(args), args)
+    original = task.decompress()
+    said(original.notes)
+    output_tree(args, original, f"The original tree of {task.name}, restored by schemalog decompress.")
     return 0

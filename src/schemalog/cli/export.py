@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 
 from .. import defaults
-from ..errors import readable_name
 from .options import TOGETHER, Parents, budget
 
 TARGETS = ("btcpp", "py_trees")
@@ -32,10 +31,7 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Export a task tree, original or compressed, for BT.CPP or py_trees."""
     from ..errors import UsageError
-    from ..logic.terms import term_to_text
-    from ..run.world import World, initial_state
-    from ..task.tree import count_nodes
-    from .common import atoms_option, emit, inputs_of, load_files, trees_to_use
+    from .common import emit, inputs_of, load_knowledge, task_to_use
 
     target = args.to
     if target is None:
@@ -43,67 +39,10 @@ def run(args: argparse.Namespace) -> int:
         target = {"xml": "btcpp", "py": "py_trees"}.get(suffix)
         if target is None:
             raise UsageError("name the runtime with --to btcpp or --to py_trees (or give -o a .xml or .py name)")
-    kb, _ = load_files(args)
-    original, tree, kind = trees_to_use(kb, args)
-    initial = atoms_option(args.state, "--state") if args.state is not None else initial_state(kb)
-    # The world settles the initial state (a composite whose parts hold is accomplished), and
-    # the runtime starts from what the world starts from.
-    start = World(original, initial).atoms
-    atoms = sorted(start, key=term_to_text)
-    title = (f"{term_to_text(tree.label)} from {', '.join(map(readable_name, args.files))}: {kind} tree of "
-             f"{count_nodes(tree)} behaviours, exported by schemalog")
-    from ..formats.quoting import Unquotable
-    try:
-        if target == "btcpp":
-            from ..formats.btcpp import export_btcpp
-            text = export_btcpp(tree, atoms, title)
-        else:
-            from ..formats.pytrees import export_pytrees
-            text = export_pytrees(tree, atoms, title)
-    except Unquotable as err:
-        raise Unquotable(f"cannot export {term_to_text(tree.label)} to {target}: {err.message}") from None
+    knowledge = load_knowledge(args)
+    task = task_to_use(knowledge, args)
+    text = task.text(target, args.state)
     what = "BehaviorTree.CPP v4 XML" if target == "btcpp" else "a py_trees module"
-    emit(text, args.output, inputs_of(args, kb.files),
-         f"{term_to_text(tree.label)}, {kind} tree of {count_nodes(tree)} behaviours ({what})")
-    return 0
-
-
-def convert_xml(args: argparse.Namespace) -> int:
-    """`convert tree.xml`: a BT.CPP v4 document as schema knowledge (or YAML)."""
-    from ..errors import SchemalogError, SourcePos
-    from ..formats.btcpp import import_btcpp
-    from ..formats.documents import YAML_SUFFIXES, to_pl, to_yaml
-    from ..formats.render import tree_document
-    from ..inputs import read_limited
-    from ..logic.parse import Clause
-    from ..logic.terms import TRUE, Struct, term_to_text
-    from ..task.schema import check_schemas
-    from .common import emit, inputs_of, task_term
-
-    if getattr(args, "to", None) not in (None, "pl", "yaml"):
-        from ..errors import UsageError
-        raise UsageError(f"--to {args.to}: a BT.CPP document converts to pl or yaml")
-    def decoded(path: str) -> str:
-        data = read_limited(path, args.max_bytes)
-        try:
-            return data.decode("utf-8-sig")
-        except UnicodeDecodeError as err:
-            line = data[:err.start].count(b"\n") + 1
-            column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
-            raise SchemalogError("not UTF-8 text", SourcePos(path, line, column)) from None
-
-    text = decoded(args.input)
-    imported = import_btcpp(text, args.input, decoded)
-    if args.task and task_term(args.task) != imported.tree.label:
-        raise SchemalogError(f"--task {args.task}: the task of {args.input} is {term_to_text(imported.tree.label)}")
-    initial = [Clause(Struct("initial", (atom,)), TRUE, None) for atom in imported.initial]
-    doc = tree_document(imported.tree, args.input, initial)
-    check_schemas(doc.to_kb())     # what is written must load again
-    yaml = args.to == "yaml" or (args.to is None and args.output and args.output.endswith(YAML_SUFFIXES))
-    out = to_yaml(doc) if yaml else to_pl(doc, header=f"Converted by schemalog from the BehaviorTree.CPP "
-                                                      f"document {readable_name(args.input)}.")
-    from ..task.tree import count_nodes
-    emit(out, args.output, inputs_of(args, imported.includes),
-         f"{term_to_text(imported.tree.label)}: {count_nodes(imported.tree)} behaviours as "
-         f"{'YAML' if yaml else 'schema text'}")
+    emit(text, args.output, inputs_of(args, knowledge.files),
+         f"{task.name}, {task.kind} tree of {len(task)} behaviours ({what})")
     return 0

@@ -23,25 +23,24 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the files, instantiate their tasks, print every finding; 1 with errors (--strict: any)."""
+    from ..api.knowledge import task_term
     from ..errors import SchemalogError, UsageError
-    from ..logic.kb import KnowledgeBase
-    from ..logic.terms import term_to_text
-    from ..run.lint import ERROR, error_finding, lint_kb, task_declarations
-    from .common import load_files, task_term
+    from ..api.check import errors as count_errors, finding_of
+    from .common import load_knowledge
 
-    tasks = None if args.task is None else [(task_term(args.task), None)]
+    if args.task is not None:
+        task_term(args.task)            # a --task that is no term is a usage error, before any reading
     try:
-        kb, _ = load_files(args)
+        knowledge = load_knowledge(args)
     except UsageError:
         raise
     except SchemalogError as err:        # what the loader refuses is the first finding, and the last
-        kb, findings, loaded = KnowledgeBase(), (error_finding(err),), False
+        findings, loaded, names = [finding_of(err)], False, [] if args.task is None else [args.task]
     else:
         loaded = True
-        tasks = task_declarations(kb) if tasks is None else tasks
-        findings = lint_kb(kb, args.max_depth, args.max_nodes, tasks)
-    names = [term_to_text(t) for t, _ in tasks or []]
-    errors = sum(1 for f in findings if f.severity == ERROR)
+        findings = knowledge.lint(args.task, max_depth=args.max_depth, max_nodes=args.max_nodes)
+        names = knowledge.declared() if args.task is None else [args.task]
+    errors = count_errors(findings)
     warnings = len(findings) - errors
     if args.json:
         print(json.dumps({"files": list(args.files), "tasks": names, "errors": errors, "warnings": warnings,

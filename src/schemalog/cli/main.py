@@ -135,7 +135,7 @@ def _misplaced(argv: list[str], args: argparse.Namespace, extra: list[str]) -> s
 
 def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """Run the parsed command under its limits; turn whatever stops it into a message and a status."""
-    from ..logic.exceptions import PrologError
+    from ..api.failures import PrologError
 
     ceiling = None
     said = (out_of_memory_text(None) + "\n").encode()

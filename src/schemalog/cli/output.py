@@ -3,23 +3,23 @@ text for the terminal or for a file, and pictures (-o fig.png, .svg, .pdf) throu
 
 -o's suffix picks the format when neither --json nor --format does: .png, .svg and .pdf
 render a picture with Graphviz's `dot` (refused, naming the program, when it is missing);
-other picture suffixes (.jpg, .gif, ...) are refused; any other suffix gets text."""
+other picture suffixes (.jpg, .gif, ...) are refused; any other suffix gets text.
+
+Presentation only: what is shown comes from the API (a Task's text, its tree, its initial
+state); this module lays it out (formats.render) and draws it (formats.graphviz)."""
 
 from __future__ import annotations
 
 import argparse
-import io
-import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import readable_name
-from ..formats.documents import to_pl, to_yaml, write_atomically
-from ..formats.render import carried_clauses, rich_tree, show_json, to_dot, tree_document
-from ..logic.kb import KnowledgeBase
-from ..logic.terms import Term, term_to_text
-from ..task.tree import Behaviour, count_nodes, depth
 from .common import emit, inputs_of
+
+if TYPE_CHECKING:
+    from ..api.task import Task
 
 
 SUFFIX_FORMATS = {".json": "json", ".dot": "dot", ".gv": "dot", ".pl": "pl", ".yaml": "yaml", ".yml": "yaml",
@@ -50,14 +50,6 @@ def output_format(args: argparse.Namespace) -> str:
     return "text"
 
 
-def written(doc, fmt: str, header: str) -> str:
-    """A tree's knowledge as text: schema text (pl), YAML, or SEED long-term memory."""
-    if fmt == "seed":
-        from ..formats.seed import seed_text
-        return seed_text(list(doc.items), header=header)
-    return to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc)
-
-
 PICTURES = ("png", "svg", "pdf")
 
 
@@ -66,14 +58,13 @@ def emit_picture(name: str, panels, initial: frozenset | None, fmt: str, output:
     """Render `panels` as pictures a screen can hold (render.picture_pages) and write them to
     `output` and, when it is split, OUTPUT-1, OUTPUT-2, ... beside it, together and atomically
     (never over an input); a FIFO or a device gets the whole drawing as one picture."""
-    from ..formats.documents import output_target, write_together
+    from ..api.outputs import check_output, write_together, writes_in_place
     from ..formats.graphviz import render
     from ..formats.render import Page, choose_layout, picture_pages
-    from .common import check_output
 
     check_output(output, inputs)
     path = Path(output)
-    if output_target(output).in_place:
+    if writes_in_place(output):
         pages = [Page(choose_layout(name, panels, initial)[0], "")]
     else:
         # the overview names the other pictures in its labels: readably (a control character or
@@ -96,16 +87,10 @@ def emit_picture(name: str, panels, initial: frozenset | None, fmt: str, output:
         print(f"  {readable_name(file)}: {page.what}", file=sys.stderr)
 
 
-def rendered(renderable, width: int = 120) -> str:
-    from rich.console import Console
-
-    buffer = io.StringIO()
-    Console(file=buffer, width=width, no_color=True).print(renderable)
-    return buffer.getvalue()
-
-
 def print_rich(renderable, output: str | None, inputs: list[str], what: str = "") -> None:
     if output and output != "-":
+        from ..api.task import rendered
+
         emit(rendered(renderable), output, inputs, what)
     else:
         from rich.console import Console
@@ -113,31 +98,23 @@ def print_rich(renderable, output: str | None, inputs: list[str], what: str = ""
         Console(highlight=False).print(renderable)
 
 
-def output_tree(args: argparse.Namespace, task: Term, tree: Behaviour, header: str,
-                 kb: KnowledgeBase | None = None) -> None:
-    """Print or write one tree in the requested format (show, decompress)."""
+def output_tree(args: argparse.Namespace, task: Task, header: str) -> None:
+    """Print or write one task's tree in the requested format (show, decompress); `header`
+    starts what is written as knowledge."""
     fmt = output_format(args)
-    inputs = inputs_of(args, kb.files if kb is not None else ())
-    title = f"{term_to_text(task)}: {count_nodes(tree)} behaviours, depth {depth(tree)}"
+    inputs = inputs_of(args, task.knowledge.files)
+    title = f"{task.name}: {len(task)} behaviours, depth {task.depth}"
     what = f"{title} ({FORMAT_WORDS[fmt]})"
-    if fmt == "json":
-        emit(json.dumps(show_json(task, tree), indent=2) + "\n", args.output, inputs, what)
-    elif fmt == "dot":                          # the drawing as one graph
-        emit(to_dot(tree, term_to_text(task), initial_atoms(kb, tree)), args.output, inputs, what)
+    if fmt in ("json", "dot"):                   # dot: the drawing as one graph
+        emit(task.text(fmt), args.output, inputs, what)
     elif fmt in PICTURES:                       # the same drawing, split when a screen cannot hold it
         from ..formats.render import Panel
 
-        emit_picture(term_to_text(task), [Panel("tree", "", tree)], initial_atoms(kb, tree), fmt, args.output,
+        emit_picture(task.name, [Panel("tree", "", task.tree)], task.initial_atoms(), fmt, args.output,
                      inputs, what)
     elif fmt in ("pl", "yaml", "seed"):
-        doc = tree_document(tree, carried=carried_clauses(kb) if kb is not None else [])
-        emit(written(doc, fmt, header), args.output, inputs, what)
+        emit(task.text(fmt, header=header), args.output, inputs, what)
     else:
-        print_rich(rich_tree(tree, title), args.output, inputs, what)
+        from ..formats.render import rich_tree
 
-
-def initial_atoms(kb: KnowledgeBase | None, tree: Behaviour) -> frozenset:
-    """The settled initial state of the files' initial/1 (the state a picture is coloured in)."""
-    from ..run.world import World, initial_state
-
-    return World(tree, initial_state(kb) if kb is not None else ()).atoms
+        print_rich(rich_tree(task.tree, title), args.output, inputs, what)

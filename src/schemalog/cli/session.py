@@ -13,11 +13,10 @@ import sys
 import traceback
 from typing import Callable, TextIO
 
+from ..api import repl as commands
+from ..api.failures import PrologError, StepLimitExceeded
+from ..api.workspace import COMPRESSED, ORIGINAL, RELATIONS, Workspace
 from ..errors import SchemalogError
-from ..logic.exceptions import PrologError, StepLimitExceeded
-from ..logic.parse import parse_term
-from ..logic.terms import term_to_text
-from .relations import COMPRESSED, ORIGINAL, RELATIONS, Workspace
 from .toplevel import _Output, answer_text, answers, error_text, read_query, split_queries
 
 
@@ -171,25 +170,13 @@ class Repl:
 
     def _tree(self, text: str):
         """(view, kind) of a command's argument: a task or a root id; none: the focus."""
-        ws = self.workspace
-        if not text:
-            if ws.focus is None:
-                raise SchemalogError("no task here: :load a task file first")
-            return ws.focus, ws.kind
-        try:
-            term = parse_term(text, "<task>")
-        except SchemalogError as e:
-            raise SchemalogError(f"not a task: {e}") from None
-        return ws.find_tree(term)
+        return commands.tree_named(self.workspace, text)
 
     def _tasks_line(self) -> str:
-        views = self.workspace.views
-        if not views:
-            return "no tasks"
-        return "tasks " + ", ".join(term_to_text(v.task) for v in views)
+        return commands.tasks_line(self.workspace)
 
     def _state_text(self) -> str:
-        return ", ".join(sorted(term_to_text(a) for a in self.workspace.state)) or "(nothing true)"
+        return commands.state_text(self.workspace)
 
     def show_tree(self, view, kind: str, figures: bool = False) -> None:
         from rich.console import Console
@@ -199,43 +186,19 @@ class Repl:
         tree = view.tree(kind)
         console = Console(file=self.out, width=120, highlight=False,
                           force_terminal=self.out.isatty() if hasattr(self.out, "isatty") else False)
-        console.print(f"% {term_to_text(view.task)}, {kind} tree (focus); ids as the relations number them")
+        console.print(f"% {commands.task_name(view)}, {kind} tree (focus); ids as the relations number them")
         console.print(rich_tree(tree, first_id=view.first(kind)))
         if figures:
-            from ..task.tree import count_nodes, depth
-
-            before, after = count_nodes(view.original), count_nodes(view.compressed)
-            self.say(f"% Bi = {before}, Bm = {after}, D = {depth(view.original)}, "
-                     f"RD = {view.reduction_degree:.2f}")
+            self.say(commands.figures_line(view))
 
     def run(self, view, kind: str) -> None:
         """Run `view`'s tree from the current state, each decision as `schemalog run` prints it."""
-        from ..task.tree import walk
-        from .run import decision_lines
-
-        ws = self.workspace
-        ws.set_focus(view, kind)
-        executive = ws.execute(view, kind, ws.state)
-        self.say(f"% run {term_to_text(view.task)}, {kind} tree, from {self._state_text()} "
-                 f"(as schemalog run: decision, winner, its emphasis e, runner-up, actions enabled)")
-        width = min(40, max(len(n.name) for n in walk(view.tree(kind))))
-        for d in executive.decisions:
-            for line in decision_lines(d, width):
-                self.say(line)
-        ws.state = executive.world.atoms
-        self.say(f"% {executive.outcome.status.name.lower()}: {executive.outcome.reason}")
+        for line in commands.run_lines(self.workspace, view, kind):
+            self.say(line)
 
     def verify(self, view) -> None:
-        from ..run.vacuity import verdict_term
-        from .verify import vacuity_lines
-
-        report, vacuity = self.workspace.verify(view)
-        self.say(f"% {term_to_text(view.task)}: {term_to_text(verdict_term(report, vacuity))} "
-                 f"({report.compressed_states:,} + {report.original_states:,} states, {report.seconds:.2f} s)")
-        for verdict in report.properties.values():
-            self.say(f"%   {verdict.name}: {verdict.summary}")
-        for line in "\n".join(vacuity_lines(vacuity)).splitlines():   # a lint cause has a fix: line
-            self.say(f"%   {line}")
+        for line in commands.verify_lines(self.workspace, view):
+            self.say(line)
 
     # -- the loop -------------------------------------------------------------------
     def loop(self, interactive: bool, stdin: TextIO = sys.stdin) -> int:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..logic.terms import term_to_text
 from .options import TOGETHER, Parents
 
 
@@ -19,12 +18,10 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Instantiate a task and print its tree."""
-    from .common import choose_tasks, instantiate_task, load_files
+    from .common import load_knowledge, task_as_read
     from .output import output_format, output_tree
 
     output_format(args)                # a picture asked for without Graphviz: say so before any work
-    kb, _ = load_files(args)
-    tree = instantiate_task(kb, choose_tasks(kb, args.task)[0], args)
-    task = tree.label  # as instantiated: --task 'add(X)' shows the schema it found
-    output_tree(args, task, tree, f"The task tree of {term_to_text(task)}, written by schemalog show.", kb)
+    task = task_as_read(load_knowledge(args), args)   # as instantiated: --task 'add(X)' shows the schema it found
+    output_tree(args, task, f"The task tree of {task.name}, written by schemalog show.")
     return 0

@@ -7,7 +7,6 @@ import sys
 
 from .. import defaults
 from ..errors import UsageError
-from ..logic.terms import term_to_text
 from .options import Parents, bounded, count, length, positive
 
 
@@ -46,12 +45,9 @@ def register(sub, parents: Parents) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Write a synthetic demonstration of a task in a scene (smooth motions with noise)."""
-    from ..formats.documents import load_kb
-    from ..run.scene import read_scene
-    from .common import check_output, choose_tasks, emit, inputs_of
-
-    from ..learn.demo import demonstration_csv, demonstration_json
-    from ..learn.simulate import simulate
+    import schemalog
+    from ..api.learning import read_scene, simulated
+    from .common import check_output, emit, inputs_of
 
     check_output(args.output, inputs_of(args))   # the scene and the files named, before reading them
     scene = read_scene(args.scene, args.max_bytes)
@@ -60,26 +56,16 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"which task knowledge? {args.scene} names none (knowledge: in the scene): "
                          f"give the task file, e.g. kb/tasks/prepare_coffee_and_tea.pl")
     check_output(args.output, inputs_of(args, files))
-    kb = load_kb(files, args.max_bytes, args.max_steps)
-    inputs = inputs_of(args, files, kb.files)
+    knowledge = schemalog.load(*files, max_bytes=args.max_bytes, max_steps=args.max_steps)
+    inputs = inputs_of(args, files, knowledge.files)
     check_output(args.output, inputs)            # and every file they consult, before simulating
-    task = choose_tasks(kb, args.task)[0]
-    if args.jitter:
-        scene = scene.jittered(args.seed, args.jitter)
-    name = args.output if args.output and args.output != "-" else "<stdout>"
-    demo = simulate(kb, task, scene, seed=args.seed, noise=args.noise, rate=args.rate, speed=args.speed,
-                    radius=args.radius, file=name)
-    comment = (f"A simulated demonstration of {term_to_text(task)} in {scene.name} ({args.scene}), written by "
-               f"schemalog simulate-demo:\nminimum-jerk point-to-point motions at {args.speed:g} m/s, {args.rate:g} Hz, "
-               f"position noise {args.noise:g} m (seed {args.seed}).")
     json_out = bool(args.output) and args.output.lower().endswith(".json")
-    text = demonstration_json(demo) if json_out else demonstration_csv(demo, comment)
-    commands = len(demo.gripper)
-    summary = (f"simulated {term_to_text(task)} in {scene.name}: {len(demo):,} samples over {demo.times[-1]:.1f} s, "
-               f"{commands} gripper commands")
+    demo = simulated(knowledge, args.task, scene, scene_file=args.scene, output=args.output, seed=args.seed,
+                     noise=args.noise, rate=args.rate, speed=args.speed, radius=args.radius, jitter=args.jitter,
+                     as_json=json_out)
     if args.output and args.output != "-":
-        emit(text, args.output, inputs, f"{summary} ({'JSON' if json_out else 'CSV'})")
+        emit(demo.text, args.output, inputs, f"{demo.summary} ({'JSON' if json_out else 'CSV'})")
     else:
-        sys.stdout.write(text)
-        print(summary, file=sys.stderr)
+        sys.stdout.write(demo.text)
+        print(demo.summary, file=sys.stderr)
     return 0

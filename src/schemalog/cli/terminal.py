@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Callable
 
 from .completion import _WORD, _completer, completion_words
-from .relations import Workspace
+from ..api.workspace import Workspace
 from .toplevel import complete_input
 
 

@@ -143,7 +143,7 @@ class Engine:
                  builtins: dict[tuple[str, int], Builtin] | None = None,
                  nondet: dict[tuple[str, int], NondetBuiltin] | None = None) -> None:
         """`builtins` and `nondet` add predicates written in Python for this engine only
-        (schemalog's relations over a workspace, relations.py)."""
+        (schemalog's relations over a workspace, api/workspace.py)."""
         self.kb = kb
         self.max_steps = max_steps
         self.write = output or (lambda text: print(text, end=""))

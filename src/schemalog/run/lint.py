@@ -48,6 +48,23 @@ class Finding:
     message: str
     hint: str = ""
 
+    @property
+    def file(self) -> str | None:
+        return self.pos.file if self.pos else None
+
+    @property
+    def line(self) -> int | None:
+        return self.pos.line if self.pos else None
+
+    @property
+    def column(self) -> int | None:
+        return self.pos.column if self.pos else None
+
+    @property
+    def fix(self) -> str:
+        """What to do about it ("" when lint has no advice)."""
+        return self.hint
+
     def text(self, severity: str | None = None) -> str:
         """The finding as a compiler prints it, `severity` overriding its own (check warns)."""
         where = f"{self.pos}: " if self.pos else ""

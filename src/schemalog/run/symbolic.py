@@ -16,6 +16,8 @@ explicit model (verify.Model), so each is a real run of both trees.
 
 from __future__ import annotations
 
+import weakref
+
 from dataclasses import dataclass
 
 from ..errors import SchemalogError
@@ -235,7 +237,10 @@ class _Tree:
     """One tree's enabled set per leaf and its leaves' steps as Functions."""
 
     def __init__(self, m: SymbolicModel, tree: Behaviour) -> None:
-        self.m = m
+        # A weak reference: the model holds its trees, and a cycle through the BDD manager
+        # would be freed by the collector in any order, the manager before its nodes
+        # (dd.cudd then says "Still N nodes referenced upon shutdown" on stderr).
+        self.m = weakref.proxy(m)
         self.tree = tree
         self.plan = plan = Plan.of(tree)
         self.accomplished = m.condition(plan.post[0])

@@ -8,7 +8,7 @@ from schemalog.task.compress import compress
 from schemalog.formats.documents import to_pl
 from schemalog.evaluate.generate import generate
 from schemalog.logic.parse import parse_term
-from schemalog.cli.relations import COMPRESSED, Options, Workspace
+from schemalog.api.workspace import COMPRESSED, Options, Workspace
 from schemalog.formats.render import tree_document
 from schemalog.logic.terms import term_to_text
 from schemalog.task.tree import count_nodes, depth, walk

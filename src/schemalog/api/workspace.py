@@ -115,9 +115,11 @@ class Options:
 class Workspace:
     """Knowledge files with their tasks instantiated and compressed, and a current state."""
 
-    def __init__(self, files: list[str], options: Options = Options()) -> None:
+    def __init__(self, files: list[str], options: Options = Options(),
+                 read: Callable[[], KnowledgeBase] | None = None) -> None:
         self.files = list(files)
         self.options = options
+        self._read = read           # the files' knowledge base, when not read from `files` (a text)
         self.notes: list[str] = []
         self.kb = KnowledgeBase()
         self.views: list[TaskView] = []
@@ -125,7 +127,8 @@ class Workspace:
 
     # -- building ---------------------------------------------------------------
     def _build(self) -> None:
-        kb = load_kb(self.files, self.options.max_bytes, self.options.max_steps)
+        kb = self._read() if self._read is not None else \
+            load_kb(self.files, self.options.max_bytes, self.options.max_steps)
         self.notes = list(kb.warnings)
         user_defined = {key for key, p in kb.predicates.items() if any(not c.library for c in p.clauses)}
         views: list[TaskView] = []
@@ -178,6 +181,7 @@ class Workspace:
         """Add a file, or read one loaded already again in its place; rebuild everything."""
         before, new = self.files, os.path.realpath(path) not in map(os.path.realpath, self.files)
         self.files = [*self.files, path] if new else self.files
+        self._read = None
         try:
             self._build()
         except BaseException:

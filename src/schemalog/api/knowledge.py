@@ -1,0 +1,215 @@
+"""Knowledge files loaded as one program, and what a user asks of them: tasks, queries, lint.
+
+    Knowledge = (KnowledgeBase, files read, warnings)     load(*paths) | loads(text)
+    Value     = int | float | str | list[Value] | Term     one query variable's binding
+
+Nothing here prints or exits: what the loader would say goes to `warnings`, what is wrong
+is raised as a SchemalogError carrying file, line and column.
+"""
+
+from __future__ import annotations
+
+import os
+from contextlib import AbstractContextManager, nullcontext
+from typing import TYPE_CHECKING, Callable, Iterator, Union
+
+from .. import defaults
+from ..errors import SchemalogError, UsageError
+from ..logic.kb import KnowledgeBase
+from ..logic.parse import parse_term
+from ..logic.terms import Atom, Float, Int, Str, Struct, Term, term_to_text
+from .choosing import choose_task, choose_tasks, defines, root_candidates, task_term  # noqa: F401 (the API layer's)
+
+if TYPE_CHECKING:
+    from ..run.lint import Finding
+    from .check import Checked
+    from .task import Task
+
+Path = Union[str, "os.PathLike[str]"]
+Value = Union[int, float, str, list, Term]
+
+
+class Knowledge:
+    """Knowledge files read into one knowledge base: schemas, tasks, initial states, rules."""
+
+    def __init__(self, kb: KnowledgeBase, files: tuple[str, ...], sources: tuple[tuple[str, str | None], ...],
+                 max_bytes: int, max_steps: int) -> None:
+        self._kb = kb
+        self._sources = sources       # (name, text) to read again for a query; text None: a file
+        self._max_bytes = max_bytes
+        self._max_steps = max_steps
+        self._workspaces: dict = {}   # propagate -> the query workspace (api/workspace.py)
+        self.files: tuple[str, ...] = files
+        self.warnings: tuple[str, ...] = tuple(kb.warnings)
+
+    def __repr__(self) -> str:
+        return f"<Knowledge {', '.join(self.files) or '(no file)'}: {len(self.tasks())} tasks>"
+
+    def tasks(self) -> list[str]:
+        """The tasks task/1 declares, as text; else the schemas no other schema uses."""
+        from ..task.tree import declared_tasks
+
+        return [term_to_text(t) for t in declared_tasks(self._kb)] or root_candidates(self._kb)
+
+    def declared(self) -> list[str]:
+        """The distinct tasks task/1 declares, as text, in order (lint's tasks)."""
+        from ..run.lint import task_declarations
+
+        return [term_to_text(t) for t, _ in task_declarations(self._kb)]
+
+    def task(self, name: str | None = None, *, max_depth: int = defaults.MAX_DEPTH,
+             max_nodes: int = defaults.MAX_NODES) -> Task:
+        """The task's tree, instantiated from its schemas (name None: the first task/1)."""
+        from .task import Task
+
+        return Task.instantiated(self, choose_task(self._kb, name), max_depth, max_nodes)
+
+    def query(self, goal: str, *, first: bool = False, max_steps: int | None = None, propagate: str = "full",
+              output: Callable[[str], None] | None = None) -> Iterator[dict[str, Value]]:
+        """Each answer of a Prolog query over the knowledge and its tasks' relations
+        (docs/queries.md: merged/3, sequential/2, ...), as a dict of Python values; what the
+        query writes (write/1, format/2) goes to `output` (default: standard output).
+
+        Queries share one workspace per propagation mode, as goals share one Prolog session:
+        what one asserts, the next sees (Knowledge.task() reads the files' knowledge alone)."""
+        from .answers import answers, read_query
+
+        if propagate not in defaults.PROPAGATE_MODES:
+            raise UsageError(f"propagate {propagate!r}: choose {', '.join(defaults.PROPAGATE_MODES)}")
+        query = read_query(goal)
+        workspace = self._workspaces.get(propagate)
+        if workspace is None:
+            from .workspace import Options, Workspace
+
+            options = Options(propagate=propagate, max_bytes=self._max_bytes, max_steps=self._max_steps)
+            workspace = self._workspaces[propagate] = Workspace([n for n, _ in self._sources], options,
+                                                                self._reread)
+        for answer, _ in answers(workspace, query, output, max_steps or self._max_steps):
+            yield {name: python_value(value) for name, value in answer.values}
+            if first:
+                return
+
+    def lint(self, task: str | None = None, *, max_depth: int = defaults.MAX_DEPTH,
+             max_nodes: int = defaults.MAX_NODES) -> list[Finding]:
+        """Every finding of `schemalog lint` about these files (task None: every task/1)."""
+        from ..run.lint import lint_kb
+
+        tasks = None if task is None else [(task_term(task), None)]
+        return list(lint_kb(self._kb, max_depth, max_nodes, tasks))
+
+    def check(self, task: str | None = None, *, lint: bool = True, max_depth: int = defaults.MAX_DEPTH,
+              max_nodes: int = defaults.MAX_NODES) -> Checked:
+        """What `schemalog check` does: every schema read, the tasks instantiated (task None:
+        every task/1), then linted; .schemas, .tasks, .findings, .errors."""
+        from .check import check
+
+        return check(self, task, lint, max_depth, max_nodes)
+
+    def _reread(self) -> KnowledgeBase:
+        """A fresh knowledge base of the same sources (a query's workspace adds facts to its own)."""
+        return _read(self._sources, self._max_bytes, self._max_steps, nullcontext)[0]
+
+
+def load(*paths: Path, max_bytes: int = defaults.MAX_BYTES, max_steps: int = defaults.MAX_STEPS) -> Knowledge:
+    """Read knowledge files as one program: schema text (.pl), SEED (.prolog), YAML, BT.CPP XML."""
+    return _load(paths, max_bytes, max_steps)
+
+
+def loads(text: str, name: str = "<text>", *, max_steps: int = defaults.MAX_STEPS) -> Knowledge:
+    """Read knowledge from a string of schema text (or SEED knowledge)."""
+    kb, files = _read(((name, text),), defaults.MAX_BYTES, max_steps, nullcontext)
+    return Knowledge(kb, files, ((name, text),), defaults.MAX_BYTES, max_steps)
+
+
+def _load(paths, max_bytes: int, max_steps: int,
+          reading: Callable[[], AbstractContextManager] = nullcontext) -> Knowledge:
+    """load(), with `reading` around each file's parse (the command line's: no collector)."""
+    if not paths:
+        raise UsageError("load needs at least one knowledge file")
+    sources = tuple((os.fspath(p), None) for p in paths)
+    kb, files = _read(sources, max_bytes, max_steps, reading)
+    return Knowledge(kb, files, sources, max_bytes, max_steps)
+
+
+def _read(sources, max_bytes: int, max_steps: int, reading) -> tuple[KnowledgeBase, tuple[str, ...]]:
+    from ..formats.documents import document_from_text, read_document
+    from ..task.schema import knowledge_base
+
+    kb = knowledge_base()
+    kb.max_bytes = max_bytes
+    kb.max_steps = max_steps       # each directive's budget
+    for name, text in sources:
+        with reading():
+            if text is not None:
+                doc = document_from_text(text, name)
+            elif name.lower().endswith(".xml"):
+                doc = xml_document(name, max_bytes)[0]
+            else:
+                doc = read_document(name, max_bytes)
+        doc.to_kb(kb)               # directives run here
+    return kb, tuple(dict.fromkeys([*(n for n, t in sources if t is None), *kb.files]))
+
+
+def xml_document(path: str, max_bytes: int = defaults.MAX_BYTES):
+    """A BehaviorTree.CPP v4 document (and the files it includes) as schema knowledge:
+    (Document, Imported)."""
+    from ..errors import SourcePos
+    from ..formats.btcpp import import_btcpp
+    from ..formats.render import tree_document
+    from ..inputs import read_limited
+    from ..logic.parse import Clause
+    from ..logic.terms import TRUE
+    from ..task.schema import check_schemas
+
+    def decoded(name: str) -> str:
+        data = read_limited(name, max_bytes)
+        try:
+            return data.decode("utf-8-sig")
+        except UnicodeDecodeError as err:
+            line = data[:err.start].count(b"\n") + 1
+            column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+            raise SchemalogError("not UTF-8 text", SourcePos(name, line, column)) from None
+
+    imported = import_btcpp(decoded(path), path, decoded)
+    initial = [Clause(Struct("initial", (atom,)), TRUE, None) for atom in imported.initial]
+    doc = tree_document(imported.tree, path, initial)
+    check_schemas(doc.to_kb())     # what is written must load again
+    return doc, imported
+
+
+# ---------------------------------------------------------------------------
+# Query answers as Python values
+
+def python_value(term: Term) -> Value:
+    """A binding as Python: integers and floats as numbers, atoms and strings as str, proper
+    lists as lists, anything else (a compound, an unbound variable) as the term itself,
+    whose str() is its Prolog text.
+
+    >>> python_value(parse_term("[1, a, 2.5]"))
+    [1, 'a', 2.5]
+    """
+    if isinstance(term, Int):
+        return term.value
+    if isinstance(term, Float):
+        return term.value
+    if isinstance(term, Atom):
+        return [] if term.name == "[]" else term.name
+    if isinstance(term, Str):
+        return term.value
+    items = []
+    rest = term
+    while isinstance(rest, Struct) and rest.name == "[|]" and len(rest.args) == 2:
+        items.append(rest.args[0])
+        rest = rest.args[1]
+    if items and rest == Atom("[]"):
+        return [python_value(t) for t in items]
+    return term
+
+
+def task_as_read(knowledge: Knowledge, name: str | None, max_depth: int = defaults.MAX_DEPTH,
+                 max_nodes: int = defaults.MAX_NODES):
+    """The task's tree exactly as its knowledge gives it, provenance not followed (show,
+    decompress: a merged behaviour of a compressed file is shown, not refused)."""
+    from .task import Task
+
+    return Task.instantiated(knowledge, choose_task(knowledge._kb, name), max_depth, max_nodes, provenance=False)

@@ -1,0 +1,253 @@
+"""schemalog.testing: the assertions, the strategies and the pytest plugin (docs/testing.md)."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import os
+import re
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import schemalog
+from schemalog.cli.main import main
+from schemalog.testing import NotProved, assert_compression_sound, assert_equivalent
+from schemalog.testing.strategies import task_files, tasks
+
+ROOT = Path(__file__).resolve().parents[2]
+MIX = ROOT / "kb" / "tasks" / "mix_with_spoon.pl"
+COFFEE = ROOT / "kb" / "tasks" / "prepare_coffee_and_tea.pl"
+EXAMPLE = ROOT / "tests" / "example_project"
+BROKEN = EXAMPLE / "broken" / "serve_water_compressed.pl"
+SRC = Path(schemalog.__file__).resolve().parents[1]
+
+STUCK = """task(t).
+schema(t, [(a1(cup), true), (a2(cup), cup.ready)], t.done).
+schema(a1(cup), [], a1.done).
+schema(a2(cup), [], a2.done).
+"""
+
+
+def timeless(text: str) -> str:
+    """A report without its timings (`in 0.07 s`), which differ from run to run."""
+    return re.sub(r"in \d+\.\d+ s", "in _ s", text)
+
+
+def cli_report(capsys, *argv: str) -> str:
+    capsys.readouterr()
+    main(["verify", *argv])
+    return capsys.readouterr().out
+
+
+# --- the assertions ----------------------------------------------------------------
+
+def test_a_sound_compression_returns_the_proof():
+    report = assert_compression_sound(schemalog.load(str(MIX)).task())
+    assert report.proved and report.verdict == "proved"
+
+
+def test_an_unsound_file_fails_with_the_report_schemalog_verify_prints(capsys):
+    task = schemalog.load(str(BROKEN)).task()
+    assert task.compressed
+    with pytest.raises(AssertionError) as failure:
+        assert_compression_sound(task)
+    message = str(failure.value)
+    assert "counterexample, from the initial state hand.free" in message
+    assert "then the compressed tree takes a3_a4_a5(bottle)" in message
+    assert message.rstrip("\n").endswith("result: the compressed tree is not sound (exit 1)")
+    assert timeless(message) == timeless(cli_report(capsys, str(BROKEN)))
+    assert isinstance(failure.value, NotProved) and failure.value.report.verdict == "refuted"
+
+
+def test_assert_equivalent_refutes_the_papers_literal_rule(capsys):
+    """Figure 2 compressed without propagation is the paper's perceptual aliasing."""
+    task = schemalog.load(str(MIX)).task()
+    assert assert_equivalent(task, task.compress(propagate="full")).proved
+    with pytest.raises(AssertionError, match="counterexample") as failure:
+        assert_equivalent(task, task.compress(propagate="none"))
+    assert timeless(str(failure.value)) == timeless(cli_report(capsys, str(MIX), "--propagate", "none"))
+
+
+def test_a_vacuous_proof_fails_with_its_cause(capsys, tmp_path):
+    task = schemalog.loads(STUCK, name="stuck.pl").task()
+    with pytest.raises(AssertionError) as failure:
+        assert_compression_sound(task)
+    message = str(failure.value)
+    assert "the task itself cannot complete" in message and "why (schemalog lint)" in message
+    assert "result: vacuous" in message
+    (tmp_path / "stuck.pl").write_text(STUCK)
+    assert "result: vacuous" in cli_report(capsys, str(tmp_path / "stuck.pl"))
+
+
+def test_a_proof_a_limit_cut_short_fails_saying_so():
+    task = schemalog.load(str(COFFEE)).task()
+    with pytest.raises(AssertionError, match="NOT a proof") as failure:
+        assert_compression_sound(task, method="explicit", max_states=20)
+    assert "result: no proof: stopped at the limit of" in str(failure.value)
+    assert failure.value.report.verdict == "inconclusive"
+
+
+def test_options_reach_the_verification():
+    task = schemalog.load(str(MIX)).task()
+    report = assert_compression_sound(task, states="all", method="explicit")
+    assert len(report.as_json()["initial_states"]) > 1
+
+
+# --- the strategies ----------------------------------------------------------------
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(tasks(max_behaviours=24))
+def test_every_drawn_task_compresses_soundly(task):
+    assert_compression_sound(task)
+
+
+@settings(max_examples=30, deadline=None)
+@given(task_files(levels=(2, 5), max_children=3, max_behaviours=16, toggles=True), st.data())
+def test_drawn_files_load_lint_and_check(text, data):
+    kb = schemalog.loads(text, name="drawn.pl")
+    assert kb.tasks() == ["t0"]
+    task = kb.task()
+    assert 2 <= len(task) <= 16
+    assert task.to_prolog()
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(task_files(completing=False, max_behaviours=16))
+def test_a_task_that_may_be_stuck_is_proved_or_says_why(text):
+    task = schemalog.loads(text).task()
+    try:
+        assert_compression_sound(task)
+    except NotProved as failure:
+        assert failure.report.verdict == "vacuous", str(failure)
+        assert "the task itself cannot complete" in str(failure)
+
+
+@settings(max_examples=5)
+@given(task_files())
+def test_drawn_files_have_the_documented_shape(text):
+    assert text.splitlines()[1] == "task(t0)."
+    assert "schema(t0," in text and "object(cup)." in text
+
+
+# --- what importing costs ---------------------------------------------------------
+
+def loaded_after(code: str) -> set[str]:
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\nprint(' '.join(sorted(sys.modules)))"],
+                         capture_output=True, text=True, timeout=60, check=True, env=environ())
+    return set(out.stdout.split())
+
+
+def environ() -> dict:
+    return {**os.environ, "PYTHONPATH": os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")])}
+
+
+@pytest.mark.parametrize("module", ["schemalog", "schemalog.testing", "schemalog.testing.plugin"])
+def test_importing_loads_neither_hypothesis_nor_the_engine(module):
+    loaded = loaded_after(f"import {module}")
+    assert not {"hypothesis", "numpy", "sympy", "lark", "schemalog.logic.engine"} & loaded
+
+
+def test_the_strategies_without_hypothesis_say_what_to_install():
+    code = "import sys\nsys.modules['hypothesis'] = None\nimport schemalog.testing.strategies"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, env=environ())
+    assert out.returncode == 1
+    assert out.stderr.strip().splitlines()[-1] == \
+        "ImportError: schemalog.testing.strategies needs hypothesis: pip install hypothesis"
+
+
+# --- the pytest plugin ---------------------------------------------------------------
+
+def _entry_point_installed() -> bool:
+    return any(ep.name == "schemalog" and ep.value == "schemalog.testing.plugin"
+               for ep in importlib.metadata.entry_points(group="pytest11"))
+
+
+# where schemalog is installed with this checkout's metadata, pytest loads the plugin itself
+# (a second -p would register it twice); elsewhere (PYTHONPATH on a checkout) it is named
+PLUGIN = [] if _entry_point_installed() else ["-p", "schemalog.testing.plugin"]
+
+
+def pytest_in(folder: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "pytest", *PLUGIN, "-p", "no:cacheprovider", *args],
+                          cwd=folder, capture_output=True, text=True, timeout=120, env=environ())
+
+
+@pytest.fixture
+def project(tmp_path):
+    """A user's folder: a pytest.ini, one ordinary test, tasks/ with Figure 2 and the coffee."""
+    (tmp_path / "pytest.ini").write_text("[pytest]\n")
+    (tmp_path / "test_plain.py").write_text("def test_plain():\n    pass\n")
+    (tmp_path / "tasks").mkdir()
+    shutil.copy(MIX, tmp_path / "tasks")
+    shutil.copy(COFFEE, tmp_path / "tasks")
+    return tmp_path
+
+
+def test_without_the_option_the_plugin_does_nothing(project):
+    out = pytest_in(project, "-v")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "test_plain.py::test_plain PASSED" in out.stdout
+    # installed, pytest's header lists the plugin ("plugins: schemalog-0.1.0"); nothing else says it
+    said = [line for line in out.stdout.splitlines() if "schemalog" in line and not line.startswith("plugins:")]
+    assert said == [] and "1 passed" in out.stdout
+
+
+def test_every_task_under_a_folder_is_one_item_and_proved(project):
+    (project / "tasks" / "rules").mkdir()
+    shutil.copy(ROOT / "kb" / "compression.pl", project / "tasks" / "rules")   # no task: skipped
+    shutil.copy(ROOT / "examples" / "coffee_and_tea_seed.prolog", project / "seed.prolog")
+    out = pytest_in(project, "-v", "--schemalog-tasks", "tasks")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "schemalog: proving the tasks under tasks (propagate full, states default)" in out.stdout
+    assert "tasks/mix_with_spoon.pl::use(spoon) PASSED" in out.stdout
+    assert "tasks/prepare_coffee_and_tea.pl::prepareboth PASSED" in out.stdout
+    assert "schemalog: tasks/rules/compression.pl: no task/1 and no root schema: no task to prove" in out.stdout
+    assert "3 passed" in out.stdout          # the ordinary test too; the SEED file is not under tasks/
+    out = pytest_in(project, "--collect-only", "-q", "--schemalog-tasks", "seed.prolog", "-k", "prepare")
+    assert "seed.prolog::prepareboth" in out.stdout.splitlines()
+
+
+def test_a_broken_task_fails_with_the_counterexample_not_a_traceback(project):
+    shutil.copy(BROKEN, project / "tasks")
+    out = pytest_in(project, "--schemalog-tasks", "tasks", "tasks/")
+    assert out.returncode == 1, out.stdout + out.stderr
+    assert "_ serve(water) in tasks/serve_water_compressed.pl _" in out.stdout
+    assert "then the compressed tree takes a3_a4_a5(bottle): a3(bottle)" in out.stdout
+    assert "result: the compressed tree is not sound (exit 1)" in out.stdout
+    assert "FAILED tasks/serve_water_compressed.pl::serve(water)" in out.stdout
+    assert "Traceback" not in out.stdout and "plugin.py" not in out.stdout
+    assert "2 passed" in out.stdout
+
+
+def test_propagate_and_states_options_and_the_ini_file(project):
+    out = pytest_in(project, "--schemalog-tasks", "tasks", "--schemalog-propagate", "pre", "-k", "prepareboth")
+    assert out.returncode == 1 and "soundness (no perceptual aliasing): FAILS" in out.stdout
+    (project / "pytest.ini").write_text("[pytest]\nschemalog_tasks = tasks\nschemalog_states = all\n")
+    out = pytest_in(project, "-v", "-k", "spoon")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "tasks/mix_with_spoon.pl::use(spoon) PASSED" in out.stdout and "states all" in out.stdout
+
+
+@pytest.mark.parametrize("args, expected", [
+    (["--schemalog-tasks", "nowhere"], "--schemalog-tasks: nowhere: no such folder or file"),
+    (["--schemalog-tasks", "tasks", "--schemalog-propagate", "some"], "invalid choice: 'some'"),
+])
+def test_a_wrong_option_is_a_usage_error(project, args, expected):
+    out = pytest_in(project, *args)
+    assert out.returncode == 4 and expected in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+def test_a_file_that_does_not_load_is_a_collection_error_with_its_position(project):
+    (project / "tasks" / "bad.pl").write_text("task(t).\nschema(t, [(a, true)], t.done\n")
+    out = pytest_in(project, "--schemalog-tasks", "tasks")
+    assert out.returncode == 2, out.stdout + out.stderr
+    assert "ERROR collecting tasks/bad.pl" in out.stdout
+    assert re.search(r"bad\.pl:\d+:\d+: ", out.stdout), out.stdout
+    assert "Traceback" not in out.stdout and "plugin.py" not in out.stdout
