@@ -48,10 +48,10 @@ def run(args: argparse.Namespace) -> int:
     """Reproduce the paper's evaluation (Sec. IV) beside py_trees; write tables and figures.
     --paper, --quick and --runtimes are the shipped grids of `schemalog sweep`, run in this
     process through the same path (evaluate/sweep.py), their results kept in memory."""
-    from ..evaluate.grid import named_grid, override
+    from ..api import sweep as api
 
     name = "runtimes" if args.runtimes else "quick" if args.quick else "paper"
-    grid = override(named_grid(name), runs=args.runs, max_states=args.max_states,
+    grid = api.shipped(name, runs=args.runs, max_states=args.max_states,
                     verify_seconds=args.verify_seconds, seeds=None if args.seed is None else (args.seed,))
     with _out_dir(args) as staged:
         said = _runtimes(args, grid, staged) if args.runtimes else _measure(args, grid, staged)
@@ -61,10 +61,10 @@ def run(args: argparse.Namespace) -> int:
 
 def _sweep(grid, report):
     """The grid's cells, one after the other in this process: the store and the sweep's figures."""
-    from ..evaluate import sweep
+    from ..api import sweep as api
 
-    store = sweep.Store(None, grid.settings())
-    stats = sweep.run_sweep(grid, store, sweep.Serial(), report)
+    store = api.memory_store(grid)
+    stats = api.sweep(grid, store, api.serial(), report)
     return store, stats
 
 
@@ -74,8 +74,7 @@ def _measure(args: argparse.Namespace, grid, out: Path) -> str:
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from ..evaluate import bench as measures
-    from ..evaluate.sweep import bench_results
+    from ..api import sweep as api
 
     console = Console(stderr=True)
     cells = grid.cells()
@@ -98,15 +97,14 @@ def _measure(args: argparse.Namespace, grid, out: Path) -> str:
 
         store, stats = _sweep(grid, report)
     _no_failure(store, cells)
-    results = bench_results(grid, store.in_order(cells), stats.seconds)
     command = "schemalog bench " + " ".join(sys.argv[2:] if sys.argv[1:2] == ["bench"] else [f"--{grid.name}"])
     try:
-        written = measures.write_results(results, out, command)
+        results, written = api.bench_report(grid, store, out, command, stats.seconds)
     except OSError as err:
         raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
     return "\n".join([f"bench --{grid.name}: {len(results.cells)} generated tasks x {grid.runs} runs, the "
                       f"coffee-and-tea task, {len(results.sizes)} sizes; {results.seconds:,.0f} s",
-                      *(f"- {line}" for line in measures.headlines(results)),
+                      *(f"- {line}" for line in api.headlines(results)),
                       "wrote " + ", ".join(str(Path(args.out) / p.name) for p in written)])
 
 
@@ -120,9 +118,7 @@ def _no_failure(store, cells) -> None:
 def _runtimes(args: argparse.Namespace, grid, out: Path) -> str:
     """`bench --runtimes`: the paper's grid in BT.CPP and py_trees (evaluate/runtimes.py), its
     tables written into `out` (--out's staging folder, _out_dir)."""
-    from ..evaluate.runtimes import runtimes_csv, runtimes_markdown
-    from ..evaluate.sweep import runtime_rows
-    from ..formats.documents import write_atomically
+    from ..api import sweep as api
 
     def step(state) -> None:
         if state.last:
@@ -130,14 +126,12 @@ def _runtimes(args: argparse.Namespace, grid, out: Path) -> str:
 
     store, stats = _sweep(grid, step)
     _no_failure(store, grid.cells())
-    rows = runtime_rows(store.in_order(grid.cells()))
-    table = runtimes_markdown(rows, "schemalog bench --runtimes")
     try:
-        write_atomically(out / "runtimes.csv", runtimes_csv(rows))
-        write_atomically(out / "runtimes.md", table)
+        table = api.runtimes_report(grid, store, out, "schemalog bench --runtimes")
     except OSError as err:
         raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
-    return (f"{table}\nbench --runtimes: {len(rows)} trees, {stats.seconds:,.0f} s; wrote "
+    rows = sum(1 for c in grid.cells() if store.done(c.key))
+    return (f"{table}\nbench --runtimes: {rows} trees, {stats.seconds:,.0f} s; wrote "
             f"{Path(args.out) / 'runtimes.csv'}, {Path(args.out) / 'runtimes.md'}")
 
 

@@ -42,25 +42,24 @@ def engine_options(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the grid's cells not yet in DIR; write the reports; exit 1 if a cell failed."""
-    from ..evaluate.grid import read_grid
-    from ..evaluate.sweep import Serial, Store, engine, run_sweep, write_reports
+    from ..api import sweep as api
 
-    grid = read_grid(args.grid)
-    where = engine(args.serial, args.workers, args.scheduler)     # says how to install Dask, before any work
+    grid = api.grid(args.grid)
+    where = api.where(args.serial, args.workers, args.scheduler)  # says how to install Dask, before any work
     out = out_folder(args.out)
-    store = Store.open(out, grid.settings(), args.fresh)
+    store = api.store(out, grid, args.fresh)
     if all(store.done(c.key) for c in grid.cells()):
-        where = Serial()                 # nothing left to run: no cluster to start
+        where = api.serial()             # nothing left to run: no cluster to start
     command = "schemalog " + " ".join(sys.argv[1:]) if sys.argv[1:2] == ["sweep"] else f"schemalog sweep {args.grid}"
     try:
         with where, progress_display(f"sweep {grid.name}", len(grid.cells())) as show:
-            stats = run_sweep(grid, store, where, show)
+            stats = api.sweep(grid, store, where, show)
     except BaseException:
         if store.path is not None and store.rows:
             print(f"stopped: {len(store.rows)} cells stored in {store.path}; the same command resumes the sweep",
                   file=sys.stderr)
         raise
-    written = write_reports(grid, store, out, command, stats)
+    written = api.reports(grid, store, out, command, stats)
     if store.path is not None:
         written.insert(0, store.path)
     done = stats.total - stats.failed

@@ -40,8 +40,7 @@ def files_of(paths: list[str]) -> list[str]:
 
 def run_each(args: argparse.Namespace) -> int:
     """Prove every task of the files; print one line per task and a summary."""
-    from ..evaluate.proofs import ProofOptions, exit_status, prove_file
-    from ..evaluate.sweep import engine
+    from ..api import sweep as api
     from .sweep import progress_display
 
     for option, given in (("--task", args.task), ("--sample", args.sample), ("--scene", args.scene),
@@ -49,26 +48,12 @@ def run_each(args: argparse.Namespace) -> int:
         if given:
             raise UsageError(f"{option} is not for --each (each file's tasks are proved from its own initial state)")
     files = files_of(args.files)
-    options = ProofOptions(args.propagate, args.method, args.max_states, args.max_bdd_nodes, args.max_bytes,
-                           args.max_steps, args.max_depth, args.max_nodes, not args.no_split)
-    where = engine(args.serial, args.workers, args.scheduler)
-    by_file: dict[str, list[dict]] = {}
+    options = api.proof_options(propagate=args.propagate, method=args.method, max_states=args.max_states,
+                                max_bdd_nodes=args.max_bdd_nodes, max_bytes=args.max_bytes, max_steps=args.max_steps,
+                                max_depth=args.max_depth, max_nodes=args.max_nodes, split=not args.no_split)
+    where = api.where(args.serial, args.workers, args.scheduler)
     with where, progress_display("verify --each", len(files)) as show:
-        from ..evaluate.sweep import Progress
-
-        state = Progress(len(files), running=where.running(len(files)))
-        show(state)
-        for path, rows in where.map(prove_file, files, options, priority=lambda f: _size(f)):
-            if isinstance(rows, BaseException):        # the task failed in Dask itself (a killed worker)
-                rows = [{"file": path, "task": "", "verdict": "error", "detail": f"{type(rows).__name__}: {rows}",
-                         "seconds": 0.0, "original": None, "compressed": None, "states": None}]
-            by_file[path] = rows
-            bad = any(r["verdict"] != "proved" for r in rows)
-            state.done += not bad
-            state.failed += bad
-            state.running = where.running(len(files) - len(by_file))
-            state.last = f"{path}: " + ", ".join(f"{r['task'] or '-'} {r['verdict']}" for r in rows)
-            show(state)
+        by_file = api.prove_files(files, options, where, show)
         place = where.where
     rows = [r for f in files for r in by_file.get(f, [])]
     counts = {v: sum(r["verdict"] == v for r in rows) for v in ("proved", "refuted", "vacuous", "no proof", "error")}
@@ -80,13 +65,11 @@ def run_each(args: argparse.Namespace) -> int:
     else:
         text = "".join(_line(r) + "\n" for r in rows) + summary + "\n"
     if args.output:
-        from ..formats.documents import write_atomically
-
-        write_atomically(args.output, text)
+        api.write_text(args.output, text)
         print(f"wrote {args.output}: {summary}", file=sys.stderr)
     else:
         sys.stdout.write(text)
-    return exit_status(rows)
+    return api.proofs_exit_status(rows)
 
 
 def _line(row: dict) -> str:
@@ -96,9 +79,3 @@ def _line(row: dict) -> str:
     where = "" if row["detail"].startswith(f"{row['file']}:") else f"{row['file']}{task}: "  # file:line:col said
     return f"{row['verdict'].upper():9} {where}{row['detail']}{sizes}, {row['seconds']:.2f} s"
 
-
-def _size(path: str) -> int:
-    try:
-        return os.path.getsize(path)
-    except OSError:
-        return 0
