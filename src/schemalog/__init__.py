@@ -22,7 +22,8 @@ _EXPORTS = {
     "load": "schemalog.api.knowledge", "loads": "schemalog.api.knowledge", "Knowledge": "schemalog.api.knowledge",
     "Task": "schemalog.api.task", "Compression": "schemalog.api.task",
     "verify": "schemalog.api.report", "Report": "schemalog.api.report", "Counterexample": "schemalog.api.report",
-    "Run": "schemalog.api.execution", "Finding": "schemalog.run.lint",
+    "Run": "schemalog.api.execution", "Finding": "schemalog.run.lint", "LimitExceeded": "schemalog.api.limits",
+    "QueryError": "schemalog.api.knowledge",
     "SchemalogError": "schemalog.errors", "UsageError": "schemalog.errors", "SourcePos": "schemalog.errors",
 }
 
@@ -30,7 +31,8 @@ __all__ = sorted([*_EXPORTS, "__version__"])
 
 if TYPE_CHECKING:  # what type checkers and editors see; at run time __getattr__ imports on first use
     from .api.execution import Run
-    from .api.knowledge import Knowledge, load, loads
+    from .api.knowledge import Knowledge, QueryError, load, loads
+    from .api.limits import LimitExceeded
     from .api.report import Counterexample, Report, verify
     from .api.task import Compression, Task
     from .errors import SchemalogError, SourcePos, UsageError

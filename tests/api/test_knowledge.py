@@ -104,3 +104,14 @@ def test_queries_share_a_session_and_their_output_goes_where_asked():
     assert len(kb.task()) == 12                     # the task reads the files alone
     with pytest.raises(schemalog.UsageError, match="propagate"):
         list(kb.query("true", propagate="most"))
+
+
+def test_an_uncaught_prolog_exception_is_a_query_error_with_its_ball():
+    kb = schemalog.loads("fact.\n")
+    with pytest.raises(schemalog.QueryError) as err:
+        list(kb.query("atom_length(X, Y)"))
+    assert str(err.value.term).startswith("error(instantiation_error")
+    assert "arguments are not sufficiently instantiated" in err.value.message
+    with pytest.raises(schemalog.QueryError, match="unknown procedure foo/1"):
+        list(kb.query("foo(1)"))
+    assert list(kb.query("catch(foo(1), error(E, _), true)"))[0]["E"] is not None   # caught: an answer

@@ -207,7 +207,7 @@ def test_memory_running_out_outside_the_engine_names_the_ceiling(tmp_path):
 NO_MEMORY_LEFT = """
 import sys
 import schemalog.cli.check as check
-import schemalog.cli.limits as limits
+import schemalog.api.limits as limits
 import schemalog.cli.main as m
 made = limits.out_of_memory_text
 def exhausted(args):

@@ -10,11 +10,14 @@ is raised as a SchemalogError carrying file, line and column.
 from __future__ import annotations
 
 import os
+import time
 from contextlib import AbstractContextManager, nullcontext
 from typing import TYPE_CHECKING, Callable, Iterator, Union
 
 from .. import defaults
 from ..errors import SchemalogError, UsageError
+from ..logic.exceptions import PrologError
+from .limits import DEFAULT, LimitExceeded, within
 from ..logic.kb import KnowledgeBase
 from ..logic.parse import parse_term
 from ..logic.terms import Atom, Float, Int, Str, Struct, Term, term_to_text
@@ -58,20 +61,22 @@ class Knowledge:
         return [term_to_text(t) for t, _ in task_declarations(self._kb)]
 
     def task(self, name: str | None = None, *, max_depth: int = defaults.MAX_DEPTH,
-             max_nodes: int = defaults.MAX_NODES) -> Task:
+             max_nodes: int = defaults.MAX_NODES, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Task:
         """The task's tree, instantiated from its schemas (name None: the first task/1)."""
         from .task import Task
 
-        return Task.instantiated(self, choose_task(self._kb, name), max_depth, max_nodes)
+        with within(timeout, max_memory):
+            return Task.instantiated(self, choose_task(self._kb, name), max_depth, max_nodes)
 
     def query(self, goal: str, *, first: bool = False, max_steps: int | None = None, propagate: str = "full",
-              output: Callable[[str], None] | None = None) -> Iterator[dict[str, Value]]:
+              output: Callable[[str], None] | None = None, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Iterator[dict[str, Value]]:
         """Each answer of a Prolog query over the knowledge and its tasks' relations
         (docs/queries.md: merged/3, sequential/2, ...), as a dict of Python values; what the
         query writes (write/1, format/2) goes to `output` (default: standard output).
 
         Queries share one workspace per propagation mode, as goals share one Prolog session:
-        what one asserts, the next sees (Knowledge.task() reads the files' knowledge alone)."""
+        what one asserts, the next sees (Knowledge.task() reads the files' knowledge alone).
+        `timeout` bounds the time spent computing answers (not the time between them)."""
         from .answers import answers, read_query
 
         if propagate not in defaults.PROPAGATE_MODES:
@@ -84,40 +89,91 @@ class Knowledge:
             options = Options(propagate=propagate, max_bytes=self._max_bytes, max_steps=self._max_steps)
             workspace = self._workspaces[propagate] = Workspace([n for n, _ in self._sources], options,
                                                                 self._reread)
-        for answer, _ in answers(workspace, query, output, max_steps or self._max_steps):
-            yield {name: python_value(value) for name, value in answer.values}
+        solutions = answers(workspace, query, output, max_steps or self._max_steps)
+        spent = 0.0
+        while True:
+            started = time.monotonic()
+            left = None if timeout is None else max(timeout - spent, defaults.MIN_TIMEOUT)
+            try:
+                with within(left, max_memory):
+                    try:
+                        answer, _ = next(solutions)
+                    except PrologError as err:      # said while the ceiling it names is in force
+                        raise query_error(err, max_memory) from None
+                    found = {name: python_value(value) for name, value in answer.values}
+            except StopIteration:
+                return
+            except LimitExceeded as err:
+                if err.limit == "time":
+                    raise LimitExceeded(f"time limit of {timeout:g} s exceeded (raise it with timeout=)",
+                                        "time") from None
+                raise
+            except RecursionError:
+                raise SchemalogError("a term nests too deeply for schemalog to process (Python's "
+                                     "recursion limit)") from None
+            spent += time.monotonic() - started
+            yield found
             if first:
                 return
 
     def lint(self, task: str | None = None, *, max_depth: int = defaults.MAX_DEPTH,
-             max_nodes: int = defaults.MAX_NODES) -> list[Finding]:
+             max_nodes: int = defaults.MAX_NODES, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> list[Finding]:
         """Every finding of `schemalog lint` about these files (task None: every task/1)."""
         from ..run.lint import lint_kb
 
         tasks = None if task is None else [(task_term(task), None)]
-        return list(lint_kb(self._kb, max_depth, max_nodes, tasks))
+        with within(timeout, max_memory):
+            return list(lint_kb(self._kb, max_depth, max_nodes, tasks))
 
     def check(self, task: str | None = None, *, lint: bool = True, max_depth: int = defaults.MAX_DEPTH,
-              max_nodes: int = defaults.MAX_NODES) -> Checked:
+              max_nodes: int = defaults.MAX_NODES, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Checked:
         """What `schemalog check` does: every schema read, the tasks instantiated (task None:
         every task/1), then linted; .schemas, .tasks, .findings, .errors."""
         from .check import check
 
-        return check(self, task, lint, max_depth, max_nodes)
+        with within(timeout, max_memory):
+            return check(self, task, lint, max_depth, max_nodes)
 
     def _reread(self) -> KnowledgeBase:
         """A fresh knowledge base of the same sources (a query's workspace adds facts to its own)."""
         return _read(self._sources, self._max_bytes, self._max_steps, nullcontext)[0]
 
 
-def load(*paths: Path, max_bytes: int = defaults.MAX_BYTES, max_steps: int = defaults.MAX_STEPS) -> Knowledge:
+class QueryError(SchemalogError):
+    """A Prolog exception no goal of the query caught: `.term` is its ball, such as
+    error(type_error(integer, a), _), the message what `schemalog query` prints."""
+
+    def __init__(self, message: str, term: Term) -> None:
+        super().__init__(message)
+        self.term = term
+
+
+def query_error(err: PrologError, max_memory) -> SchemalogError:
+    """An uncaught Prolog exception as the API raises it: out of memory under a ceiling is
+    LimitExceeded, anything else a QueryError."""
+    from .failures import error_text
+    from .limits import ceiling_in_force, out_of_memory_text
+
+    ball = err.ball
+    if (isinstance(ball, Struct) and ball.name == "error" and len(ball.args) == 2
+            and ball.args[0] == Struct("resource_error", (Atom("memory"),))):
+        text = out_of_memory_text(ceiling_in_force()).removeprefix("error: ")
+        return LimitExceeded(text.replace("--max-memory", "max_memory="), "memory")
+    return QueryError(error_text(err, "max_steps=").removeprefix("error: "), ball)
+
+
+def load(*paths: Path, max_bytes: int = defaults.MAX_BYTES, max_steps: int = defaults.MAX_STEPS,
+         timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Knowledge:
     """Read knowledge files as one program: schema text (.pl), SEED (.prolog), YAML, BT.CPP XML."""
-    return _load(paths, max_bytes, max_steps)
+    with within(timeout, max_memory):
+        return _load(paths, max_bytes, max_steps)
 
 
-def loads(text: str, name: str = "<text>", *, max_steps: int = defaults.MAX_STEPS) -> Knowledge:
+def loads(text: str, name: str = "<text>", *, max_steps: int = defaults.MAX_STEPS,
+          timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Knowledge:
     """Read knowledge from a string of schema text (or SEED knowledge)."""
-    kb, files = _read(((name, text),), defaults.MAX_BYTES, max_steps, nullcontext)
+    with within(timeout, max_memory):
+        kb, files = _read(((name, text),), defaults.MAX_BYTES, max_steps, nullcontext)
     return Knowledge(kb, files, ((name, text),), defaults.MAX_BYTES, max_steps)
 
 

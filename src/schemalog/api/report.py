@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Callable, Iterable
 from .. import defaults
 from ..errors import SchemalogError
 from ..logic.terms import Term, term_to_text
+from .limits import DEFAULT, within
 from .arguments import read_scene_for, state_atoms
 
 if TYPE_CHECKING:
@@ -153,10 +154,19 @@ class Report:
 def verify(original: Task, compressed: Task, *, states: str | Iterable[str] = "default", method: str = "auto",
            max_states: int = defaults.MAX_STATES, max_bdd_nodes: int = 5_000_000, split: bool = True,
            scene=None, sample: int | None = None, seed: int = 0,
-           progress: Callable[[int, int], None] | None = None) -> Report:
+           progress: Callable[[int, int], None] | None = None, timeout: float | None = None,
+           max_memory: int | str | None = DEFAULT) -> Report:
     """Prove `compressed` against `original` from the covered initial states: "default"
     (initial/1), "all" (every assignment of the free atoms allowed by constraint/1), or one
-    state, 'hand.free, spoon.taken'. sample=RUNS checks random runs instead (no proof)."""
+    state, 'hand.free, spoon.taken'. sample=RUNS checks random runs instead (no proof).
+    timeout (seconds) and max_memory (bytes, '2G', None) stop the proof with LimitExceeded."""
+    with within(timeout, max_memory):
+        return _verify(original, compressed, states, method, max_states, max_bdd_nodes, split, scene, sample,
+                       seed, progress)
+
+
+def _verify(original: Task, compressed: Task, states, method: str, max_states: int, max_bdd_nodes: int,
+            split: bool, scene, sample: int | None, seed: int, progress) -> Report:
     from ..run.vacuity import vacuity_of
     from ..run.verify import Verifier, prove
     from ..run.world import World

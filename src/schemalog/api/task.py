@@ -18,6 +18,7 @@ from ..errors import SchemalogError, UsageError, readable_name
 from ..logic.terms import Term, term_to_text
 from ..task.tree import Behaviour, count_nodes, depth
 
+from .limits import DEFAULT, within
 from .arguments import read_scene_for, refuse_overwriting, state_atoms
 
 if TYPE_CHECKING:
@@ -130,7 +131,8 @@ class Task:
         return f"<Task {self.name}: {self.kind}, {len(self)} behaviours, depth {self.depth}>"
 
     # -- what it does ------------------------------------------------------------------
-    def compress(self, propagate: str = "full", *, sympy_budget: int = defaults.SYMPY_BUDGET) -> Task:
+    def compress(self, propagate: str = "full", *, sympy_budget: int = defaults.SYMPY_BUDGET,
+                 timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Task:
         """Merge sequential behaviours (Definition 1, Algorithm 1) into a new Task."""
         from ..task.compress import compress, protected_labels
         from ..task.conditions import Simplifier
@@ -141,7 +143,9 @@ class Task:
             raise UsageError(f"sympy_budget {sympy_budget}: at most {defaults.MAX_SYMPY_BUDGET} "
                              f"(its cost doubles per variable)")
         kb = self.knowledge._kb
-        result = compress(self.tree, propagate, protected_labels(kb, self.tree), Simplifier(sympy_budget=sympy_budget))
+        with within(timeout, max_memory):
+            result = compress(self.tree, propagate, protected_labels(kb, self.tree),
+                              Simplifier(sympy_budget=sympy_budget))
         figures = Compression(result.propagate, result.nodes_before, result.nodes_after, result.depth_before,
                               result.depth_after, result.reduction_degree, tuple(result.notes),
                               result.simplifier.calls, result.simplifier.sympy_calls)
@@ -156,25 +160,25 @@ class Task:
             (f"note: {self.name} carries no provenance (origins/2): it is shown as it is",)
         return Task(decompress(self.tree), self.knowledge, notes=notes)
 
-    def verify(self, compressed: Task | None = None, **options) -> Report:
-        """Prove `compressed` (default: this task compressed, propagate full) against this
-        task's original: schemalog.verify's options."""
+    def verify(self, compressed: Task | None = None, *, timeout: float | None = None, max_memory: int | str | None = DEFAULT, **options) -> Report:
+        """Prove `compressed` (default: this task if it is compressed, else this task
+        compressed with propagate full) against this task's original: schemalog.verify's options."""
         from .report import verify
 
-        if compressed is None:
-            if self.compressed:
-                return verify(self.original, self, **options)
-            compressed = self.compress()
-        return verify(self.original, compressed, **options)
+        with within(timeout, max_memory):
+            if compressed is None:
+                compressed = self if self.compressed else self.compress()
+            return verify(self.original, compressed, **options)
 
     def run(self, scene: Path | None = None, *, seed: int | None = None, jitter: float | None = None,
             state: str | Iterable[str] | None = None, selector: str = "incremental", fail: Iterable[str] = (),
             fail_times: int | None = None, retries: int = defaults.RETRIES, recovery: str = defaults.RECOVERIES[0],
-            max_decisions: int | None = None) -> Run:
+            max_decisions: int | None = None, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Run:
         """Execute with the attentional executive against an emulated robot, to the end."""
-        run = self.start(scene, seed=seed, jitter=jitter, state=state, selector=selector, fail=fail,
-                         fail_times=fail_times, retries=retries, recovery=recovery, max_decisions=max_decisions)
-        run.finish()
+        with within(timeout, max_memory):
+            run = self.start(scene, seed=seed, jitter=jitter, state=state, selector=selector, fail=fail,
+                             fail_times=fail_times, retries=retries, recovery=recovery, max_decisions=max_decisions)
+            run.finish()
         return run
 
     def start(self, scene: Path | None = None, *, seed: int | None = None, jitter: float | None = None,

@@ -19,8 +19,8 @@ import sys
 
 from .. import __version__
 from ..errors import READABLE, SchemalogError
-from .limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling, memory_ceiling, out_of_memory_text,
-                     restored_memory_limit, time_limit)
+from ..api.limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling, memory_ceiling, out_of_memory_text,
+                     governed, restored_memory_limit, time_limit)
 from .options import shared_parents
 
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
@@ -144,7 +144,8 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
         # Made now: when memory has run out, even this message may find none to be made in.
         said = (out_of_memory_text(ceiling) + "\n").encode()
         # The timer is disarmed as the command returns, before any handler below prints.
-        with time_limit(getattr(args, "timeout", None)):
+        # governed: the API calls the command makes run under these limits, adding none of their own
+        with time_limit(getattr(args, "timeout", None)), governed():
             return args.run(args)
     except SchemalogError as err:
         print(str(err), file=sys.stderr)

@@ -10,7 +10,7 @@ import argparse
 from dataclasses import dataclass
 
 from .. import defaults
-from .limits import TIMEOUT_EXIT
+from ..api.limits import TIMEOUT_EXIT
 
 
 # How a command reads its FILE arguments (docs/formats.md): the help of each says it.

@@ -32,7 +32,7 @@ def error_text(err: BaseException, raise_limit: str = "--max-steps N") -> str:
 def _memory_words() -> str:
     """What running out of memory means here: the ceiling in force as the error is told
     (--max-memory's, not the default, when that option set it)."""
-    from .limits import ceiling_in_force, size_text
+    from ..api.limits import ceiling_in_force, size_text
 
     ceiling = ceiling_in_force()
     if ceiling is None:

@@ -1,4 +1,5 @@
-"""The process's resource limits: a wall-clock time limit and a memory ceiling.
+"""The process's resource limits: a wall-clock time limit and a memory ceiling, for the
+command line (--timeout, --max-memory) and for API calls (timeout=, max_memory=).
 
     time_limit(seconds)        a context: past `seconds` (None: no limit), TimeLimitExceeded is raised
                                wherever the process is (the engine, sympy, a blocking read)
@@ -16,6 +17,10 @@ imported: 1.2 GiB of VmSize for 0.2 GiB of VmData), so a thread pool would hit i
 memory is short. RLIMIT_DATA counts the memory that can actually be written, large
 allocations (mmap) included, and Python raises MemoryError at it.
 
+    within(timeout, max_memory) a context for one API call: both limits set on entry and put back
+                               as they were on leaving, what stops the call raised as
+                               LimitExceeded (a SchemalogError)
+
 Nothing here loads the engine; signal and resource are built into the interpreter.
 """
 
@@ -27,8 +32,11 @@ import signal
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
+import threading
+import time
+
 from .. import defaults
-from ..errors import UsageError
+from ..errors import SchemalogError, UsageError
 
 TIMEOUT_EXIT = 124          # as GNU timeout(1) exits
 
@@ -53,20 +61,26 @@ def time_limit(seconds: float | None) -> Iterator[None]:
         yield
         return
     armed = [True]
+    outer, _ = signal.getitimer(signal.ITIMER_REAL)     # a timer already running (an outer limit)
+    started = time.monotonic()
 
     def expire(signum, frame) -> None:
         if armed[0]:             # a signal already pending as the context closes does nothing
             armed[0] = False
+            if outer and outer < seconds and callable(previous):
+                previous(signum, frame)      # the outer limit's time, not this one's, ran out
             raise TimeLimitExceeded(seconds)
 
     previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.setitimer(signal.ITIMER_REAL, seconds if not outer else min(seconds, outer))
     try:
         yield
     finally:
         armed[0] = False
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+        if outer:       # the outer limit goes on with what it had left (at once if it ran out)
+            signal.setitimer(signal.ITIMER_REAL, max(outer - (time.monotonic() - started), 1e-6))
 
 
 _UNITS = {"": 1, "b": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
@@ -167,5 +181,70 @@ def out_of_memory_text(ceiling: int | None) -> str:
             f"--max-memory or {defaults.MEMORY_ENV}, or set it to off)")
 
 
-__all__ = ["TimeLimitExceeded", "TIMEOUT_EXIT", "time_limit", "parse_size", "memory_ceiling",
+class LimitExceeded(SchemalogError):
+    """An API call ran out of the time or the memory it was given: `.limit` says which."""
+
+    def __init__(self, message: str, limit: str) -> None:
+        super().__init__(message)
+        self.limit = limit
+
+
+DEFAULT = "default"     # max_memory's default: the command line's (SCHEMALOG_MAX_MEMORY, else half the memory)
+_inside = threading.local()
+
+
+@contextmanager
+def governed() -> Iterator[None]:
+    """Mark the calls inside as running under limits already set (the command line's
+    --timeout and --max-memory): within() with its defaults then adds none."""
+    _inside.depth = getattr(_inside, "depth", 0) + 1
+    try:
+        yield
+    finally:
+        _inside.depth -= 1
+
+
+@contextmanager
+def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Iterator[None]:
+    """Run one API call under a time limit (seconds; None: none) and a memory ceiling (bytes,
+    a size such as '2G', None or 'off' for none, DEFAULT for the command line's), both put
+    back as they were when it ends. A call inside another's limits adds none of its own unless
+    given some. The time limit needs the main thread (it is a signal)."""
+    nested = getattr(_inside, "depth", 0) > 0
+    if nested and timeout is None and max_memory == DEFAULT:
+        yield
+        return
+    if timeout is not None:
+        if not (defaults.MIN_TIMEOUT <= timeout <= defaults.MAX_TIMEOUT):
+            raise UsageError(f"timeout={timeout!r}: from {defaults.MIN_TIMEOUT} to {defaults.MAX_TIMEOUT:,} seconds")
+        if threading.current_thread() is not threading.main_thread():
+            raise UsageError("timeout= needs the main thread (it is a signal): limit the call from there, "
+                             "or bound its work with max_steps/max_states")
+    if isinstance(max_memory, int) and not isinstance(max_memory, bool):
+        ceiling: int | None = max_memory
+        if ceiling < defaults.MIN_MEMORY:
+            raise UsageError(f"max_memory={ceiling}: at least {size_text(defaults.MIN_MEMORY)}")
+    elif max_memory == DEFAULT:
+        ceiling = memory_ceiling(None, os.environ) if not nested else None
+    elif max_memory is None:
+        ceiling = None
+    else:
+        ceiling = parse_size(str(max_memory), "max_memory=")
+    in_force = None
+    _inside.depth = getattr(_inside, "depth", 0) + 1
+    try:
+        with restored_memory_limit():
+            in_force = apply_memory_ceiling(ceiling)
+            with time_limit(timeout):
+                yield
+    except TimeLimitExceeded as stop:
+        raise LimitExceeded(f"time limit of {stop.seconds:g} s exceeded (raise it with timeout=)", "time") from None
+    except MemoryError:
+        raise LimitExceeded(out_of_memory_text(in_force).removeprefix("error: ").replace(
+            "--max-memory", "max_memory="), "memory") from None
+    finally:
+        _inside.depth -= 1
+
+
+__all__ = ["LimitExceeded", "within", "governed", "DEFAULT", "TimeLimitExceeded", "TIMEOUT_EXIT", "time_limit", "parse_size", "memory_ceiling",
            "apply_memory_ceiling", "restored_memory_limit", "ceiling_in_force", "out_of_memory_text", "size_text"]

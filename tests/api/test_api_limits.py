@@ -1,0 +1,73 @@
+"""The limits a user names on an API call (timeout=, max_memory=) hold, and leave nothing behind."""
+
+from __future__ import annotations
+
+import resource
+import signal
+import threading
+
+import pytest
+
+import schemalog
+from conftest import COFFEE
+
+
+def test_a_timeout_stops_a_proof_and_the_process_is_as_before():
+    before = (signal.getsignal(signal.SIGALRM), signal.getitimer(signal.ITIMER_REAL),
+              resource.getrlimit(resource.RLIMIT_DATA))
+    task = schemalog.load(COFFEE).task()
+    with pytest.raises(schemalog.LimitExceeded, match=r"time limit of 0.01 s exceeded") as err:
+        schemalog.verify(task, task.compress(), method="explicit", states="all", timeout=0.01)
+    assert err.value.limit == "time" and isinstance(err.value, schemalog.SchemalogError)
+    assert (signal.getsignal(signal.SIGALRM), signal.getitimer(signal.ITIMER_REAL),
+            resource.getrlimit(resource.RLIMIT_DATA)) == before
+    assert schemalog.verify(task, task.compress(), timeout=600).proved    # the limit is per call
+
+
+def test_a_query_that_loops_stops_at_its_timeout():
+    kb = schemalog.loads("loop :- loop.\n")
+    with pytest.raises(schemalog.LimitExceeded, match="time limit of 0.2 s"):
+        list(kb.query("loop", timeout=0.2, max_steps=10**12))
+
+
+def test_a_memory_ceiling_stops_a_query_and_is_lifted_after():
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    kb = schemalog.loads("fact.\n")
+    with pytest.raises(schemalog.LimitExceeded, match="out of memory: the 100 MiB ceiling") as err:
+        list(kb.query("numlist(1, 10000000, L), length(L, N)", max_memory="100M", max_steps=10**9))
+    assert err.value.limit == "memory"
+    assert resource.getrlimit(resource.RLIMIT_DATA) == before
+
+
+def test_an_outer_timer_goes_on_after_an_inner_limit():
+    fired = []
+    previous = signal.signal(signal.SIGALRM, lambda *_: fired.append(True))
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 30)
+        schemalog.load(COFFEE, timeout=5)
+        left, _ = signal.getitimer(signal.ITIMER_REAL)
+        assert 20 < left <= 30 and not fired
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def test_bad_limits_are_usage_errors():
+    task = schemalog.load(COFFEE).task()
+    with pytest.raises(schemalog.UsageError, match="timeout"):
+        task.compress(timeout=-1)
+    with pytest.raises(schemalog.UsageError, match="not a size"):
+        task.compress(max_memory="lots")
+    errors = []
+
+    def in_a_thread():
+        try:
+            task.compress(timeout=5)
+        except schemalog.UsageError as err:
+            errors.append(str(err))
+
+    worker = threading.Thread(target=in_a_thread)
+    worker.start()
+    worker.join()
+    assert errors and "main thread" in errors[0]
+    task.compress()                     # without a timeout, any thread may call (no signal)
