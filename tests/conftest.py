@@ -137,3 +137,19 @@ def assert_replays(original, compressed, ce, initial, sound_run=True):
 def _constituents(leaf):
     return [(o.label, o.post) for o in leaf.origins] if len(leaf.origins) > 1 else \
         [(leaf.origins[0].label if leaf.origins else leaf.label, leaf.post)]
+
+
+# A task that cannot complete: the gripper closes and opens again forever (verify: vacuous).
+GRIPPER = """task(t).
+object(cup).
+agent(gripper(_), gripper).
+initial(hand.free).
+schema(t, [(subtask(move, cup), hand.free)], cup.moved).
+schema(subtask(move, cup),
+       [ (a1(cup), true), (gripper(close), a1.done), (a2(cup), not hand.free), (gripper(open), a2.done) ],
+       cup.moved).
+schema(a1(cup), [], a1.done).
+schema(a2(cup), [], a2.done).
+schema(gripper(close), [], not hand.free).
+schema(gripper(open), [], hand.free).
+"""

@@ -138,3 +138,26 @@ def _note(text: str) -> None:
             print(text, file=sys.stderr, flush=True)
     except (OSError, ValueError):
         pass
+
+
+def compose_yaml(text: str, file: str):
+    """YAML composed into nodes (not constructed: every value keeps its place), with `fail`:
+    (message, node) -> a SchemalogError at the node's file:line:column. A syntax error is one too."""
+    import yaml  # loaded only when YAML is read
+
+    lines = text.split("\n")
+
+    def fail(message: str, node) -> SchemalogError:
+        mark = node.start_mark
+        line = lines[mark.line] if mark.line < len(lines) else None
+        return SchemalogError(message, SourcePos(file, mark.line + 1, mark.column + 1), line)
+
+    check_yaml_nesting(text, file)
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        pos = SourcePos(file, mark.line + 1, mark.column + 1) if mark else SourcePos(file, 1, 1)
+        line = lines[mark.line] if mark and mark.line < len(lines) else None
+        raise SchemalogError(f"YAML syntax error: {getattr(err, 'problem', None) or err}", pos, line) from None
+    return root, fail

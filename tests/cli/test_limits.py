@@ -72,7 +72,8 @@ def test_bench_stopped_by_its_time_limit_leaves_no_folder_it_made(tmp_path):
 BENCH_STOPPED_WHILE_WRITING = """
 import sys, time
 import schemalog.evaluate.bench as bench
-bench.run_bench = lambda plan, report=None: None
+import schemalog.evaluate.sweep as sweep
+sweep.run_sweep = lambda grid, store, where, report=None: sweep.SweepStats(0)
 def write_results(results, out, command):
     (out / "results.csv").write_text("new\\n")
     (out / "figure4.png").write_bytes(b"half")

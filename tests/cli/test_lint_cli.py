@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from conftest import COFFEE, MIX, ROOT, SEED_COFFEE
+from conftest import COFFEE, GRIPPER, MIX, ROOT, SEED_COFFEE
 
 STRUCTURE = ROOT / "kb" / "tasks" / "coffee_structure.pl"
 
@@ -27,21 +27,6 @@ def typo(tmp_path):
     path = tmp_path / "typo.pl"
     path.write_text(text.replace("(add(tea), water.used)", "(add(tea), water.usd)"))
     return path
-
-
-GRIPPER = """task(t).
-object(cup).
-agent(gripper(_), gripper).
-initial(hand.free).
-schema(t, [(subtask(move, cup), hand.free)], cup.moved).
-schema(subtask(move, cup),
-       [ (a1(cup), true), (gripper(close), a1.done), (a2(cup), not hand.free), (gripper(open), a2.done) ],
-       cup.moved).
-schema(a1(cup), [], a1.done).
-schema(a2(cup), [], a2.done).
-schema(gripper(close), [], not hand.free).
-schema(gripper(open), [], hand.free).
-"""
 
 
 @pytest.mark.parametrize("path", [MIX, COFFEE, STRUCTURE, SEED_COFFEE])

@@ -45,93 +45,93 @@ def register(sub, parents: Parents) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Reproduce the paper's evaluation (Sec. IV) beside py_trees; write tables and figures."""
-    import dataclasses
+    """Reproduce the paper's evaluation (Sec. IV) beside py_trees; write tables and figures.
+    --paper, --quick and --runtimes are the shipped grids of `schemalog sweep`, run in this
+    process through the same path (evaluate/sweep.py), their results kept in memory."""
+    from ..api import sweep as api
 
-    from ..evaluate.bench import PAPER_PLAN, QUICK_PLAN
-
-    if args.runtimes:
-        return _runtimes(args)
-    plan = QUICK_PLAN if args.quick else PAPER_PLAN
-    changes = {k: v for k, v in (("runs", args.runs), ("seed", args.seed), ("max_states", args.max_states),
-                                 ("verify_seconds", args.verify_seconds)) if v is not None}
-    plan = dataclasses.replace(plan, **changes)
+    name = "runtimes" if args.runtimes else "quick" if args.quick else "paper"
+    grid = api.shipped(name, runs=args.runs, max_states=args.max_states,
+                    verify_seconds=args.verify_seconds, seeds=None if args.seed is None else (args.seed,))
     with _out_dir(args) as staged:
-        said = _measure(args, plan, staged)
+        said = _runtimes(args, grid, staged) if args.runtimes else _measure(args, grid, staged)
     print(said)                          # once the results are in --out, not before
     return 0
 
 
-def _measure(args: argparse.Namespace, plan, out: Path) -> str:
-    """Run `plan`, write its results into `out` (--out's staging folder, _out_dir), and return
+def _sweep(grid, report):
+    """The grid's cells, one after the other in this process: the store and the sweep's figures."""
+    from ..api import sweep as api
+
+    store = api.memory_store(grid)
+    stats = api.sweep(grid, store, api.serial(), report)
+    return store, stats
+
+
+def _measure(args: argparse.Namespace, grid, out: Path) -> str:
+    """Run the grid, write its results into `out` (--out's staging folder, _out_dir), and return
     what to say about them."""
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from ..evaluate.bench import headlines, run_bench, steps, write_results
+    from ..api import sweep as api
 
     console = Console(stderr=True)
-    if console.is_terminal:              # a live bar, its line naming the part under way
+    cells = grid.cells()
+    if console.is_terminal:              # a live bar, its line naming the cell last done
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                       console=console, transient=True) as progress:
-            bar = progress.add_task(f"bench --{plan.name}", total=steps(plan))
+            bar = progress.add_task(f"bench --{grid.name}", total=len(cells))
 
-            def report(done: int, total: int, description: str) -> None:
-                progress.update(bar, completed=done, description=description)
+            def report(state) -> None:
+                progress.update(bar, completed=state.done + state.failed, description=state.last or grid.name)
 
-            results = run_bench(plan, report)
-    else:                                # a log or a pipe: one line per step, no redrawing
+            store, stats = _sweep(grid, report)
+    else:                                # a log or a pipe: one line per cell, no redrawing
         started = time.perf_counter()
-        last = [-1]
 
-        def report(done: int, total: int, description: str) -> None:
-            if done != last[0] and done < total:
-                last[0] = done
-                print(f"bench --{plan.name} [{done + 1}/{total}, {time.perf_counter() - started:.0f} s] "
-                      f"{description}", file=sys.stderr, flush=True)
+        def report(state) -> None:
+            if state.last:
+                print(f"bench --{grid.name} [{state.done + state.failed}/{state.total}, "
+                      f"{time.perf_counter() - started:.0f} s] {state.last}", file=sys.stderr, flush=True)
 
-        results = run_bench(plan, report)
-    command = "schemalog bench " + " ".join(sys.argv[2:] if sys.argv[1:2] == ["bench"] else [f"--{plan.name}"])
+        store, stats = _sweep(grid, report)
+    _no_failure(store, cells)
+    command = "schemalog bench " + " ".join(sys.argv[2:] if sys.argv[1:2] == ["bench"] else [f"--{grid.name}"])
     try:
-        written = write_results(results, out, command)
+        results, written = api.bench_report(grid, store, out, command, stats.seconds)
     except OSError as err:
         raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
-    return "\n".join([f"bench --{plan.name}: {len(results.cells)} generated tasks x {plan.runs} runs, the "
+    return "\n".join([f"bench --{grid.name}: {len(results.cells)} generated tasks x {grid.runs} runs, the "
                       f"coffee-and-tea task, {len(results.sizes)} sizes; {results.seconds:,.0f} s",
-                      *(f"- {line}" for line in headlines(results)),
+                      *(f"- {line}" for line in api.headlines(results)),
                       "wrote " + ", ".join(str(Path(args.out) / p.name) for p in written)])
 
 
-def _runtimes(args: argparse.Namespace) -> int:
-    """`bench --runtimes`: the paper's grid in BT.CPP and py_trees (evaluate/runtimes.py)."""
-    with _out_dir(args) as out:
-        said = _measure_runtimes(args, out)
-    print(said)                          # once the tables are in --out, not before
-    return 0
+def _no_failure(store, cells) -> None:
+    """bench stops at a failed cell, as it always has: its figures need every cell."""
+    for row in store.in_order(cells):
+        if row["status"] != "done":
+            raise SchemalogError(f"bench: {row['key']}: {row['message']}")
 
 
-def _measure_runtimes(args: argparse.Namespace, out: Path) -> str:
-    """Tick the grid's trees in both runtimes, write the tables into `out` (--out's staging
-    folder, _out_dir), and return what to say about them."""
-    from ..evaluate.runtimes import PAPER_REDUCTIONS, PAPER_SHAPES, measure_runtimes, runtimes_csv, runtimes_markdown
-    from ..formats.documents import write_atomically
+def _runtimes(args: argparse.Namespace, grid, out: Path) -> str:
+    """`bench --runtimes`: the paper's grid in BT.CPP and py_trees (evaluate/runtimes.py), its
+    tables written into `out` (--out's staging folder, _out_dir)."""
+    from ..api import sweep as api
 
-    started = time.perf_counter()
-    total = len(PAPER_SHAPES) * len(PAPER_REDUCTIONS)
-    done = [0]
+    def step(state) -> None:
+        if state.last:
+            print(f"[{state.done + state.failed}/{state.total}] {state.last}", file=sys.stderr)
 
-    def step(description: str) -> None:
-        done[0] += 1
-        print(f"[{done[0]}/{total}] {description}", file=sys.stderr)
-
-    rows = measure_runtimes(seed=args.seed if args.seed is not None else 1, progress=step)
-    table = runtimes_markdown(rows, "schemalog bench --runtimes")
+    store, stats = _sweep(grid, step)
+    _no_failure(store, grid.cells())
     try:
-        write_atomically(out / "runtimes.csv", runtimes_csv(rows))
-        write_atomically(out / "runtimes.md", table)
+        table = api.runtimes_report(grid, store, out, "schemalog bench --runtimes")
     except OSError as err:
         raise SchemalogError(f"cannot write the results into {args.out}: {err.strerror or err}") from None
-    return (f"{table}\nbench --runtimes: {len(rows)} trees, {time.perf_counter() - started:,.0f} s; wrote "
+    rows = sum(1 for c in grid.cells() if store.done(c.key))
+    return (f"{table}\nbench --runtimes: {rows} trees, {stats.seconds:,.0f} s; wrote "
             f"{Path(args.out) / 'runtimes.csv'}, {Path(args.out) / 'runtimes.md'}")
 
 
@@ -141,20 +141,15 @@ def _out_dir(args: argparse.Namespace) -> Iterator[Path]:
     into a hidden folder inside it and moved in when the command ends well. A run stopped early
     (--timeout, Ctrl-C, an error, memory) leaves --out as it found it: the folders it made are
     removed, a folder that was there keeps its old results."""
+    from .sweep import out_folder
+
     if not args.out.strip():             # Path('') is '.': the results would land among the user's files
         raise UsageError("--out needs a directory name (it is empty)")
     out = Path(args.out)
     made = [p for p in (out, *out.parents) if not os.path.lexists(p)]   # innermost first
     staging = None
     try:
-        try:
-            out.mkdir(parents=True, exist_ok=True)
-        except FileExistsError:
-            raise UsageError(f"--out {args.out} is a file, not a directory") from None
-        except OSError as err:
-            raise UsageError(f"--out {args.out}: cannot make the directory: {err.strerror or err}") from None
-        if not os.access(out, os.W_OK):
-            raise UsageError(f"--out {args.out}: the directory is not writable")
+        out_folder(args.out)             # made, and checked writable
         staging = Path(tempfile.mkdtemp(prefix=".bench-", suffix=".tmp", dir=out))
         yield staging
         for written in sorted(staging.iterdir()):

@@ -24,7 +24,7 @@ from ..api.limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling,
 from .options import shared_parents
 
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
-COMMANDS = ("check", "lint", "show", "compress", "decompress", "run", "verify", "generate", "bench", "learn",
+COMMANDS = ("check", "lint", "show", "compress", "decompress", "run", "verify", "generate", "bench", "sweep", "learn",
             "simulate_demo", "query", "repl", "convert", "export")
 
 

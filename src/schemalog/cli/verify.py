@@ -49,6 +49,8 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("--json", action="store_true", help="print the report as JSON (docs/formats.md)")
     p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
     p.set_defaults(run=run, jitter=None)
+    from .verify_each import add_arguments  # verify --each: many files as one sweep (cli/verify_each.py)
+    add_arguments(p)
 
 
 def sample_runs(text: str) -> int:
@@ -66,6 +68,9 @@ def _progress(done: int, runs: int) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Prove a compressed task against its original: soundness and completion, with diagnostics."""
+    if args.each:
+        from .verify_each import run_each
+        return run_each(args)
     import schemalog
     from .common import check_output, emit, inputs_of, said
 

@@ -31,6 +31,7 @@ import io
 import math
 import signal
 import statistics
+import threading
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -77,6 +78,10 @@ class BenchPlan:
     verify_seconds: float | None = None    # verification: past this much CPU time a cell is "limit"
     seed: int = 1
     name: str = "paper"
+    propagate: str = "full"                # how the cells are compressed (docs/compression.md)
+    measures: tuple[str, ...] = ("compress", "prove", "time")    # what a generated cell does
+    selectors: tuple[str, ...] = SELECTORS     # which selectors "time" runs (py_trees: with ticks)
+    max_bdd_nodes: int = 5_000_000         # verification: symbolic past this is "limit"
 
 
 PAPER_PLAN = BenchPlan(shapes=tuple((d, b) for d in (4, 5, 6) for b in (2, 3, 4)),
@@ -137,6 +142,7 @@ class Timing:
     decisions: list[int] = field(default_factory=list)          # per run
     per_run: list[float] = field(default_factory=list)          # seconds of selection per run
     per_decision: list[float] = field(default_factory=list)     # seconds, every decision timed
+    traces: list[str] = field(default_factory=list)             # per run: a digest of its actions
 
     @property
     def run_ms(self) -> Spread:
@@ -224,11 +230,14 @@ class Results:
 # Timing one tree
 
 def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Scene], cell: Cell,
-              initial: frozenset = frozenset(), ticks: int = 0, say=None, min_seconds: float = 0.0) -> None:
+              initial: frozenset = frozenset(), ticks: int = 0, say=None, min_seconds: float = 0.0,
+              selectors: tuple[str, ...] = SELECTORS) -> None:
     """Run each tree (original, compressed) once per scene with each selector; record the
     timings in `cell`. The trees take turns, first one then the other leading, so that a
     change in the machine's load falls on both alike; `say(text)` hears of each run."""
-    tickers = {which: py_trees_ticker(tree) for which, tree in trees.items()} if ticks else {}
+    tickers = {which: py_trees_ticker(tree) for which, tree in trees.items()} \
+        if ticks and "py_trees" in selectors else {}
+    own = [s for s in ("scan", "incremental") if s in selectors]
     order = list(trees)
     started = time.perf_counter()
     # A tree whose runs take microseconds goes round its configurations again, until it has
@@ -240,7 +249,8 @@ def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Sce
                 say(f"run {run + 1}" + (f" of {len(scenes)}" if run < len(scenes) else " (repeating a fast tree)"))
             for which in (order if run % 2 == 0 else order[::-1]):
                 tree = trees[which]
-                for selector in ("scan", "incremental"):
+                ex = None
+                for selector in own:
                     ex = Executive(tree, World(original, initial), scene, selector=selector, detect_loops=False)
                     seconds = [decision.seconds for decision in ex]
                     if not ex.outcome.completed:
@@ -250,8 +260,13 @@ def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Sce
                     timing.decisions.append(len(seconds))
                     timing.per_run.append(sum(seconds))
                     timing.per_decision.extend(seconds)
+                    timing.traces.append(trace_digest(ex.trace))
                 ticker = tickers.get(which)
                 if ticker is not None:
+                    if ex is None:         # py_trees alone: the states of an untimed incremental run
+                        ex = Executive(tree, World(original, initial), scene, selector="incremental",
+                                       detect_loops=False)
+                        seconds = [decision.seconds for decision in ex]
                     spent = tick_times(ticker, _replay_states(original, initial, ex.trace, ticks))
                     peer = cell.timing(which, "py_trees")
                     peer.per_decision.extend(spent)
@@ -260,6 +275,15 @@ def time_runs(trees: dict[str, Behaviour], original: Behaviour, scenes: list[Sce
 
 
 MAX_ROUNDS = 10
+
+
+def trace_digest(trace: list) -> str:
+    """A run's actions, in order, as a short digest (the same run gives the same digest in any process)."""
+    import hashlib
+
+    from ..logic.terms import term_to_text
+
+    return hashlib.sha256("\n".join(term_to_text(a) for a in trace).encode()).hexdigest()[:16]
 
 
 def _rounds(scenes: list[Scene], started: float, min_seconds: float):
@@ -385,9 +409,14 @@ class _OutOfTime(BaseException):
 def cpu_budget(seconds: float | None):
     """Raise _OutOfTime once the process has used `seconds` of CPU time inside the context.
     CPU time, not wall-clock time: a loaded machine does not turn a proof into a limit, and
-    SIGALRM stays free for --timeout."""
+    SIGALRM stays free for --timeout. Outside the main thread (a Dask worker's task), where
+    no signal can be caught, the thread's own CPU time is watched instead (thread_budget)."""
     if seconds is None or not hasattr(signal, "setitimer"):
         yield
+        return
+    if threading.current_thread() is not threading.main_thread():
+        with thread_budget(seconds, _OutOfTime):
+            yield
         return
     armed = [True]
 
@@ -406,15 +435,50 @@ def cpu_budget(seconds: float | None):
         signal.signal(signal.SIGPROF, previous)
 
 
+@contextmanager
+def thread_budget(seconds: float | None, error: type[BaseException]):
+    """Raise `error` in this thread once it has used `seconds` of its own CPU time inside the
+    context: a watching thread reads this thread's CPU clock every 20 ms and raises the error
+    into it (between two bytecodes, as Ctrl-C would). Works in any thread, the main one too."""
+    if seconds is None or not hasattr(time, "pthread_getcpuclockid"):
+        yield
+        return
+    import ctypes
+
+    target = threading.get_ident()
+    clock = time.pthread_getcpuclockid(target)
+    start = time.clock_gettime(clock)
+    stop = threading.Event()
+    fired = []
+
+    def watch() -> None:
+        while not stop.wait(0.02):
+            if time.clock_gettime(clock) - start >= seconds:
+                fired.append(True)
+                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(target), ctypes.py_object(error))
+                return
+
+    watcher = threading.Thread(target=watch, name="cpu-budget", daemon=True)
+    watcher.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        watcher.join()
+        if fired:                 # raised too late to land inside: taken back, not left pending
+            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(target), None)
+
+
 def verify_cell(original: Behaviour, compressed: Behaviour, initial: frozenset, max_states: int,
-                cell: Cell, seconds: float | None = None) -> None:
+                cell: Cell, seconds: float | None = None, max_bdd_nodes: int = 5_000_000) -> None:
     """Prove the compressed tree against the original where that is exact within max_states
     (and, given `seconds`, within that much CPU time): proved, counterexample or limit."""
     world = World(original, initial)
     started = time.perf_counter()
     try:
         with cpu_budget(seconds):
-            report = prove(original, compressed, world, [world.atoms], max_states=max_states)
+            report = prove(original, compressed, world, [world.atoms], max_states=max_states,
+                           max_nodes=max_bdd_nodes)
     except _OutOfTime:
         cell.verify_seconds = time.perf_counter() - started
         cell.verify_result, cell.verify_states, cell.verify_limit = "limit", 0, "time"
@@ -426,12 +490,12 @@ def verify_cell(original: Behaviour, compressed: Behaviour, initial: frozenset, 
     cell.verify_limit = "states" if cell.verify_result == "limit" else ""
 
 
-def timed_compress(tree: Behaviour, repeat: int = 3):
+def timed_compress(tree: Behaviour, repeat: int = 3, propagate: str = "full"):
     """Compress (propagate full); the best time of `repeat` (the first pays for warming up)."""
     best = math.inf
     for _ in range(repeat):
         started = time.perf_counter()
-        result = compress(tree)
+        result = compress(tree, propagate)
         best = min(best, time.perf_counter() - started)
     return result, best
 
@@ -439,22 +503,26 @@ def timed_compress(tree: Behaviour, repeat: int = 3):
 def measure_cell(depth: int, children: int, rd: float, plan: BenchPlan, say=None) -> Cell:
     """Generate, compress, verify and time one cell of the grid; `say(text)` hears of each part."""
     tree = generate(depth, children, rd, plan.seed)
-    result, seconds = timed_compress(tree)
+    result, seconds = timed_compress(tree, 3 if "time" in plan.measures else 1, plan.propagate)
     cell = Cell(f"depth {depth}, {children} children, RD {rd:g}", depth, children, result.nodes_before, rd,
                 result.reduction_degree, result.nodes_after, seconds)
     scenes = [scene_for(children, seed=run) for run in range(plan.runs)]
-    if result.nodes_after == result.nodes_before:
+    if "time" not in plan.measures:
+        pass
+    elif result.nodes_after == result.nodes_before:
         # Nothing merged (RD 0): the compressed tree is the original, so it is timed once and
         # its rows repeat the original's; timing it twice measured only the machine's noise.
-        time_runs({"original": tree}, tree, scenes, cell, ticks=plan.ticks, say=say, min_seconds=plan.min_seconds)
-        for selector in SELECTORS:
+        time_runs({"original": tree}, tree, scenes, cell, ticks=plan.ticks, say=say, min_seconds=plan.min_seconds,
+                  selectors=plan.selectors)
+        for selector in plan.selectors:
             cell.timings[("compressed", selector)] = cell.timing("original", selector)
     else:
         time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, ticks=plan.ticks, say=say,
-                  min_seconds=plan.min_seconds)
-    if say is not None:
-        say("verifying")
-    verify_cell(tree, result.tree, frozenset(), plan.max_states, cell, plan.verify_seconds)
+                  min_seconds=plan.min_seconds, selectors=plan.selectors)
+    if "prove" in plan.measures:
+        if say is not None:
+            say("verifying")
+        verify_cell(tree, result.tree, frozenset(), plan.max_states, cell, plan.verify_seconds, plan.max_bdd_nodes)
     return cell
 
 
@@ -466,15 +534,17 @@ def measure_coffee(plan: BenchPlan, say=None) -> Cell:
     """The paper's real task (Sec. IV-D): 10 runs in 10 object configurations of the kitchen."""
     kb = document_from_text(shipped_text(COFFEE_FILE), COFFEE_FILE).to_kb()
     tree = instantiate(kb, parse_term("prepareboth"))
-    result, seconds = timed_compress(tree)
+    result, seconds = timed_compress(tree, propagate=plan.propagate)
     initial = frozenset(initial_state(kb))
     cell = Cell("coffee and tea", result.depth_before, 0, result.nodes_before, None, result.reduction_degree,
                 result.nodes_after, seconds)
     kitchen = scene_from_yaml(shipped_text(KITCHEN_FILE), KITCHEN_FILE)
     scenes = [kitchen.jittered(run, 0.05) for run in range(plan.runs)]
-    time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, initial, plan.ticks, say,
-              plan.min_seconds)
-    verify_cell(tree, result.tree, initial, plan.max_states, cell, plan.verify_seconds)
+    if "time" in plan.measures:
+        time_runs({"original": tree, "compressed": result.tree}, tree, scenes, cell, initial, plan.ticks, say,
+                  plan.min_seconds, plan.selectors)
+    if "prove" in plan.measures:
+        verify_cell(tree, result.tree, initial, plan.max_states, cell, plan.verify_seconds, plan.max_bdd_nodes)
     return cell
 
 
@@ -747,5 +817,6 @@ def write_results(results: Results, out: Path, command: str) -> list[Path]:
 
 
 __all__ = ["BenchPlan", "PAPER_PLAN", "QUICK_PLAN", "Cell", "Timing", "SizeRow", "Results", "run_bench",
-           "Spread", "judge", "cpu_budget", "verify_cell",
+           "Spread", "judge", "cpu_budget", "thread_budget", "verify_cell", "measure_cell", "measure_coffee",
+           "measure_size", "trace_digest",
            "steps", "to_csv", "to_markdown", "headlines", "write_results", "py_trees_tree", "py_trees_ticker"]

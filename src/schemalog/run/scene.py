@@ -29,7 +29,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..errors import SchemalogError, SourcePos, shown_name
-from ..inputs import check_yaml_nesting, read_limited
+from ..inputs import compose_yaml, read_limited
 from ..logic.terms import Atom, Term, term_to_text
 
 Position = tuple[float, ...]
@@ -111,20 +111,7 @@ def scene_from_yaml(text: str, file: str = "<scene>") -> Scene:
     import yaml  # loaded only when YAML is read or written
 
     lines = text.split("\n")
-
-    def fail(message: str, node) -> SchemalogError:
-        mark = node.start_mark
-        line = lines[mark.line] if mark.line < len(lines) else None
-        return SchemalogError(message, SourcePos(file, mark.line + 1, mark.column + 1), line)
-
-    check_yaml_nesting(text, file)
-    try:
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        pos = SourcePos(file, mark.line + 1, mark.column + 1) if mark else SourcePos(file, 1, 1)
-        line = lines[mark.line] if mark and mark.line < len(lines) else None
-        raise SchemalogError(f"YAML syntax error: {getattr(err, 'problem', None) or err}", pos, line) from None
+    root, fail = compose_yaml(text, file)
     if not isinstance(root, yaml.MappingNode):
         raise SchemalogError("a scene is a mapping with `objects` and `end_effector`", SourcePos(file, 1, 1))
 
