@@ -39,17 +39,48 @@ def test_a_memory_ceiling_stops_a_query_and_is_lifted_after():
     assert resource.getrlimit(resource.RLIMIT_DATA) == before
 
 
-def test_an_outer_timer_goes_on_after_an_inner_limit():
+def test_a_timer_of_yours_is_never_touched():
     fired = []
     previous = signal.signal(signal.SIGALRM, lambda *_: fired.append(True))
     try:
-        signal.setitimer(signal.ITIMER_REAL, 30)
-        schemalog.load(COFFEE, timeout=5)
-        left, _ = signal.getitimer(signal.ITIMER_REAL)
-        assert 20 < left <= 30 and not fired
+        signal.setitimer(signal.ITIMER_REAL, 30, 0.5)
+        with pytest.raises(schemalog.UsageError, match="already running"):
+            schemalog.load(COFFEE, timeout=5)
+        schemalog.load(COFFEE)                         # without timeout=, no timer is needed
+        left, interval = signal.getitimer(signal.ITIMER_REAL)
+        assert 25 < left <= 30 and interval == 0.5 and not fired
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+
+
+def test_ceilings_of_calls_in_threads_are_all_lifted_after():
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    task = schemalog.load(COFFEE).task()
+    workers = [threading.Thread(target=task.compress, kwargs={"max_memory": f"{n}G"}) for n in (1, 2, 3) * 2]
+    workers.append(threading.Thread(target=task.compress))     # the default ceiling too
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    assert resource.getrlimit(resource.RLIMIT_DATA) == before
+
+
+def test_the_default_ceiling_stays_under_a_hard_limit():
+    # ulimit -d below half the memory (CI containers, HPC jobs): the default is capped, never refused
+    import subprocess
+    import sys
+
+    code = ("import resource, schemalog\n"
+            "resource.setrlimit(resource.RLIMIT_DATA, (2**31, 2**31))\n"
+            "print(len(schemalog.load('kb/tasks/mix_with_spoon.pl').task().compress()))\n")
+    from conftest import ROOT
+
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert (out.returncode, out.stdout, out.stderr) == (0, "6\n", "")
+    cli = subprocess.run(["bash", "-c", "ulimit -d 2097152 && python -m schemalog check kb/tasks/mix_with_spoon.pl"],
+                         cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert cli.returncode == 0, cli.stderr
 
 
 def test_bad_limits_are_usage_errors():
@@ -58,6 +89,10 @@ def test_bad_limits_are_usage_errors():
         task.compress(timeout=-1)
     with pytest.raises(schemalog.UsageError, match="not a size"):
         task.compress(max_memory="lots")
+    with pytest.raises(schemalog.UsageError, match="a number of seconds"):
+        task.compress(timeout="5")
+    with pytest.raises(schemalog.UsageError, match="above this process's hard limit"):
+        task.compress(max_memory=2**62)
     errors = []
 
     def in_a_thread():

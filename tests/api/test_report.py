@@ -99,3 +99,18 @@ def test_proofs_in_a_loop_leave_nothing_on_stderr(tmp_path):
     out = subprocess.run([sys.executable, "-c", code, task_file], cwd=ROOT, capture_output=True, text=True,
                          timeout=300)
     assert (out.returncode, out.stdout, out.stderr) == (0, "proved symbolic\n", "")
+
+
+def test_a_limit_that_hides_vacuity_is_no_proof(tmp_path):
+    # a28(cup) waits for an atom nothing sets: the task cannot complete. With too few states to
+    # find that out, the report must not call the compressed tree proved.
+    stuck = tmp_path / "stuck.pl"
+    stuck.write_text(COFFEE.read_text().replace("(a28(cup), a27.done)", "(a28(cup), a27.done and never.holds)"))
+    task = schemalog.load(stuck).task()
+    assert task.verify().verdict == "vacuous"
+    report = schemalog.verify(task, task.compress(), max_states=200)
+    assert not report.proved and report.verdict == "inconclusive" and report.exit_status == 3
+    assert "whether the task itself can complete is not known" in report.text()
+    cli = subprocess.run([sys.executable, "-m", "schemalog", "verify", str(stuck), "--max-states", "200"],
+                         capture_output=True, text=True)
+    assert cli.returncode == 3 and "no proof: whether the task itself can complete" in cli.stdout

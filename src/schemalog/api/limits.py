@@ -61,26 +61,20 @@ def time_limit(seconds: float | None) -> Iterator[None]:
         yield
         return
     armed = [True]
-    outer, _ = signal.getitimer(signal.ITIMER_REAL)     # a timer already running (an outer limit)
-    started = time.monotonic()
 
     def expire(signum, frame) -> None:
         if armed[0]:             # a signal already pending as the context closes does nothing
             armed[0] = False
-            if outer and outer < seconds and callable(previous):
-                previous(signum, frame)      # the outer limit's time, not this one's, ran out
             raise TimeLimitExceeded(seconds)
 
     previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds if not outer else min(seconds, outer))
+    signal.setitimer(signal.ITIMER_REAL, seconds)
     try:
         yield
     finally:
         armed[0] = False
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
-        if outer:       # the outer limit goes on with what it had left (at once if it ran out)
-            signal.setitimer(signal.ITIMER_REAL, max(outer - (time.monotonic() - started), 1e-6))
 
 
 _UNITS = {"": 1, "b": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
@@ -124,7 +118,21 @@ def memory_ceiling(option: str | None, environ: Mapping[str, str]) -> int | None
     if environ.get(defaults.MEMORY_ENV):
         return parse_size(environ[defaults.MEMORY_ENV], defaults.MEMORY_ENV)
     physical = physical_memory()
-    return int(physical * defaults.MEMORY_FRACTION) if physical else None
+    if not physical:
+        return None
+    default = int(physical * defaults.MEMORY_FRACTION)
+    hard = _hard_limit()
+    return default if hard is None else min(default, hard)    # a default never refused (ulimit -d)
+
+
+def _hard_limit() -> int | None:
+    """RLIMIT_DATA's hard limit, None when unlimited or unknown."""
+    try:
+        import resource
+    except ImportError:
+        return None
+    hard = resource.getrlimit(resource.RLIMIT_DATA)[1]
+    return None if hard == resource.RLIM_INFINITY else hard
 
 
 def apply_memory_ceiling(ceiling: int | None) -> int | None:
@@ -209,18 +217,27 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
     """Run one API call under a time limit (seconds; None: none) and a memory ceiling (bytes,
     a size such as '2G', None or 'off' for none, DEFAULT for the command line's), both put
     back as they were when it ends. A call inside another's limits adds none of its own unless
-    given some. The time limit needs the main thread (it is a signal)."""
+    given some. The time limit is the interval timer's signal: it needs the main thread and no
+    other ITIMER_REAL timer running. The ceiling is the process's: calls in several threads
+    share the lowest of theirs, and the last to end puts back what was there before the first."""
     nested = getattr(_inside, "depth", 0) > 0
     if nested and timeout is None and max_memory == DEFAULT:
         yield
         return
     if timeout is not None:
+        if isinstance(timeout, bool) or not isinstance(timeout, (int, float)):
+            raise UsageError(f"timeout={timeout!r}: a number of seconds, or None")
         if not (defaults.MIN_TIMEOUT <= timeout <= defaults.MAX_TIMEOUT):
             raise UsageError(f"timeout={timeout!r}: from {defaults.MIN_TIMEOUT} to {defaults.MAX_TIMEOUT:,} seconds")
         if threading.current_thread() is not threading.main_thread():
             raise UsageError("timeout= needs the main thread (it is a signal): limit the call from there, "
                              "or bound its work with max_steps/max_states")
-    if isinstance(max_memory, int) and not isinstance(max_memory, bool):
+        if hasattr(signal, "getitimer") and signal.getitimer(signal.ITIMER_REAL)[0] > 0:
+            raise UsageError("timeout= needs the interval timer (ITIMER_REAL), and a timer of this process "
+                             "is already running on it: stop that timer, or leave timeout= out")
+    if isinstance(max_memory, bool) or not isinstance(max_memory, (int, str, type(None))):
+        raise UsageError(f"max_memory={max_memory!r}: bytes, a size such as '2G', or None")
+    if isinstance(max_memory, int):
         ceiling: int | None = max_memory
         if ceiling < defaults.MIN_MEMORY:
             raise UsageError(f"max_memory={ceiling}: at least {size_text(defaults.MIN_MEMORY)}")
@@ -229,21 +246,77 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
     elif max_memory is None:
         ceiling = None
     else:
-        ceiling = parse_size(str(max_memory), "max_memory=")
-    in_force = None
+        ceiling = parse_size(max_memory, "max_memory=")
+    hard = _hard_limit()
+    if ceiling is not None and hard is not None and ceiling > hard:
+        raise UsageError(f"max_memory= {size_text(ceiling)} is above this process's hard limit of "
+                         f"{size_text(hard)} (ulimit -d)")
     _inside.depth = getattr(_inside, "depth", 0) + 1
+    _enter_ceiling(ceiling)
     try:
-        with restored_memory_limit():
-            in_force = apply_memory_ceiling(ceiling)
-            with time_limit(timeout):
-                yield
+        with time_limit(timeout):
+            yield
     except TimeLimitExceeded as stop:
         raise LimitExceeded(f"time limit of {stop.seconds:g} s exceeded (raise it with timeout=)", "time") from None
     except MemoryError:
-        raise LimitExceeded(out_of_memory_text(in_force).removeprefix("error: ").replace(
+        raise LimitExceeded(out_of_memory_text(ceiling_in_force()).removeprefix("error: ").replace(
             "--max-memory", "max_memory="), "memory") from None
     finally:
+        _leave_ceiling(ceiling)
         _inside.depth -= 1
+
+
+# The ceilings of the API calls running now, in every thread, and RLIMIT_DATA as it was before
+# the first of them: the process has one limit, so the lowest applies and the last call to end
+# puts the old one back (a save and restore per call would leave one thread's ceiling behind).
+_ceilings: list[int] = []
+_before: list = []
+_lock = threading.Lock()
+
+
+def _enter_ceiling(ceiling: int | None) -> None:
+    if ceiling is None:
+        return
+    with _lock:
+        if not _ceilings:
+            _before[:] = [_rlimit()]
+        _ceilings.append(ceiling)
+        _set_lowest()
+
+
+def _leave_ceiling(ceiling: int | None) -> None:
+    if ceiling is None:
+        return
+    with _lock:
+        _ceilings.remove(ceiling)
+        if _ceilings:
+            _set_lowest()
+        elif _before and _before[0] is not None:
+            import resource
+
+            resource.setrlimit(resource.RLIMIT_DATA, _before[0])
+
+
+def _rlimit():
+    try:
+        import resource
+    except ImportError:
+        return None
+    return resource.getrlimit(resource.RLIMIT_DATA)
+
+
+def _set_lowest() -> None:
+    """RLIMIT_DATA's soft limit to the lowest ceiling asked for, never above the one before."""
+    before = _before[0] if _before else None
+    if before is None:
+        return
+    import resource
+
+    soft, hard = before
+    lowest = min(_ceilings)
+    if soft != resource.RLIM_INFINITY:
+        lowest = min(lowest, soft)
+    resource.setrlimit(resource.RLIMIT_DATA, (lowest, hard))
 
 
 __all__ = ["LimitExceeded", "within", "governed", "DEFAULT", "TimeLimitExceeded", "TIMEOUT_EXIT", "time_limit", "parse_size", "memory_ceiling",

@@ -238,6 +238,8 @@ def exit_status(report, vacuity: "Vacuity | None" = None) -> int:
     proof, INCONCLUSIVE otherwise."""
     if report.violated or (vacuity is not None and vacuity.vacuous):
         return 1
+    if vacuity is not None and vacuity.undecided:
+        return INCONCLUSIVE
     return 0 if report.exhaustive and report.sound and report.complete else INCONCLUSIVE
 
 
@@ -257,6 +259,10 @@ def vacuity_lines(vacuity: "Vacuity | None") -> list[str]:
         else:
             lines.append("  (lint finds no single cause: every run of the original gets stuck or loops)")
         return lines
+    if vacuity.undecided:
+        return ["whether the task itself can complete is not known: the search for a run of the original "
+                "that accomplishes it stopped at the state limit (--max-states) and found none, so the "
+                "properties above may hold vacuously"]
     failing = vacuity.failing
     if not failing:
         return []
@@ -307,6 +313,9 @@ def verify_lines(report, how: str, before: int, after: int, states_option: str,
                                                else "not complete") + " (exit 1)"
     elif vacuity is not None and vacuity.vacuous:
         verdict = "vacuous: the task itself cannot complete, so nothing is proved about it (exit 1)"
+    elif vacuity is not None and vacuity.undecided:
+        verdict = ("no proof: whether the task itself can complete was not decided within the state limit "
+                   "(raise --max-states) (exit 3)")
     elif report.exhaustive:
         verdict = "the compressed tree is sound and complete (exit 0)"
     elif report.limit and not report.sampled:
@@ -321,8 +330,7 @@ def verdict_words(report, fmt: str, vacuity: "Vacuity | None" = None) -> str:
     """What a verification written to a file says, for `wrote FILE: ...`."""
     verdict = ("not sound" if report.properties["soundness"].holds is False else "not complete") \
         if report.violated else "vacuous (the task itself cannot complete)" if vacuity is not None and vacuity.vacuous \
-        else "sound and complete" if report.exhaustive and report.sound and report.complete \
-        else "no proof"
+        else "sound and complete" if exit_status(report, vacuity) == 0 else "no proof"
     return f"the verification of {term_to_text(report.task)}: {verdict} ({fmt})"
 
 

@@ -487,6 +487,12 @@ def verify_cell(original: Behaviour, compressed: Behaviour, initial: frozenset, 
     cell.verify_states = report.compressed_states + report.original_states
     cell.verify_result = ("counterexample" if report.violated else
                           "proved" if report.exhaustive and report.sound and report.complete else "limit")
+    if cell.verify_result == "proved":      # a proof about a task that cannot complete proves nothing
+        from ..run.vacuity import vacuity_of
+
+        vacuity = vacuity_of(original, World(original), report.initial_states, max_states,
+                             report.original_completes)
+        cell.verify_result = "vacuous" if vacuity.vacuous else "limit" if vacuity.undecided else "proved"
     cell.verify_limit = "states" if cell.verify_result == "limit" else ""
 
 

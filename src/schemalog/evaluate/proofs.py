@@ -99,6 +99,8 @@ def _prove_task(kb, task, path: str, options: ProofOptions) -> dict:
     elif vacuity.vacuous:
         verdict = "vacuous"
         detail = "the task itself cannot complete" + (f": {vacuity.cause.text()}" if vacuity.cause else "")
+    elif vacuity.undecided:
+        verdict, detail = "no proof", "whether the task itself can complete was not decided within the state limit"
     elif report.exhaustive and report.sound and report.complete:
         verdict, detail = "proved", "sound and complete"
     else:

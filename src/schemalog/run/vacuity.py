@@ -31,6 +31,13 @@ class Vacuity:
         return bool(self.completes) and all(c is False for c in self.completes)
 
     @property
+    def undecided(self) -> bool:
+        """No covered initial state is known to let the task complete, and the state limit
+        stopped the search for at least one: whether the proof says anything is not known, so
+        it is no proof (a limit must never buy one)."""
+        return bool(self.completes) and True not in self.completes and None in self.completes
+
+    @property
     def failing(self) -> list:
         return [s for s, c in zip(self.states, self.completes) if c is False]
 
@@ -101,6 +108,8 @@ def verdict_term(report, vacuity: Vacuity | None = None) -> Term:
             return Struct("counterexample", (Atom(name), make_list(steps)))
     if vacuity is not None and vacuity.vacuous:
         return Struct("no_proof", (Atom("task_cannot_complete"),))
+    if vacuity is not None and vacuity.undecided:
+        return Struct("no_proof", (Atom("state_limit"),))
     if report.exhaustive and report.sound and report.complete:
         return Atom("proved")
     return Struct("no_proof", (Atom("state_limit" if not report.exhaustive else "unknown"),))
