@@ -251,3 +251,169 @@ def test_a_file_that_does_not_load_is_a_collection_error_with_its_position(proje
     assert "ERROR collecting tasks/bad.pl" in out.stdout
     assert re.search(r"bad\.pl:\d+:\d+: ", out.stdout), out.stdout
     assert "Traceback" not in out.stdout and "plugin.py" not in out.stdout
+
+
+SEED = ROOT / "examples" / "coffee_and_tea_seed.prolog"
+
+# a conftest that makes collection fail if it instantiates, compresses or queries a task
+NO_WORK_AT_COLLECTION = """
+import schemalog.api.knowledge as knowledge, schemalog.api.task as task
+
+def refused(*args, **kwargs):
+    raise RuntimeError("schemalog work at collection")
+
+knowledge.Knowledge.task = knowledge.Knowledge.query = task.Task.compress = refused
+"""
+
+
+def collected_ids(out: subprocess.CompletedProcess) -> list[str]:
+    return [line for line in out.stdout.splitlines() if "::" in line]
+
+
+def test_a_seed_file_gives_one_item_its_first_root_schema_and_collecting_proves_nothing(project):
+    shutil.copy(SEED, project / "tasks")
+    (project / "conftest.py").write_text(NO_WORK_AT_COLLECTION)
+    out = pytest_in(project, "--collect-only", "-q", "--schemalog-tasks", "tasks")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert [i for i in collected_ids(out) if i.startswith("tasks/coffee_and_tea_seed")] == \
+        ["tasks/coffee_and_tea_seed.prolog::prepareboth"]
+    (project / "conftest.py").unlink()
+    out = pytest_in(project, "-q", "--schemalog-tasks", "tasks/coffee_and_tea_seed.prolog")
+    # one item, run: the SEED memory declares no initial state, so its proof is vacuous
+    assert "FAILED tasks/coffee_and_tea_seed.prolog::prepareboth" in out.stdout, out.stdout + out.stderr
+    assert "result: vacuous" in out.stdout and "1 failed, 1 passed" in out.stdout
+
+
+def test_collect_only_counts_what_it_lists(project):
+    """Issue: "4 tests collected" for 3 task items; the fourth is the project's own test."""
+    for args in ([], ["-k", "spoon"], ["tasks"], ["test_plain.py"]):
+        out = pytest_in(project, "--collect-only", "-q", "--schemalog-tasks", "tasks", *args)
+        ids = collected_ids(out)
+        total = re.search(r"(\d+) tests? collected|(\d+)/\d+ tests collected", out.stdout)
+        assert total and int(total.group(1) or total.group(2)) == len(ids) == len(set(ids)), out.stdout
+    assert len(collected_ids(pytest_in(project, "--collect-only", "-q", "--schemalog-tasks", "tasks"))) == 3
+
+
+def test_a_folder_with_no_task_file_fails_saying_which(project):
+    (project / "empty" / "sub").mkdir(parents=True)
+    (project / "empty" / "notes.txt").write_text("nothing here\n")
+    out = pytest_in(project, "--schemalog-tasks", "tasks", "--schemalog-tasks", "empty")
+    assert out.returncode == 4, out.stdout + out.stderr
+    assert "--schemalog-tasks: empty: no task files (*.pl, *.prolog) in this folder" in out.stderr
+    (project / "pytest.ini").write_text("[pytest]\nschemalog_tasks = empty\n")
+    out = pytest_in(project)
+    assert out.returncode == 4 and "schemalog_tasks (ini): empty: no task files" in out.stderr
+
+
+def test_folders_that_give_no_task_at_all_fail_naming_their_files(project):
+    (project / "rules").mkdir()
+    shutil.copy(ROOT / "kb" / "compression.pl", project / "rules")
+    (project / "rules" / "tool.pl").write_text("#!/usr/bin/perl\nuse strict;\nprint \"hi\\n\";\n")
+    out = pytest_in(project, "--schemalog-tasks", "rules")
+    assert out.returncode == 2, out.stdout + out.stderr
+    assert "schemalog: no task to prove under rules:" in out.stdout
+    assert "rules/compression.pl: no task/1 and no root schema" in out.stdout
+    assert "rules/tool.pl: a script (#!/usr/bin/perl), not schemalog knowledge: skipped" in out.stdout
+    out = pytest_in(project, "--collect-only", "-q", "--schemalog-tasks", "rules")
+    assert out.returncode == 2
+    out = pytest_in(project, "-q", "--schemalog-tasks", "rules", "--schemalog-tasks", "tasks")   # one among others: a note
+    assert out.returncode == 0 and "3 passed" in out.stdout, out.stdout + out.stderr
+    assert "schemalog: rules/compression.pl: no task/1 and no root schema: no task to prove" in out.stdout
+
+
+def test_files_that_are_not_schemalog_knowledge_are_skipped_with_a_note(project):
+    (project / "tasks" / "deploy.pl").write_text("#!/usr/bin/perl\nmy %h = (schema => 1);\nprint schema($x);\n")
+    (project / "tasks" / "old.pl").write_text("use strict;\nmy $x = 1;\nprint \"$x\\n\";\n")
+    out = pytest_in(project, "-q", "--schemalog-tasks", "tasks")
+    assert out.returncode == 0 and "3 passed" in out.stdout, out.stdout + out.stderr
+    assert "schemalog: tasks/deploy.pl: a script (#!/usr/bin/perl), not schemalog knowledge: skipped" in out.stdout
+    assert "schemalog: tasks/old.pl: does not load and holds no schema(: not schemalog knowledge, skipped (" \
+        in out.stdout
+
+
+def test_the_ini_folders_are_collected_only_without_path_arguments(project):
+    (project / "pytest.ini").write_text("[pytest]\nschemalog_tasks = tasks\n")
+    out = pytest_in(project, "-v", "test_plain.py::test_plain")
+    assert out.returncode == 0 and "1 passed" in out.stdout, out.stdout + out.stderr
+    assert ".pl::" not in out.stdout and "schemalog: proving" not in out.stdout
+    out = pytest_in(project, "-q", "test_plain.py", "--schemalog-tasks", "tasks")
+    assert out.returncode == 0 and "3 passed" in out.stdout, out.stdout + out.stderr
+    out = pytest_in(project, "-q")
+    assert out.returncode == 0 and "3 passed" in out.stdout, out.stdout + out.stderr
+
+
+def test_the_printed_node_id_reruns_its_item(project):
+    shutil.copy(BROKEN, project / "tasks")
+    out = pytest_in(project, "--schemalog-tasks", "tasks")
+    failed = re.search(r"^FAILED (\S+) - ", out.stdout, re.M).group(1)
+    assert failed == "tasks/serve_water_compressed.pl::serve(water)"
+    for args in (["--schemalog-tasks", "tasks", failed], ["--schemalog-tasks", "tasks", "-k", "water"]):
+        out = pytest_in(project, "-v", *args)
+        assert out.returncode == 1 and "1 failed" in out.stdout and "passed" not in out.stdout, out.stdout
+        assert f"{failed} FAILED" in out.stdout
+    (project / "pytest.ini").write_text("[pytest]\nschemalog_tasks = tasks\n")
+    out = pytest_in(project, "-v", "tasks/mix_with_spoon.pl::use(spoon)")
+    assert out.returncode == 0 and "1 passed" in out.stdout, out.stdout + out.stderr
+    assert "tasks/mix_with_spoon.pl::use(spoon) PASSED" in out.stdout
+
+
+# a conftest that writes the options each proof was given
+RECORD_VERIFY = """
+import json, schemalog
+proved = schemalog.verify
+
+def recording(original, compressed, **options):
+    with open("verified.json", "a") as out:
+        out.write(json.dumps(options) + "\\n")
+    return proved(original, compressed, **options)
+
+schemalog.verify = recording
+"""
+
+
+def test_the_proof_limits_reach_each_proof(project):
+    import inspect
+
+    (project / "conftest.py").write_text(RECORD_VERIFY)
+    record = project / "verified.json"
+
+    def options(*args: str) -> dict:
+        record.unlink(missing_ok=True)
+        out = pytest_in(project, "-q", "--schemalog-tasks", "tasks", "-k", "spoon", *args)
+        assert out.returncode == 0, out.stdout + out.stderr
+        import json
+        return json.loads(record.read_text())
+
+    defaulted = options()
+    assert "max_states" not in defaulted and "max_bdd_nodes" not in defaulted and defaulted["timeout"] is None
+    given = options("--schemalog-max-states", "123", "--schemalog-max-bdd-nodes", "4567",
+                    "--schemalog-timeout", "30")
+    assert given["max_states"] == 123 and given["max_bdd_nodes"] == 4567 and 29 < given["timeout"] <= 30
+    (project / "pytest.ini").write_text("[pytest]\nschemalog_max_states = 99\nschemalog_max_bdd_nodes = 77\n"
+                                        "schemalog_timeout = 12.5\n")
+    from_ini = options()
+    assert from_ini["max_states"] == 99 and from_ini["max_bdd_nodes"] == 77 and 12 < from_ini["timeout"] <= 12.5
+    # the defaults the help names are schemalog verify's
+    out = pytest_in(project, "--help")
+    from schemalog import defaults
+    verify_default = inspect.signature(schemalog.verify).parameters["max_bdd_nodes"].default
+    assert f"(default {defaults.MAX_STATES:,}; ini" in out.stdout
+    assert f"(default {verify_default:,}; ini" in out.stdout
+
+
+def test_a_timeout_fails_the_item_saying_how_to_raise_it(project):
+    out = pytest_in(project, "--schemalog-tasks", "tasks", "-k", "prepareboth", "--schemalog-timeout", "0.001")
+    assert out.returncode == 1, out.stdout + out.stderr
+    assert "prepareboth: time limit of 0.001 s exceeded (raise it with --schemalog-timeout" in out.stdout
+    assert "Traceback" not in out.stdout and "During handling" not in out.stdout
+
+
+@pytest.mark.parametrize("args, expected", [
+    (["--schemalog-max-states", "0"], "--schemalog-max-states: '0' is not a positive whole number"),
+    (["--schemalog-max-bdd-nodes", "many"], "--schemalog-max-bdd-nodes: 'many' is not a positive whole number"),
+    (["--schemalog-timeout", "soon"], "--schemalog-timeout: 'soon' is not a number of seconds"),
+    (["--schemalog-timeout", "0"], "--schemalog-timeout: 0: from 0.001 to"),
+])
+def test_a_wrong_limit_is_a_usage_error(project, args, expected):
+    out = pytest_in(project, "--schemalog-tasks", "tasks", *args)
+    assert out.returncode == 4 and expected in out.stderr, out.stdout + out.stderr

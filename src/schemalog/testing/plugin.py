@@ -4,18 +4,26 @@ Registered as the entry point `schemalog` (pyproject.toml, `pytest11`), so an in
 schemalog adds it to every pytest run; it does nothing unless `--schemalog-tasks` (or the ini
 option `schemalog_tasks`) names a folder or a file. Then each task file under it (`*.pl`, and
 SEED memories `*.prolog`; hidden folders skipped) is loaded and gives one test item per task:
-the tasks it declares with task/1, or, when it declares none (a SEED memory), its first root
-schema, the task `schemalog query` takes (the first ground schema head with sub-tasks that no
-schema of the file uses as a sub-task); a file with neither gives no item and is named in the
-summary. Each item compresses its task (`--schemalog-propagate`,
-default full), or takes a compressed file as it is (proved against its provenance), and proves
-it: it fails with the report `schemalog verify` prints, the counterexample or the vacuity cause.
+the tasks it declares with task/1 (`Knowledge.declared()`), or, when it declares none (a SEED
+memory), its first root candidate (`Knowledge.tasks()[:1]`, the task `schemalog query` takes);
+a file with neither gives no item and is named in the summary, as is a file that is not
+schemalog knowledge (a `#!` script, or a file that does not load and holds no `schema(`).
+Collection only loads the files: each item instantiates, compresses (`--schemalog-propagate`,
+default full; a compressed file is taken as it is and proved against its provenance) and
+proves its task when it runs, and fails with the report `schemalog verify` prints.
+
+Which folders are collected: those of --schemalog-tasks (which replaces the ini's), or the
+ini's when pytest is given no path arguments; a path argument inside a task folder (the node id
+`tasks/two.pl::t1` pytest prints) selects what it names there instead. A folder with no task
+file is a usage error, and folders that give no item at all are a collection error.
 
 Importing this module imports only pytest and the standard library (docs/testing.md).
 """
 
 from __future__ import annotations
 
+import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
@@ -23,13 +31,26 @@ import pytest
 
 SUFFIXES = (".pl", ".prolog")
 PROPAGATE = ("none", "pre", "full")
-_SKIPPED = pytest.StashKey[list]()
+MAX_STATES = 50_000          # schemalog verify's defaults (defaults.MAX_STATES, --max-bdd-nodes): the
+MAX_BDD_NODES = 5_000_000    # plugin passes none unless asked; these are only shown (tests check them)
+MIN_TIMEOUT, MAX_TIMEOUT = 0.001, 365 * 24 * 3600
+_SETTINGS = pytest.StashKey["Settings"]()
+_NOTES = pytest.StashKey[list]()
+_SEEN = pytest.StashKey[set]()
 
-# the tasks a file declares, as text; without any, its first root schema (schemalog query's
-# choice): a ground schema head with sub-tasks that no schema of the file uses as a sub-task
-DECLARED = "current_predicate(task/1), task(T), term_to_atom(T, A)"
-ROOTS = ("current_predicate(schema/3), schema(H, L, _), L \\== [], ground(H), "
-         "\\+ (schema(_, L2, _), member((S, _), L2), S = H), term_to_atom(H, A)")
+
+@dataclass
+class Settings:
+    paths: list[Path]            # the folders and files named (absolute)
+    source: str                  # "--schemalog-tasks" or "schemalog_tasks (ini)"
+    modes: dict[Path, str]       # each path: "inject" (every file), "args" (what the arguments name), "off"
+    propagate: str
+    states: str
+    verify: dict[str, Any]       # max_states, max_bdd_nodes: those set
+    timeout: float | None
+
+    def active(self) -> list[Path]:
+        return [p for p in self.paths if self.modes[p] != "off"]
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -42,43 +63,144 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--schemalog-states", default=None, metavar="default|all|ATOMS", dest="schemalog_states",
                     help="initial states each proof covers, as schemalog verify --states (default: the "
                          "file's initial/1; ini schemalog_states)")
+    group.addoption("--schemalog-max-states", default=None, metavar="N", dest="schemalog_max_states",
+                    help=f"stop each proof after N states per tree, as schemalog verify --max-states (default "
+                         f"{MAX_STATES:,}; ini schemalog_max_states)")
+    group.addoption("--schemalog-max-bdd-nodes", default=None, metavar="N", dest="schemalog_max_bdd_nodes",
+                    help=f"stop each proof past N decision-diagram nodes, as schemalog verify --max-bdd-nodes "
+                         f"(default {MAX_BDD_NODES:,}; ini schemalog_max_bdd_nodes)")
+    group.addoption("--schemalog-timeout", default=None, metavar="SECONDS", dest="schemalog_timeout",
+                    help="fail an item whose instantiation, compression and proof take longer than this "
+                         "(default: none, as schemalog verify; ini schemalog_timeout)")
     parser.addini("schemalog_tasks", type="paths", default=[],
-                  help="folders or files whose tasks are proved, as --schemalog-tasks (relative to the ini file)")
+                  help="folders or files whose tasks are proved, as --schemalog-tasks (relative to the ini "
+                       "file; collected when pytest is given no path arguments)")
     parser.addini("schemalog_propagate", default="full", help="none, pre or full (default full)")
     parser.addini("schemalog_states", default="default", help="default, all, or atoms such as 'hand.free'")
+    parser.addini("schemalog_max_states", default="", help=f"as --schemalog-max-states (default {MAX_STATES:,})")
+    parser.addini("schemalog_max_bdd_nodes", default="",
+                  help=f"as --schemalog-max-bdd-nodes (default {MAX_BDD_NODES:,})")
+    parser.addini("schemalog_timeout", default="", help="as --schemalog-timeout, seconds (default: none)")
 
 
-def _settings(config: pytest.Config) -> tuple[list[Path], str, str]:
-    """(paths, propagate, states): the command line's, else the ini file's."""
+def _value(config: pytest.Config, name: str) -> tuple[str, str]:
+    """(text, where): the command line's value, else the ini file's ('' when neither)."""
+    given = config.getoption(f"schemalog_{name}")
+    if given is not None:
+        return str(given).strip(), f"--schemalog-{name.replace('_', '-')}"
+    return str(config.getini(f"schemalog_{name}")).strip(), f"schemalog_{name} (ini)"
+
+
+def _positive(config: pytest.Config, name: str) -> int | None:
+    text, where = _value(config, name)
+    if not text:
+        return None
+    try:
+        value = int(text.replace("_", "").replace(",", ""))
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise pytest.UsageError(f"{where}: {text!r} is not a positive whole number")
+    return value
+
+
+def _timeout(config: pytest.Config) -> float | None:
+    text, where = _value(config, "timeout")
+    if not text or text.lower() in ("none", "off"):
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise pytest.UsageError(f"{where}: {text!r} is not a number of seconds") from None
+    if not MIN_TIMEOUT <= value <= MAX_TIMEOUT:     # NaN and inf too
+        raise pytest.UsageError(f"{where}: {text}: from {MIN_TIMEOUT:g} to {MAX_TIMEOUT:,} seconds")
+    return value
+
+
+def _within(path: Path, folder: Path) -> bool:
+    return path == folder or folder in path.parents
+
+
+def _argument_paths(config: pytest.Config) -> list[Path]:
+    """The paths of the command line's test arguments (`a/b.pl::t1` gives a/b.pl); none when
+    pytest was given none (it then collects testpaths or the current folder)."""
+    if config.args_source != pytest.Config.ArgsSource.ARGS:
+        return []
+    here = config.invocation_params.dir
+    found = []
+    for arg in config.args:
+        part = str(arg).split("::")[0]
+        if part.endswith("]") and "[" in part:
+            part = part[:part.index("[")]
+        found.append(Path(here, part).absolute())
+    return found
+
+
+def _decide(config: pytest.Config) -> Settings:
+    here = config.invocation_params.dir
     given = config.getoption("schemalog_tasks")
-    paths = [Path(p) for p in given] if given else [Path(p) for p in config.getini("schemalog_tasks")]
-    propagate = config.getoption("schemalog_propagate") or config.getini("schemalog_propagate").strip() or "full"
+    if given:
+        paths, source = [Path(here, p).absolute() for p in given], "--schemalog-tasks"
+    else:
+        paths, source = [Path(p).absolute() for p in config.getini("schemalog_tasks")], "schemalog_tasks (ini)"
+    paths = list(dict.fromkeys(paths))
+    arguments = _argument_paths(config)
+    modes = {}
+    for path in paths:
+        if any(_within(arg, path) for arg in arguments):
+            modes[path] = "args"          # `pytest tasks/two.pl::t1`: what is named there, no more
+        elif given or not arguments:
+            modes[path] = "inject"        # every task under it, beside the test arguments
+        else:
+            modes[path] = "off"           # the ini's folders, with test paths named: not collected
+    propagate, where = _value(config, "propagate")
+    propagate = propagate or "full"
     if propagate not in PROPAGATE:
-        raise pytest.UsageError(f"schemalog_propagate: {propagate!r} is not one of none, pre, full")
-    states = config.getoption("schemalog_states") or config.getini("schemalog_states").strip() or "default"
-    return paths, propagate, states
+        raise pytest.UsageError(f"{where}: {propagate!r} is not one of none, pre, full")
+    states = _value(config, "states")[0] or "default"
+    verify = {key: value for key, value in (("max_states", _positive(config, "max_states")),
+                                            ("max_bdd_nodes", _positive(config, "max_bdd_nodes")))
+              if value is not None}
+    return Settings(paths, source, modes, propagate, states, verify, _timeout(config))
+
+
+def settings(config: pytest.Config) -> Settings:
+    if _SETTINGS not in config.stash:
+        config.stash[_SETTINGS] = _decide(config)
+    return config.stash[_SETTINGS]
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    paths, _, _ = _settings(config)
-    for path in paths:
+    config.stash[_NOTES] = []
+    config.stash[_SEEN] = set()
+    config.stash[_SETTINGS] = found = _decide(config)
+    for path in found.paths:
         if not path.exists():
-            raise pytest.UsageError(f"--schemalog-tasks: {path}: no such folder or file")
-    config.stash[_SKIPPED] = []
+            raise pytest.UsageError(f"{found.source}: {_shown(config, path)}: no such folder or file")
+        if found.modes[path] == "inject" and path.is_dir() and next(task_files([path]), None) is None:
+            raise pytest.UsageError(f"{found.source}: {_shown(config, path)}: no task files (*.pl, *.prolog) "
+                                    f"in this folder: no task to prove")
+
+
+def _shown(config: pytest.Config, path: Path) -> str:
+    here = config.invocation_params.dir
+    return path.relative_to(here).as_posix() if path.is_relative_to(here) else str(path)
 
 
 def pytest_report_header(config: pytest.Config) -> str | None:
-    paths, propagate, states = _settings(config)
-    if not paths:
+    found = settings(config)
+    if not found.active():
         return None
-    here = config.invocation_params.dir
-    shown = ", ".join(p.relative_to(here).as_posix() if p.is_absolute() and p.is_relative_to(here) else str(p)
-                      for p in paths)
-    return f"schemalog: proving the tasks under {shown} (propagate {propagate}, states {states})"
+    shown = ", ".join(_shown(config, p) for p in found.active())
+    limits = [f"{key.replace('_', ' ')} {value:,}" for key, value in found.verify.items()]
+    if found.timeout is not None:
+        limits.append(f"timeout {found.timeout:g} s")
+    return (f"schemalog: proving the tasks under {shown} (propagate {found.propagate}, states "
+            f"{found.states}{''.join(', ' + limit for limit in limits)})")
 
 
 def task_files(paths: list[Path]) -> Iterator[Path]:
-    """The task files under `paths`, each once, in a stable order."""
+    """The task files under `paths`, each once, in a stable order (a file named is one)."""
     seen: set[Path] = set()
     for path in paths:
         found = [path] if path.is_file() else sorted(
@@ -90,17 +212,52 @@ def task_files(paths: list[Path]) -> Iterator[Path]:
                 yield file
 
 
+def _is_task_file(file: Path, folder: Path) -> bool:
+    if file == folder:
+        return True
+    return (folder in file.parents and file.suffix in SUFFIXES
+            and not any(part.startswith(".") for part in file.relative_to(folder).parts))
+
+
+def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Collector | None:
+    """A task file pytest meets under a task folder: when it walks the folder (no arguments), or
+    is given the file or a task in it (`pytest tasks/two.pl::t1`, the rerun form)."""
+    if _SETTINGS not in parent.config.stash:
+        return None
+    path = Path(file_path).absolute()
+    if any(_is_task_file(path, folder) for folder in settings(parent.config).active()):
+        return TaskFile.from_parent(parent, path=file_path)
+    return None
+
+
 @pytest.hookimpl(tryfirst=True)   # before -k and -m deselect
 def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list) -> None:
-    paths, _, _ = _settings(config)
-    for file in task_files(paths):
-        items.extend(session.genitems(TaskFile.from_parent(session, path=file.resolve())))
+    found = settings(config)
+    seen = config.stash[_SEEN]
+    injected = [p for p in found.paths if found.modes[p] == "inject"]
+    for file in task_files(injected):
+        if file.absolute() not in seen:
+            items.extend(session.genitems(TaskFile.from_parent(session, path=file.absolute())))
+    active = found.active()
+    if active and not any(isinstance(item, TaskItem) for item in items) and not session.testsfailed:
+        # a check that covers nothing is no check: say so, and do not pass
+        list(session.genitems(NoTask.from_parent(session, path=active[0], name=_shown(config, active[0]))))
 
 
 def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:
-    skipped = config.stash.get(_SKIPPED, [])
-    for file in skipped:
-        terminalreporter.write_line(f"schemalog: {file}: no task/1 and no root schema: no task to prove")
+    for note in config.stash.get(_NOTES, []):
+        terminalreporter.write_line(f"schemalog: {note}")
+
+
+class NoTask(pytest.File):
+    """The task folders gave no item at all: a collection error saying so."""
+
+    def collect(self) -> Iterator[pytest.Item]:
+        shown = ", ".join(_shown(self.config, p) for p in settings(self.config).active())
+        notes = self.config.stash[_NOTES]
+        why = "".join(f"\n  {note}" for note in notes) or " no task file there"
+        self.config.stash[_NOTES] = []      # said here
+        raise self.CollectError(f"schemalog: no task to prove under {shown}:{why}")
 
 
 class TaskFile(pytest.File):
@@ -109,12 +266,29 @@ class TaskFile(pytest.File):
     knowledge: Any = None
 
     def collect(self) -> Iterator[pytest.Item]:
+        from schemalog import SchemalogError
+
+        self.config.stash[_SEEN].add(self.path.absolute())
+        notes = self.config.stash[_NOTES]
+        data = self.path.read_bytes()
+        first = data.split(b"\n", 1)[0]
+        if first.startswith(b"#!") and b"swipl" not in first and b"prolog" not in first:
+            notes.append(f"{self.nodeid}: a script ({first.decode(errors='replace').strip()}), "
+                         f"not schemalog knowledge: skipped")
+            return
         import schemalog
 
-        self.knowledge = schemalog.load(str(self.path))
-        names = _texts(self.knowledge, DECLARED) or _texts(self.knowledge, ROOTS)[:1]
+        try:
+            self.knowledge = schemalog.load(str(self.path))
+        except SchemalogError as error:
+            if b"schema(" in data:
+                raise                       # schemalog knowledge that does not load: a collection error
+            notes.append(f"{self.nodeid}: does not load and holds no schema(: not schemalog knowledge, "
+                         f"skipped ({str(error).splitlines()[0]})")
+            return
+        names = self.knowledge.declared() or self.knowledge.tasks()[:1]
         if not names:
-            self.config.stash[_SKIPPED].append(self.nodeid)
+            notes.append(f"{self.nodeid}: no task/1 and no root schema: no task to prove")
         for name in names:
             yield TaskItem.from_parent(self, name=name)
 
@@ -126,20 +300,35 @@ class TaskFile(pytest.File):
         return super().repr_failure(excinfo)
 
 
-def _texts(knowledge: Any, goal: str) -> list[str]:
-    """The answers' A, each once, in the order found."""
-    return list(dict.fromkeys(str(answer["A"]) for answer in knowledge.query(goal)))
-
-
 class TaskItem(pytest.Item):
-    """One task of a task file, compressed and proved."""
+    """One task of a task file: instantiated, compressed and proved when it runs."""
 
     def runtest(self) -> None:
-        from . import assert_compression_sound
+        from schemalog import LimitExceeded
 
-        _, propagate, states = _settings(self.config)
-        task = self.parent.knowledge.task(self.name)
-        self.report = assert_compression_sound(task, propagate=propagate, states=states)
+        from . import assert_equivalent
+
+        found = settings(self.config)
+        limit = found.timeout
+        deadline = None if limit is None else time.monotonic() + limit
+
+        def left() -> float | None:
+            return None if deadline is None else max(deadline - time.monotonic(), MIN_TIMEOUT)
+
+        try:
+            task = self.parent.knowledge.task(self.name, timeout=left())
+            if task.compressed:       # a file schemalog compress wrote: against its provenance
+                original, compressed = task.original, task
+            else:
+                original, compressed = task, task.compress(found.propagate, timeout=left())
+            self.report = assert_equivalent(original, compressed, states=found.states, timeout=left(),
+                                            **found.verify)
+            return
+        except LimitExceeded as error:
+            if error.limit != "time":
+                raise
+        pytest.fail(f"{self.name}: time limit of {limit:g} s exceeded (raise it with --schemalog-timeout "
+                    f"or the ini option schemalog_timeout)", pytrace=False)
 
     def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> Any:
         from schemalog import SchemalogError
