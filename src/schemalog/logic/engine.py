@@ -20,6 +20,8 @@ ISO errors are raised as `PrologError(term)`; running past the step limit raises
 query: each goal, each answer, the sub-machines of findall/forall, and the work built-ins
 charge (`Engine.charge`: a list of N cells costs N steps), so the limit bounds its time.
 A MemoryError inside a built-in becomes the catchable error(resource_error(memory), _).
+Every 100,000 bindings or so the newest machine forgets the bindings no machine's goals,
+choicepoints or query reach (collect.py), so a long deterministic loop runs in constant memory.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin, body_
 from .exceptions import (PrologError, StepLimitExceeded, existence_error, instantiation_error, iso_error,
                          type_error)
 from .eclipse import ECLIPSE
+from .collect import MIN_GROWTH, collect
 from .library import EXTRA, EXTRA_NONDET
 from .terms import Atom, Struct, Term, Var
 from .unify import Bindings, rename
@@ -127,6 +130,9 @@ def _push(branch: tuple, cutb: int, rest):
     return rest
 
 
+_CONTROL_FIELDS = {Or: ("left", "right"), IfThenElse: ("cond", "then", "otherwise"),
+                   SoftIfThenElse: ("cond", "then", "otherwise"), IfThen: ("cond", "then"), Not: ("goal",)}
+
 _POLL = 256   # steps between two looks at `interrupted` (a few hundred microseconds)
 
 # Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
@@ -134,6 +140,17 @@ _CLAUSES, _ALT, _NONDET, _CATCH, _DEAD, _RECATCH = range(6)
 # _RECATCH (kind, mark, height, frame): left above a catch frame whose goal exited with
 # choicepoints; backtracking over it puts the frame's catcher back, so an error raised on a
 # redo of the goal is caught as ISO says (catch/3 is transparent to backtracking).
+
+class Machine:
+    """What a running machine holds, for a collection run by it or by a machine inside it."""
+
+    __slots__ = ("query", "goals", "cps")
+
+    def __init__(self, query: Term) -> None:
+        self.query = query   # its variables are the answer's: the caller reads them
+        self.goals = None    # the goal list, as of the last built-in called or collection
+        self.cps: list = []
+
 
 class Engine:
     """Answers goals against one knowledge base."""
@@ -152,6 +169,8 @@ class Engine:
         # Steps taken by the current query, sub-machines (findall, forall) and the work
         # built-ins charge (`charge`) included: one budget bounds the query's whole time.
         self.steps = 0
+        # trail growth between two collections of unreachable bindings (collect.py)
+        self.collect_growth = MIN_GROWTH
         self.since: dict[str, int] = {}   # statistics/2: runtime and walltime at their last call
         self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
         self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
@@ -201,8 +220,23 @@ class Engine:
 
     # -- the machine ----------------------------------------------------------
     def _run(self, goal: Term, b: Bindings) -> Iterator[Bindings]:
+        state = Machine(goal)
+        b.machines.append(state)
+        try:
+            yield from self._machine(goal, b, state)
+        finally:
+            machines = b.machines
+            for i in range(len(machines) - 1, -1, -1):
+                if machines[i] is state:
+                    del machines[i]
+                    break
+
+    def _machine(self, goal: Term, b: Bindings, state: Machine) -> Iterator[Bindings]:
         cps: list[tuple] = []
+        state.cps = cps
         goals = (goal, 0, None)
+        base = len(b.trail)   # bindings below were made before this machine: never collected
+        collect_at = base + self.collect_growth
         kb = self.kb
         special = self._special
         nondet = self.nondet
@@ -242,6 +276,13 @@ class Engine:
                     if self.interrupted:
                         self.interrupted = False
                         raise SchemalogError("interrupted")
+                    if len(b.trail) > collect_at and b.machines[-1] is state:
+                        # the newest machine: the others wait in a built-in (findall) or are
+                        # suspended; every mark they hold is at most `base`
+                        state.goals = goals
+                        live = collect(b.machines, cps, b, base, _CONTROL_FIELDS, _RECATCH)
+                        # 0: at every look (the tests' stress mode)
+                        collect_at = len(b.trail) + (max(self.collect_growth, 2 * live) if self.collect_growth else 0)
                     check = min(max_steps, steps + _POLL)
                 kind = type(term)
                 if kind is tuple:
@@ -437,6 +478,7 @@ class Engine:
                         return
                     continue
                 mark = len(b.trail)
+                state.goals = goals   # roots, if the built-in runs a machine that collects
                 ok = entry(self, args, b)
                 if b.work:  # the cells the built-in resolved (a copy, an assert, a sort)
                     self._charge_work(b)

@@ -26,12 +26,13 @@ def _rebuilt(node: Struct, args: list[Term]) -> Struct:
 class Bindings:
     """Variable bindings with a trail; the engine's only mutable state."""
 
-    __slots__ = ("values", "trail", "work")
+    __slots__ = ("values", "trail", "work", "machines")
 
     def __init__(self, values: Mapping[Var, Term] | None = None) -> None:
         self.values: dict[Var, Term] = dict(values or {})
         self.trail: list[Var] = list(self.values)
         self.work = 0  # cells `resolve` has built: the engine charges them to the step budget
+        self.machines: list = []  # the machines running on these bindings, oldest first (collect.py)
 
     def mark(self) -> int:
         """Return a point to undo back to."""
