@@ -37,7 +37,7 @@ from types import GeneratorType
 from .terms import Struct, Var
 from .unify import Bindings
 
-MIN_GROWTH = 100_000   # trail entries between two passes at least (a few MB of bindings)
+MIN_GROWTH = 10_000   # trail entries between two passes at least (about 2 MB of bindings)
 
 
 def collect(machines: list, cps: list, b: Bindings, base: int, control: dict[type, tuple[str, ...]],

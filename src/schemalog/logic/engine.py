@@ -20,7 +20,7 @@ ISO errors are raised as `PrologError(term)`; running past the step limit raises
 query: each goal, each answer, the sub-machines of findall/forall, and the work built-ins
 charge (`Engine.charge`: a list of N cells costs N steps), so the limit bounds its time.
 A MemoryError inside a built-in becomes the catchable error(resource_error(memory), _).
-Every 100,000 bindings or so the newest machine forgets the bindings no machine's goals,
+Every 10,000 bindings or so the newest machine forgets the bindings no machine's goals,
 choicepoints or query reach (collect.py), so a long deterministic loop runs in constant memory.
 """
 
