@@ -34,7 +34,7 @@ from .builtins import CORE, CORE_NONDET, Builtin, Database, NondetBuiltin, body_
 from .exceptions import (PrologError, StepLimitExceeded, existence_error, instantiation_error, iso_error,
                          type_error)
 from .eclipse import ECLIPSE
-from .collect import MIN_GROWTH, collect
+from .collect import LIVE_FACTOR, MIN_GROWTH, collect
 from .library import EXTRA, EXTRA_NONDET
 from .terms import Atom, Struct, Term, Var
 from .unify import Bindings, rename
@@ -171,6 +171,7 @@ class Engine:
         self.steps = 0
         # trail growth between two collections of unreachable bindings (collect.py)
         self.collect_growth = MIN_GROWTH
+        self.collect_factor = LIVE_FACTOR   # and at least this many times what was live after the last
         self.since: dict[str, int] = {}   # statistics/2: runtime and walltime at their last call
         self.builtins = {**BUILTINS, **builtins} if builtins else BUILTINS
         self.nondet = {**NONDET_BUILTINS, **nondet} if nondet else NONDET_BUILTINS
@@ -282,7 +283,7 @@ class Engine:
                         state.goals = goals
                         live = collect(b.machines, cps, b, base, _CONTROL_FIELDS, _RECATCH)
                         # 0: at every look (the tests' stress mode)
-                        collect_at = len(b.trail) + (max(self.collect_growth, 2 * live) if self.collect_growth else 0)
+                        collect_at = len(b.trail) + (max(self.collect_growth, self.collect_factor * live) if self.collect_growth else 0)
                     check = min(max_steps, steps + _POLL)
                 kind = type(term)
                 if kind is tuple:
