@@ -22,9 +22,12 @@ one pass here, run when the trail has grown by a threshold since the last pass:
   only has to restore what the choicepoint's own goals can see, and they are roots;
 - renumber: each choicepoint's trail mark becomes the count of kept entries below it.
 
-Only a machine that is alone runs a pass: a sub-machine (findall/3, forall/2,
-call_cleanup/2) runs inside a built-in whose Python frame holds terms and trail marks that
-are no roots here, so inside one the bindings grow as before (docs/queries.md says so).
+Only the newest machine runs a pass. The older ones wait: in a built-in that runs it
+(findall/3, forall/2), whose goal (and so its arguments) each machine records before
+calling a built-in, or suspended with an answer (setup_call_cleanup/3's goal). Every trail
+mark they or their built-ins hold was taken before the newest machine started, so it is at
+most `base` and stays true. A built-in's own Python locals are no roots: those that run a
+machine take what they read after it from their arguments (findall's template), which are.
 The cost is linear in what is live plus what is swept, and the threshold is at least four
 times what the last pass found live, so it is amortised over the bindings made in between.
 """
