@@ -30,19 +30,14 @@ import sys
 import tempfile
 from pathlib import Path
 
-NREV = """
-app([], L, L).
-app([H|T], L, [H|R]) :- app(T, L, R).
-nrev([], []).
-nrev([H|T], R) :- nrev(T, RT), app(RT, [H], R).
-range(N, N, [N]) :- !.
-range(I, N, [I|T]) :- I < N, I1 is I + 1, range(I1, N, T).
+from bench_engine import INFERENCES, NREV as BENCH   # app/3, nrev/2, range/3 and bench/2
+
+NREV = BENCH + """
 loop(0, _) :- !.
 loop(K, L) :- nrev(L, _), K1 is K - 1, loop(K1, L).
 run(K) :- range(1, 30, L), loop(K, L).
 fdl(K) :- range(1, 30, L), ( between(1, K, _), nrev(L, _), fail ; true ).
 """
-INFERENCES = 496   # per naive reverse of 30 elements: 31 nrev calls + 465 app calls
 
 # Ours, in a child process: the query's CPU seconds on stdout (start-up excluded).
 OURS = """
