@@ -44,16 +44,17 @@ NOT_LOADABLE = {
     "chat_parser": "DCG rules (-->): the reader stores them as '-->'/2 facts",
 }
 
-_DRIVER = r"""
+_DRIVER = """
 '$bc_calibrate'(N0, Target, N) :-
     '$bc_time'(N0, T),
     ( T >= Target -> N = N0 ; N1 is N0 * 2, '$bc_calibrate'(N1, Target, N) ).
 '$bc_time'(N, T) :-
     garbage_collect,
     statistics(cputime, T0),
-    ( between(1, N, _), bench(_), fail ; true ),
+    ( between(1, N, _), '$bc_run', fail ; true ),
     statistics(cputime, T1),
     T is T1 - T0.
+'$bc_run' :- {goal}.
 '$bc_main'(Given, Target) :-
     ( catch(bench(A), E, (print_message(error, E), fail)) -> true ; A = '$failed' ),
     write_term(A, [quoted(true), ignore_ops(true)]), nl,
@@ -126,8 +127,11 @@ def ours_answer(path: Path) -> str:
     return canonical(b.resolve(goal.args[0]))
 
 
-def child(path: Path, iterations: int, target: float) -> None:
+def child(path: Path, iterations: int, target: float, timed_goal: str = "bench(_)") -> None:
     """Run in a child process: the answer, then N and the CPU seconds of N runs (JSON)."""
+    import schemalog
+    if Path(schemalog.__file__).resolve().parents[1] != HERE.parent / "src":
+        raise SystemExit(f"the child imported {schemalog.__file__}, not this checkout's")
     from schemalog.cli.main import tune_gc
     from schemalog.logic.engine import Engine
     from schemalog.logic.kb import KnowledgeBase
@@ -143,7 +147,7 @@ def child(path: Path, iterations: int, target: float) -> None:
     kb.consult(path)
 
     def timed(n: int) -> float:
-        goal = parse_term(f"(between(1, {n}, _), bench(_), fail ; true)")
+        goal = parse_term(f"(between(1, {n}, _), {timed_goal}, fail ; true)")
         engine = Engine(kb, max_steps=10**13)
         started = time.process_time()
         engine.first(goal)
@@ -157,10 +161,10 @@ def child(path: Path, iterations: int, target: float) -> None:
     print(json.dumps({"answer": answer, "n": n, "seconds": seconds}))
 
 
-def _run(argv: list[str], timeout: float) -> tuple[str, str, float]:
+def _run(argv: list[str], timeout: float, env: dict | None = None) -> tuple[str, str, float]:
     """stdout, stderr and the peak RSS (MiB) of a child process."""
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        proc = subprocess.Popen(argv, stdout=out, stderr=err, text=True)
+        proc = subprocess.Popen(argv, stdout=out, stderr=err, text=True, env=env)
         started = time.monotonic()
         while True:
             pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
@@ -177,12 +181,12 @@ def _run(argv: list[str], timeout: float) -> tuple[str, str, float]:
         return out.read(), err.read(), usage.ru_maxrss / 1024
 
 
-def run_ours(path: Path, iterations: int, target: float) -> dict:
+def run_ours(path: Path, iterations: int, target: float, goal: str = "bench(_)") -> dict:
     env = dict(os.environ)
     src = str(HERE.parent / "src")
     env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     out, err, rss = _run([sys.executable, str(Path(__file__).resolve()), "--child", str(path),
-                          "--iterations", str(iterations), "--target", str(target)], 3600)
+                          "--iterations", str(iterations), "--target", str(target), "--goal", goal], 3600, env)
     try:
         result = json.loads(out.strip().splitlines()[-1])
     except (ValueError, IndexError):
@@ -191,10 +195,10 @@ def run_ours(path: Path, iterations: int, target: float) -> dict:
     return result
 
 
-def run_swipl(swipl: str, path: Path, iterations: int, target: float) -> dict:
+def run_swipl(swipl: str, path: Path, iterations: int, target: float, goal: str = "bench(_)") -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         driver = Path(tmp) / "driver.pl"
-        driver.write_text(_DRIVER)
+        driver.write_text(_DRIVER.replace("{goal}", goal))
         goal = f"'$bc_main'({iterations}, {target})"
         out, err, rss = _run([swipl, "-O", "-q", "-g", goal, "-t", "halt", str(driver), str(path)], 3600)
     lines = out.strip().splitlines()
@@ -242,6 +246,27 @@ def smoke(swipl: str, paths: list[Path]) -> list[str]:
     return problems
 
 
+def sieve(swipl: str, sizes: list[int], rounds: int, target: float) -> None:
+    """sieve.pl's primes(MAX, _) for each MAX, ours and swipl taking turns: the growth of a
+    predicate's assert/retract cost with its size (MAX clauses asserted, all retracted)."""
+    path = CLASSIC / "sieve.pl"
+    print("| primes to | schemalog s | swipl -O s | ratio | schemalog growth | swipl growth |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    previous = None
+    for size in sizes:
+        goal = f"primes({size}, _)"
+        t_ours, t_swipl = [], []
+        for _ in range(rounds):
+            ours = run_ours(path, 1, target, goal)
+            theirs = run_swipl(swipl, path, 0, target, goal)
+            t_ours.append(ours["seconds"])
+            t_swipl.append(theirs["seconds"] / theirs["n"])
+        a, b = statistics.median(t_ours), statistics.median(t_swipl)
+        growth = (f"x{a / previous[0]:.2f} | x{b / previous[1]:.2f}" if previous else " | ")
+        print(f"| {size:,} | {a:.4f} | {b:.6f} | {a / b:.0f}x | {growth} |", flush=True)
+        previous = (a, b)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("programs", nargs="*", help="names of programs in benchmarks/classic (default: all)")
@@ -249,15 +274,21 @@ def main() -> None:
     parser.add_argument("--target", type=float, default=0.3, help="seconds per timing, calibrated")
     parser.add_argument("--out", type=Path, help="also write the table (markdown) here")
     parser.add_argument("--smoke", action="store_true", help="check the answers only")
+    parser.add_argument("--sieve", type=int, nargs="+", metavar="MAX",
+                        help="time sieve.pl's primes(MAX, _) for each MAX (assert/retract growth)")
+    parser.add_argument("--goal", default="bench(_)", help=argparse.SUPPRESS)
     parser.add_argument("--child", type=Path, help=argparse.SUPPRESS)
     parser.add_argument("--iterations", type=int, default=0, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        child(args.child, args.iterations, args.target)
+        child(args.child, args.iterations, args.target, args.goal)
         return
     swipl = shutil.which("swipl")
     if swipl is None:
         raise SystemExit("swipl is not on PATH (Debian: apt-get install swi-prolog-nox)")
+    if args.sieve:
+        sieve(swipl, args.sieve, args.rounds, args.target)
+        return
     paths = programs(args.programs)
     if args.smoke:
         sys.path.insert(0, str(HERE.parent / "src"))

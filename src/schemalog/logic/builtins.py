@@ -41,6 +41,7 @@ class Database(Protocol):
     def clauses(self, name: str, arity: int) -> list: ...
     def add_clause(self, head: Term, body: Term = TRUE, pos=None, front: bool = False) -> None: ...
     def remove(self, clause) -> None: ...
+    def remove_all(self, clauses: list) -> None: ...
     def library_predicates(self) -> set[tuple[str, int]]: ...
     def is_library(self, key: tuple[str, int]) -> bool: ...
     def forget_file(self, file: str) -> None: ...
@@ -727,8 +728,15 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     pred = e.kb.predicates.get(ind)
     if e.is_builtin(*ind) and ind != ("[|]", 2) or _static(pred):
         raise _modify_static(ind)
-    e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))  # the copy below: see assert
-    for clause in list(e.kb.clauses(*ind)):
+    if pred is None:
+        e.charge(1)
+        return
+    # The clauses the first argument's index names (all of them when it is unbound): a
+    # snapshot no assert or retract changes (the logical update view), so retracting one
+    # clause costs neither a copy of the predicate nor a look at every clause.
+    candidates = pred.candidates(b.walk(head.args[0]) if isinstance(head, Struct) else None)
+    e.charge(1 + (len(candidates) >> 6))
+    for clause in candidates:
         mark = b.mark()
         h, bd = clause.renamed()
         if b.unify(head, h) and b.unify(body, bd):

@@ -404,14 +404,18 @@ def _retractall(e: Machine, a: tuple, b: Bindings) -> bool:
             and not pred.library_only():
         raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
                                                     Struct("/", (Atom(name), Int(arity))))))
-    if not e.kb.clauses(name, arity):
+    if pred is None or not pred.clauses:
         e.kb.declare_dynamic(name, arity)     # as in SWI: the predicate now exists, dynamic
-    for clause in list(e.kb.clauses(name, arity)):
+        return True
+    matched = []
+    # the first argument's bucket (a snapshot), then one pass removing what matched
+    for clause in pred.candidates(b.walk(head.args[0]) if isinstance(head, Struct) else None):
         mark = b.mark()
         h, _ = clause.renamed()
         if b.unify(head, h):
-            e.kb.remove(clause)
+            matched.append(clause)
         b.undo(mark)
+    e.kb.remove_all(matched)
     return True
 
 
