@@ -213,8 +213,33 @@ def _is_callable(t: Term) -> bool:
     return isinstance(t, (Atom, Struct))
 
 
+_NAMES: dict[str, Atom] = {}            # one Atom per functor name functor/3 has answered
+_ARITIES = tuple(Int(n) for n in range(64))
+
+
+def _bind_or_unify(b: Bindings, x: Term, value: Term) -> bool:
+    """Unify `x` with the non-variable `value`, binding an unbound `x` at once."""
+    values = b.values
+    while type(x) is Var:
+        bound = values.get(x)
+        if bound is None:
+            values[x] = value
+            b.trail.append(x)
+            return True
+        x = bound
+    return b.unify(x, value)
+
+
 def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
+    if type(term) is Struct:    # the common case first: no Atom or Int made, Name and Arity bound at once
+        name = _NAMES.get(term.name)
+        if name is None:
+            name = Atom(term.name)
+            if len(_NAMES) < 10_000:    # bounded: a program making names without end
+                _NAMES[term.name] = name
+        n = len(term.args)
+        return _bind_or_unify(b, a[1], name) and _bind_or_unify(b, a[2], _ARITIES[n] if n < 64 else Int(n))
     if isinstance(term, Var):
         name, arity = b.walk(a[1]), b.walk(a[2])
         if isinstance(name, Var) or isinstance(arity, Var):
@@ -230,7 +255,7 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
         if not isinstance(name, Atom):
             raise type_error("atomic" if isinstance(name, Struct) else "atom", name)
         e.charge(arity.value)
-        return b.unify(term, Struct(name.name, tuple(Var("_") for _ in range(arity.value))))
+        return b.unify(term, Struct(name.name, tuple([Var("_") for _ in range(arity.value)])))
     if isinstance(term, Struct):
         return b.unify(a[1], Atom(term.name)) and b.unify(a[2], Int(len(term.args)))
     return b.unify(a[1], term) and b.unify(a[2], Int(0))

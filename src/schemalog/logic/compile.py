@@ -45,7 +45,8 @@ from typing import Callable
 
 from .builtins import body_calls
 from .engine import BUILTINS, CONTROL, NONDET_BUILTINS, IfThen, IfThenElse, Not, Or, SoftIfThenElse
-from .terms import TRUE, Atom, Int, Struct, Term, Var, iter_vars, is_ground
+from .library import arg_bound
+from .terms import TRUE, Atom, Float, Int, Struct, Term, Var, iter_vars, is_ground
 from .unify import rename
 
 Activation = Callable  # (args, bindings, height, rest) -> Goals | False
@@ -138,10 +139,33 @@ def activate_ground(head: Term, body: Term) -> Activation:
 
 
 # Integer arithmetic computed inline: a binary or unary operator over integers, whose result
-# (within _SMALL) needs neither the big-number limit nor a float.
-_INLINE_BINARY = {"+": "+", "-": "-", "*": "*"}
+# (within _SMALL) needs neither the big-number limit nor a float. `//` truncates toward
+# zero and `rem` takes the dividend's sign (SWI-Prolog's defaults), `mod` the divisor's
+# (Python's %); a zero divisor or a negative shift raises in Python, and the goal is then
+# the general built-in's, with its error.
+_INLINE_BINARY = {"+": "+", "-": "-", "*": "*", "mod": "%", "/\\": "&", "\\/": "|", ">>": ">>",
+                  "//": "TDIV", "rem": "TREM"}
+_RAISING = frozenset({"mod", ">>", "//", "rem"})
+
+
+def _truncating_div(x: int, y: int) -> int:
+    """x // y rounded toward zero (ZeroDivisionError for y = 0)."""
+    q = x // y
+    if q < 0 and q * y != x:
+        q += 1
+    return q
+
+
+def _truncating_rem(x: int, y: int) -> int:
+    return x - y * _truncating_div(x, y)
 _COMPARISONS = {"<": "<", ">": ">", "=<": "<=", ">=": ">=", "=:=": "==", "=\\=": "!="}
 _SMALL = 1 << 62
+# Type tests a compiled clause makes itself when they are its first goal, on a head variable
+# (walked into x): as the built-ins of builtins.py decide them.
+_TYPE_TESTS = {"var": "type({x}) is V", "nonvar": "type({x}) is not V",
+               "atomic": "type({x}) is not V and type({x}) is not S", "atom": "type({x}) is A",
+               "integer": "type({x}) is I", "compound": "type({x}) is S",
+               "callable": "type({x}) is S or type({x}) is A", "number": "type({x}) is I or type({x}) is F"}
 # Control constructs compiled into engine.Or and the like (`*->` alone stays a term: rare).
 _COMPILED_CONTROL = frozenset({(";", 2), ("->", 2), ("\\+", 1), ("not", 1)})
 
@@ -168,7 +192,25 @@ def _expression_code(t: Term, local: dict[Var, str]) -> str:
         return repr(t.value)
     if len(t.args) == 1:
         return f"(-{_expression_code(t.args[0], local)})"
-    return f"({_expression_code(t.args[0], local)} {_INLINE_BINARY[t.name]} {_expression_code(t.args[1], local)})"
+    op = _INLINE_BINARY[t.name]
+    left, right = _expression_code(t.args[0], local), _expression_code(t.args[1], local)
+    if op.isalpha():
+        return f"{op}({left}, {right})"
+    return f"({left} {op} {right})"
+
+
+def _raises(t: Term) -> bool:
+    """Whether the inline expression `t` has an operation Python may refuse (x // 0)."""
+    return isinstance(t, Struct) and (t.name in _RAISING and len(t.args) == 2 or any(_raises(a) for a in t.args))
+
+
+def _int_now(x, get) -> bool:
+    """Whether `x` is bound to an integer now."""
+    while type(x) is Var:
+        x = get(x)
+        if x is None:
+            return False
+    return type(x) is Int
 
 
 def unify_goal(e, a: tuple, b) -> bool:
@@ -321,18 +363,27 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         general = build(goal, var=lambda v: slot[v] if v in slot else "a[0]")
         builtin = const(BUILTINS[(name, 2)])
         out.append(f"    if {test}:")
+        pad = "        "
+        if any(_raises(x) for x in exprs):   # x // 0 and the like: the general built-in's error
+            out.append("        try:")
+            pad = "            "
         if name == "is":
-            out.append(f"        r = {value(exprs[0])}")
-            out.append(f"        if -{_SMALL} < r < {_SMALL}:")
-            out.append("            t = a[0]")
-            out.append("            while type(t) is V:")
-            out.append("                y = get(t)")
-            out.append("                if y is None:")
-            out.append("                    b.values[t] = I(r); b.trail.append(t); return True")
-            out.append("                t = y")
-            out.append("            return type(t) is I and t.value == r")
+            out.append(f"{pad}r = {value(exprs[0])}")
+            if pad != "        ":
+                out.append("        except (ZeroDivisionError, ValueError): pass")
+                out.append("        else:")
+            out.append(f"{pad}if -{_SMALL} < r < {_SMALL}:")
+            out.append(f"{pad}    t = a[0]")
+            out.append(f"{pad}    while type(t) is V:")
+            out.append(f"{pad}        y = get(t)")
+            out.append(f"{pad}        if y is None:")
+            out.append(f"{pad}            b.values[t] = I(r); b.trail.append(t); return True")
+            out.append(f"{pad}        t = y")
+            out.append(f"{pad}    return type(t) is I and t.value == r")
         else:
-            out.append(f"        return {value(exprs[0])} {_COMPARISONS[name]} {value(exprs[1])}")
+            out.append(f"{pad}return {value(exprs[0])} {_COMPARISONS[name]} {value(exprs[1])}")
+            if pad != "        ":
+                out.append("        except (ZeroDivisionError, ValueError): pass")
         # anything else (a float, an unbound variable, a big result): the general built-in
         out.append(f"    return {builtin}(e, {general}.args, b)")
         helpers.append("\n".join(out))
@@ -345,8 +396,18 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         would, before a choicepoint is left for the next clause; `known` tells whether the
         test was made (else the goal stays in the body, for floats, unbound variables and
         errors)."""
+        if (isinstance(goal, Struct) and len(goal.args) == 1 and goal.name in _TYPE_TESTS
+                and isinstance(goal.args[0], Var) and goal.args[0] in seen):
+            # a type test of a head variable (boyer's `rewrite(A, A) :- atomic(A), !.`):
+            # made here, whole, and not again in the body
+            x = f"g{next(counter)}"
+            lines.append(f"    {x} = {names[goal.args[0]]}")
+            walk(x, "    ", lines)
+            lines.append(f"    if not ({_TYPE_TESTS[goal.name].format(x=x)}): return False")
+            return "whole"
         if not (isinstance(goal, Struct) and goal.name in _COMPARISONS and len(goal.args) == 2
-                and all(_inline_expression(a) for a in goal.args) and set(iter_vars(goal)) <= seen):
+                and all(_inline_expression(a) for a in goal.args) and set(iter_vars(goal)) <= seen
+                and not any(_raises(a) for a in goal.args)):
             return False
         local = {}
         for v in dict.fromkeys(iter_vars(goal)):
@@ -394,6 +455,13 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             return control(goal, depth)
         if key == ("=", 2):
             return f"(U, ({build(args[0])}, {build(args[1])},))"
+        if key == ("arg", 3):
+            # arg(N, T, A) with N an integer when the clause is entered (a binding made
+            # then stays while this goal list lives): the deterministic arg_bound, which
+            # leaves no choicepoint; else the nondeterministic arg/3
+            n = build(args[0])
+            call = f"(ARG, ({n}, {build(args[1])}, {build(args[2])},))"
+            return f"({call} if INT_NOW({n}, get) else {build(goal)})"
         if key in CONTROL or key in NONDET_BUILTINS or goal.name == "call":   # call/9 and past too
             return build(goal)
         built = "(" + "".join(build(a) + ", " for a in args) + ")"
@@ -417,7 +485,7 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         lines.append("    r = rest")
         for goal in reversed(goals[1:] if test else goals):
             lines.append(f"    r = ({goal_code(goal)}, height, r)")
-        if test:
+        if test and test != "whole":
             lines.append(f"    if not known: r = ({goal_code(goals[0])}, height, r)")
     except (OverflowError, RecursionError):
         return activate_by_copy(head, body)
@@ -429,8 +497,9 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         ("    get = values.get\n" if "values" in uses else "    get = b.values.get\n") if "get" in uses else "")
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
         "def activate(goal_args, b, height, rest):\n" + prologue + code + "\n    return r\n")
-    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,
+    scope = {"S": Struct, "V": Var, "I": Int, "A": Atom, "F": Float, "T": TRUE, "OR": Or, "ITE": IfThenElse,
              "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not, "U": unify_goal,
+             "TDIV": _truncating_div, "TREM": _truncating_rem, "ARG": arg_bound, "INT_NOW": _int_now,
              **{f"c{k}": constant for k, constant in enumerate(constants)}}
     try:
         exec(source, scope)

@@ -268,6 +268,8 @@ class Predicate:
             key = ("s", first.name, len(first.args))
         elif kind is Atom:
             key = ("a", first.name)
+        elif kind is Int:
+            key = ("Int", first.value)    # as first_arg_key keys an integer
         else:
             key = first_arg_key(first)
         return index.get(key, self._unindexed)
