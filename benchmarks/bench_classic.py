@@ -13,7 +13,8 @@ and loading are excluded. N is calibrated once per system before the rounds, dou
 timing takes `--target` seconds. A program's ratio is the median of its rounds' ratios of
 seconds per run (schemalog / swipl); the table gives the geometric mean over the programs
 timed and each system's peak resident memory per program (the child's maximum RSS, the
-interpreter's own included; `os.wait4`).
+interpreter's own included; `os.wait4`). With `--baseline CHECKOUT`, schemalog from that
+checkout's src/ runs in the same rounds too (the same N), for a before/after in one run.
 
 A program our reader cannot load yet (DCG rules, user operators) is listed as not loadable
 with the error, and counts in no mean. `--smoke` only checks the answers (tests/logic/
@@ -127,11 +128,12 @@ def ours_answer(path: Path) -> str:
     return canonical(b.resolve(goal.args[0]))
 
 
-def child(path: Path, iterations: int, target: float, timed_goal: str = "bench(_)") -> None:
+def child(path: Path, iterations: int, target: float, timed_goal: str = "bench(_)",
+          src: Path = HERE.parent / "src") -> None:
     """Run in a child process: the answer, then N and the CPU seconds of N runs (JSON)."""
     import schemalog
-    if Path(schemalog.__file__).resolve().parents[1] != HERE.parent / "src":
-        raise SystemExit(f"the child imported {schemalog.__file__}, not this checkout's")
+    if Path(schemalog.__file__).resolve().parents[1] != src.resolve():
+        raise SystemExit(f"the child imported {schemalog.__file__}, not {src}'s")
     from schemalog.cli.main import tune_gc
     from schemalog.logic.engine import Engine
     from schemalog.logic.kb import KnowledgeBase
@@ -181,11 +183,11 @@ def _run(argv: list[str], timeout: float, env: dict | None = None) -> tuple[str,
         return out.read(), err.read(), usage.ru_maxrss / 1024
 
 
-def run_ours(path: Path, iterations: int, target: float, goal: str = "bench(_)") -> dict:
+def run_ours(path: Path, iterations: int, target: float, goal: str = "bench(_)",
+             src: Path = HERE.parent / "src") -> dict:
     env = dict(os.environ)
-    src = str(HERE.parent / "src")
-    env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    out, err, rss = _run([sys.executable, str(Path(__file__).resolve()), "--child", str(path),
+    env["PYTHONPATH"] = str(src)
+    out, err, rss = _run([sys.executable, str(Path(__file__).resolve()), "--child", str(path), "--src", str(src),
                           "--iterations", str(iterations), "--target", str(target), "--goal", goal], 3600, env)
     try:
         result = json.loads(out.strip().splitlines()[-1])
@@ -277,11 +279,14 @@ def main() -> None:
     parser.add_argument("--sieve", type=int, nargs="+", metavar="MAX",
                         help="time sieve.pl's primes(MAX, _) for each MAX (assert/retract growth)")
     parser.add_argument("--goal", default="bench(_)", help=argparse.SUPPRESS)
+    parser.add_argument("--src", type=Path, default=HERE.parent / "src", help=argparse.SUPPRESS)
+    parser.add_argument("--baseline", type=Path, metavar="CHECKOUT",
+                        help="also time schemalog from another checkout (its src/), in the same rounds")
     parser.add_argument("--child", type=Path, help=argparse.SUPPRESS)
     parser.add_argument("--iterations", type=int, default=0, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        child(args.child, args.iterations, args.target, args.goal)
+        child(args.child, args.iterations, args.target, args.goal, args.src)
         return
     swipl = shutil.which("swipl")
     if swipl is None:
@@ -308,7 +313,7 @@ def main() -> None:
         ours = run_ours(path, 0, args.target)
         theirs = run_swipl(swipl, path, 0, args.target)
         entry = plan[path] = {"ours": ours, "swipl": theirs, "ratios": [], "t_ours": [], "t_swipl": [],
-                              "rss_ours": ours["rss"], "rss_swipl": theirs["rss"]}
+                              "rss_ours": ours["rss"], "rss_swipl": theirs["rss"], "t_base": [], "base_ratios": []}
         if "error" in ours or "error" in theirs:
             entry["skip"] = ours.get("error") or "swipl: " + theirs["error"]
         elif ours["answer"] != theirs["answer"]:
@@ -326,22 +331,35 @@ def main() -> None:
             entry["t_ours"].append(t_ours)
             entry["t_swipl"].append(t_swipl)
             entry["ratios"].append(t_ours / t_swipl)
+            if args.baseline:
+                base = run_ours(path, entry["ours"]["n"], args.target, src=args.baseline / "src")
+                if "seconds" in base:
+                    entry["t_base"].append(base["seconds"] / base["n"])
+                    entry["base_ratios"].append(entry["t_base"][-1] / t_swipl)
             entry["rss_ours"] = max(entry["rss_ours"], ours["rss"])
             entry["rss_swipl"] = max(entry["rss_swipl"], theirs["rss"])
         print(f"  round {round_ + 1} of {args.rounds} done", flush=True)
+    based = bool(args.baseline)
     lines = [f"| program | schemalog ms/run | swipl -O ms/run | ratio (median) | ratios, {args.rounds} rounds "
-             f"| peak RSS MiB ours / swipl |", "|---|---:|---:|---:|---|---:|"]
-    ratios = []
+             f"| peak RSS MiB ours / swipl |" + (" baseline ms/run | baseline ratio |" if based else ""),
+             "|---|---:|---:|---:|---|---:|" + ("---:|---:|" if based else "")]
+    ratios, base_ratios = [], []
     for path, entry in plan.items():
         if "skip" in entry:
-            lines.append(f"| {path.stem} | not timed: {entry['skip']} | | | | |")
+            lines.append(f"| {path.stem} | not timed: {entry['skip']} | | | | |" + (" | |" if based else ""))
             continue
         ratio = statistics.median(entry["ratios"])
         ratios.append((ratio, path.stem))
+        extra = ""
+        if based and entry["base_ratios"]:
+            base_ratios.append(statistics.median(entry["base_ratios"]))
+            extra = f" {statistics.median(entry['t_base']) * 1e3:.3f} | {base_ratios[-1]:.0f}x |"
+        elif based:
+            extra = " failed | |"
         lines.append(f"| {path.stem} | {statistics.median(entry['t_ours']) * 1e3:.3f} | "
                      f"{statistics.median(entry['t_swipl']) * 1e3:.4f} | {ratio:.0f}x | "
                      f"{min(entry['ratios']):.0f}-{max(entry['ratios']):.0f}x | "
-                     f"{entry['rss_ours']:.0f} / {entry['rss_swipl']:.0f} |")
+                     f"{entry['rss_ours']:.0f} / {entry['rss_swipl']:.0f} |" + extra)
     if ratios:
         geo = math.exp(sum(math.log(r) for r, _ in ratios) / len(ratios))
         worst = max(ratios)
@@ -349,6 +367,10 @@ def main() -> None:
         lines.append("")
         lines.append(f"Geometric mean over {len(ratios)} programs: **{geo:.1f}x** (target 35x); worst: "
                      f"{worst[1]} {worst[0]:.0f}x; beyond 60x: {', '.join(over) if over else 'none'}.")
+        if base_ratios:
+            lines.append(f"The baseline ({args.baseline}), same rounds: geometric mean "
+                         f"{math.exp(sum(math.log(r) for r in base_ratios) / len(base_ratios)):.1f}x over "
+                         f"{len(base_ratios)} programs.")
     table = "\n".join(lines)
     print()
     print(table)

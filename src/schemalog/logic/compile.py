@@ -127,13 +127,34 @@ def activate_by_copy(head: Term, body: Term) -> Activation:
 
 
 def activate_ground(head: Term, body: Term) -> Activation:
-    """A clause without variables (a fact of a task tree) needs no copy: unify it as it is."""
+    """A clause without variables (a fact of a task tree, fib's `fib(0, 0) :- !.`) needs no
+    copy: its arguments are matched with the call's one by one, an unbound one bound, an
+    atomic one compared, a compound one unified (no goal term built for the unification)."""
     goals = body_goals(body)
-    pattern = head if isinstance(head, Struct) else None
+    pattern = head.args if isinstance(head, Struct) else ()
 
     def activate(args: tuple, b, height: int, rest):
-        if pattern is not None and not b.unify(pattern, Struct(pattern.name, args)):
-            return False
+        if pattern:
+            values = b.values
+            get = values.get
+            for p, x in zip(pattern, args):
+                while type(x) is Var:
+                    y = get(x)
+                    if y is None:
+                        break
+                    x = y
+                if x is p:
+                    continue
+                if type(x) is Var:
+                    values[x] = p
+                    b.trail.append(x)
+                elif type(p) is Struct:
+                    if not b.unify(p, x):
+                        return False
+                elif type(x) is not type(p) or x != p:
+                    return False
+        if not goals:
+            return rest
         return push_goals(goals, height, rest)
     return activate
 
