@@ -285,21 +285,22 @@ def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
         return b.unify(a[1], make_list([Atom(term.name), *term.args]))
     if not isinstance(term, Var):
         return b.unify(a[1], make_list([term]))
-    whole = resolve_list(b, a[1])
-    items, tail = list_items(whole)
-    if isinstance(whole, Var) or isinstance(tail, Var) or items and isinstance(items[0], Var):
+    # The list's spine only: its items become the arguments as they are, unresolved (a
+    # resolved copy of each cost a walk of the whole term, derive's `E =.. [Op, A, B]`).
+    items, tail = list_spine(b, a[1])
+    head = b.walk(items[0]) if items else None
+    if isinstance(tail, Var) or isinstance(head, Var):
         raise instantiation_error()
     if tail != NIL:
-        raise type_error("list", whole)
+        raise type_error("list", resolve_list(b, a[1]))
     if not items:
         raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
-    head = items[0]
     if len(items) == 1:
         if isinstance(head, Struct):
-            raise type_error("atomic", head)
+            raise type_error("atomic", b.resolve_finite(head))
         return b.unify(term, head)
     if not isinstance(head, Atom):
-        raise type_error("atom", head)
+        raise type_error("atom", b.resolve_finite(head))
     return b.unify(term, Struct(head.name, tuple(items[1:])))
 
 
