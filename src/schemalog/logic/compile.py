@@ -311,7 +311,16 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             raise OverflowError
         if isinstance(p, Var):
             if p in seen:
-                lines.append(f"{pad}if not b.unify({names[p]}, {x}): return False")
+                # a repeated head variable (app/3's H, `app(X, X, Y)`): an unbound side bound
+                # here, as Bindings.unify would bind it; two bound ones unified
+                y = f"u{next(counter)}"
+                lines.append(f"{pad}{y} = {names[p]}")
+                walk(y, pad, lines)
+                walk(x, pad, lines)
+                lines.append(f"{pad}if {y} is {x}: pass")
+                lines.append(f"{pad}elif type({y}) is V: values[{y}] = {x}; trail.append({y})")
+                lines.append(f"{pad}elif type({x}) is V: values[{x}] = {y}; trail.append({x})")
+                lines.append(f"{pad}elif not b.unify({y}, {x}): return False")
             else:
                 seen.add(p)
                 lines.append(f"{pad}{names[p]} = {x}")
