@@ -30,9 +30,14 @@ one Python function per clause (the WAM's get and put instructions, in effect):
 - `;`, `->`, `*->` with an else-branch, `\\+` and `not` become the engine's Or, IfThenElse,
   IfThen and Not with their parts compiled the same way (their cuts reach as interpreted: the
   condition's is local, a branch's cuts the clause); `*->` without else stays a term;
-- a first body goal comparing integers of the head (tak's `X =< Y`) is also tested in the
-  activation, which fails as a head would: no choicepoint is left for the next clause only to
-  fail at once. On anything but integers the goal stays first in the body, with its errors.
+- the first body goals, while they are comparisons of integers, type tests or `V is Expr` of
+  a new variable over known integers (tak's `X =< Y`, then its three `is`), are made in the
+  activation: a failing test fails the clause as a head would, with no choicepoint left for
+  the next clause only to fail at once, and a computed value names V (no variable made, bound
+  or trailed, no goal pushed). On anything but integers that goal and those after it stay in
+  the body, in order, with their errors;
+- `arg(N, T, A)` with N an integer when the clause is entered calls the deterministic
+  arg_bound (no choicepoint); a repeated head variable is bound or compared inline.
 
 Heads and bodies past a size bound, and a clause's first calls (`COMPILE_AFTER`: compiling
 costs an `exec`, worth it only for a clause called again and again), copy the clause and unify.
@@ -420,37 +425,62 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         target = [names[goal.args[0]]] if name == "is" else []
         return f"({fn}, ({', '.join(target + [names[v] for v in operands])},))"
 
-    def guard(goal: Term) -> bool:
-        """Code testing a first body goal that compares integers of the head (tak/4's
-        `X =< Y`) in the activation: False when it fails, so the clause fails as its head
-        would, before a choicepoint is left for the next clause; `known` tells whether the
-        test was made (else the goal stays in the body, for floats, unbound variables and
-        errors)."""
-        if (isinstance(goal, Struct) and len(goal.args) == 1 and goal.name in _TYPE_TESTS
-                and isinstance(goal.args[0], Var) and goal.args[0] in seen):
-            # a type test of a head variable (boyer's `rewrite(A, A) :- atomic(A), !.`):
-            # made here, whole, and not again in the body
-            x = f"g{next(counter)}"
-            lines.append(f"    {x} = {names[goal.args[0]]}")
-            walk(x, "    ", lines)
-            lines.append(f"    if not ({_TYPE_TESTS[goal.name].format(x=x)}): return False")
-            return "whole"
-        if not (isinstance(goal, Struct) and goal.name in _COMPARISONS and len(goal.args) == 2
-                and all(_inline_expression(a) for a in goal.args) and set(iter_vars(goal)) <= seen
-                and not any(_raises(a) for a in goal.args)):
+    def prefix_goal(goal: Term, k: int) -> bool:
+        """Code making the body's k-th goal in the activation, when the goals before it were
+        made there too (`st == k`): a type test of a known variable (boyer's
+        `rewrite(A, A) :- atomic(A), !.`), a comparison of integer expressions (tak's
+        `X =< Y`, queens' two `=\\=`), or `V is Expr` of a variable first met there, its value
+        computed now and named, with no variable made or bound (tak's three `is`). A test that
+        fails makes the clause fail as its head would: no choicepoint is left for the next
+        clause only to fail at once. Where the operands are not integers (floats, unbound
+        variables, errors to raise) `st` stays k: this goal and the rest stay in the body,
+        in order. False when the goal is none of these (the prefix ends there)."""
+        if not isinstance(goal, Struct):
             return False
+        if (len(goal.args) == 1 and goal.name in _TYPE_TESTS and isinstance(goal.args[0], Var)
+                and goal.args[0] in seen):
+            x = f"g{next(counter)}"
+            lines.append(f"    if st == {k}:")
+            lines.append(f"        {x} = {names[goal.args[0]]}")
+            walk(x, "        ", lines)
+            lines.append(f"        if not ({_TYPE_TESTS[goal.name].format(x=x)}): return False")
+            lines.append(f"        st = {k + 1}")
+            return True
+        if len(goal.args) != 2:
+            return False
+        if goal.name in _COMPARISONS:
+            exprs = list(goal.args)
+        elif (goal.name == "is" and isinstance(goal.args[0], Var) and goal.args[0] not in seen
+              and not isinstance(goal.args[1], (Var, Int))):
+            exprs = [goal.args[1]]
+        else:
+            return False
+        if not (all(_inline_expression(e) for e in exprs) and not any(_raises(e) for e in exprs)
+                and {v for e in exprs for v in iter_vars(e)} <= seen):
+            return False
+        lines.append(f"    if st == {k}:")
         local = {}
-        for v in dict.fromkeys(iter_vars(goal)):
+        for v in dict.fromkeys(v for e in exprs for v in iter_vars(e)):
             x = local[v] = f"g{next(counter)}"
-            lines.append(f"    {x} = {names[v]}")
-            walk(x, "    ", lines)
+            lines.append(f"        {x} = {names[v]}")
+            walk(x, "        ", lines)
+        known = " and ".join(f"type({x}) is I" for x in local.values()) or "True"
 
         def value(t: Term) -> str:
             return _expression_code(t, local)
 
-        lines.append("    known = " + (" and ".join(f"type({x}) is I" for x in local.values()) or "True"))
-        lines.append(f"    if known and not {value(goal.args[0])} {_COMPARISONS[goal.name]} {value(goal.args[1])}:"
-                     " return False")
+        if goal.name == "is":
+            target = goal.args[0]
+            lines.append(f"        if {known}:")
+            lines.append(f"            g = {value(exprs[0])}")
+            lines.append(f"            if -{_SMALL} < g < {_SMALL}: {names[target]} = I(g); st = {k + 1}")
+            seen.add(target)
+            computed.append((k, target))
+        else:
+            lines.append(f"        if {known}:")
+            lines.append(f"            if not {value(exprs[0])} {_COMPARISONS[goal.name]} {value(exprs[1])}:"
+                         " return False")
+            lines.append(f"            st = {k + 1}")
         return True
 
     def branch(t: Term, depth: int) -> str:
@@ -507,16 +537,26 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         goals = body_goals(body)
         if len(goals) > max_goals:
             raise OverflowError
-        test = guard(goals[0]) if goals else None
+        # The goals the activation makes itself (prefix_goal), while they are such goals.
+        computed: list[tuple[int, Var]] = []      # (k, V) of each `V is Expr` among them
+        made = 0
+        if goals and len(goals) <= 64:
+            lines.append("    st = 0")
+            while made < len(goals) and prefix_goal(goals[made], made):
+                made += 1
+            if not made:
+                lines.pop()
+            for k, v in computed:                 # not computed: a variable, as ever
+                lines.append(f"    if st <= {k}: {names[v]} = V('_')")
         for goal in goals:
             create(goal, "    ", seen)
         # The goal list is built last goal first, one statement each: Python's parser
         # refuses more than 200 nested parentheses.
         lines.append("    r = rest")
-        for goal in reversed(goals[1:] if test else goals):
+        for goal in reversed(goals[made:]):
             lines.append(f"    r = ({goal_code(goal)}, height, r)")
-        if test and test != "whole":
-            lines.append(f"    if not known: r = ({goal_code(goals[0])}, height, r)")
+        for k in reversed(range(made)):           # those not made here, in order
+            lines.append(f"    if st <= {k}: r = ({goal_code(goals[k])}, height, r)")
     except (OverflowError, RecursionError):
         return activate_by_copy(head, body)
     code = "\n".join(lines)
