@@ -325,7 +325,9 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
                 lines.append(f"{pad}if {y} is {x}: pass")
                 lines.append(f"{pad}elif type({y}) is V: values[{y}] = {x}; trail.append({y})")
                 lines.append(f"{pad}elif type({x}) is V: values[{x}] = {y}; trail.append({x})")
-                lines.append(f"{pad}elif not b.unify({y}, {x}): return False")
+                lines.append(f"{pad}elif type({y}) is S or type({x}) is S:")
+                lines.append(f"{pad}    if not b.unify({y}, {x}): return False")
+                lines.append(f"{pad}elif type({y}) is not type({x}) or {y} != {x}: return False")
             else:
                 seen.add(p)
                 lines.append(f"{pad}{names[p]} = {x}")
