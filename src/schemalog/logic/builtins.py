@@ -255,7 +255,8 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
         if not isinstance(name, Atom):
             raise type_error("atomic" if isinstance(name, Struct) else "atom", name)
         e.charge(arity.value)
-        return b.unify(term, Struct(name.name, tuple([Var("_") for _ in range(arity.value)])))
+        b.bind(term, Struct(name.name, tuple([Var("_") for _ in range(arity.value)])))   # term: unbound
+        return True
     if isinstance(term, Struct):
         return b.unify(a[1], Atom(term.name)) and b.unify(a[2], Int(len(term.args)))
     return b.unify(a[1], term) and b.unify(a[2], Int(0))
