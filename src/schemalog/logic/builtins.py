@@ -41,6 +41,7 @@ class Database(Protocol):
     def clauses(self, name: str, arity: int) -> list: ...
     def add_clause(self, head: Term, body: Term = TRUE, pos=None, front: bool = False) -> None: ...
     def remove(self, clause) -> None: ...
+    def remove_all(self, clauses: list) -> None: ...
     def library_predicates(self) -> set[tuple[str, int]]: ...
     def is_library(self, key: tuple[str, int]) -> bool: ...
     def forget_file(self, file: str) -> None: ...
@@ -212,8 +213,33 @@ def _is_callable(t: Term) -> bool:
     return isinstance(t, (Atom, Struct))
 
 
+_NAMES: dict[str, Atom] = {}            # one Atom per functor name functor/3 has answered
+_ARITIES = tuple(Int(n) for n in range(64))
+
+
+def _bind_or_unify(b: Bindings, x: Term, value: Term) -> bool:
+    """Unify `x` with the non-variable `value`, binding an unbound `x` at once."""
+    values = b.values
+    while type(x) is Var:
+        bound = values.get(x)
+        if bound is None:
+            values[x] = value
+            b.trail.append(x)
+            return True
+        x = bound
+    return b.unify(x, value)
+
+
 def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
     term = b.walk(a[0])
+    if type(term) is Struct:    # the common case first: no Atom or Int made, Name and Arity bound at once
+        name = _NAMES.get(term.name)
+        if name is None:
+            name = Atom(term.name)
+            if len(_NAMES) < 10_000:    # bounded: a program making names without end
+                _NAMES[term.name] = name
+        n = len(term.args)
+        return _bind_or_unify(b, a[1], name) and _bind_or_unify(b, a[2], _ARITIES[n] if n < 64 else Int(n))
     if isinstance(term, Var):
         name, arity = b.walk(a[1]), b.walk(a[2])
         if isinstance(name, Var) or isinstance(arity, Var):
@@ -229,7 +255,8 @@ def _functor(e: Machine, a: tuple, b: Bindings) -> bool:
         if not isinstance(name, Atom):
             raise type_error("atomic" if isinstance(name, Struct) else "atom", name)
         e.charge(arity.value)
-        return b.unify(term, Struct(name.name, tuple(Var("_") for _ in range(arity.value))))
+        b.bind(term, Struct(name.name, tuple([Var("_") for _ in range(arity.value)])))   # term: unbound
+        return True
     if isinstance(term, Struct):
         return b.unify(a[1], Atom(term.name)) and b.unify(a[2], Int(len(term.args)))
     return b.unify(a[1], term) and b.unify(a[2], Int(0))
@@ -259,21 +286,22 @@ def _univ(e: Machine, a: tuple, b: Bindings) -> bool:
         return b.unify(a[1], make_list([Atom(term.name), *term.args]))
     if not isinstance(term, Var):
         return b.unify(a[1], make_list([term]))
-    whole = resolve_list(b, a[1])
-    items, tail = list_items(whole)
-    if isinstance(whole, Var) or isinstance(tail, Var) or items and isinstance(items[0], Var):
+    # The list's spine only: its items become the arguments as they are, unresolved (a
+    # resolved copy of each cost a walk of the whole term, derive's `E =.. [Op, A, B]`).
+    items, tail = list_spine(b, a[1])
+    head = b.walk(items[0]) if items else None
+    if isinstance(tail, Var) or isinstance(head, Var):
         raise instantiation_error()
     if tail != NIL:
-        raise type_error("list", whole)
+        raise type_error("list", resolve_list(b, a[1]))
     if not items:
         raise iso_error(Struct("domain_error", (Atom("non_empty_list"), NIL)))
-    head = items[0]
     if len(items) == 1:
         if isinstance(head, Struct):
-            raise type_error("atomic", head)
+            raise type_error("atomic", b.resolve_finite(head))
         return b.unify(term, head)
     if not isinstance(head, Atom):
-        raise type_error("atom", head)
+        raise type_error("atom", b.resolve_finite(head))
     return b.unify(term, Struct(head.name, tuple(items[1:])))
 
 
@@ -727,8 +755,15 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
     pred = e.kb.predicates.get(ind)
     if e.is_builtin(*ind) and ind != ("[|]", 2) or _static(pred):
         raise _modify_static(ind)
-    e.charge(1 + (len(pred.clauses) >> 6 if pred is not None else 0))  # the copy below: see assert
-    for clause in list(e.kb.clauses(*ind)):
+    if pred is None:
+        e.charge(1)
+        return
+    # The clauses the first argument's index names (all of them when it is unbound): a
+    # snapshot no assert or retract changes (the logical update view), so retracting one
+    # clause costs neither a copy of the predicate nor a look at every clause.
+    candidates = pred.candidates(b.walk(head.args[0]) if isinstance(head, Struct) else None)
+    e.charge(1 + (len(candidates) >> 6))
+    for clause in candidates:
         mark = b.mark()
         h, bd = clause.renamed()
         if b.unify(head, h) and b.unify(body, bd):

@@ -30,9 +30,14 @@ one Python function per clause (the WAM's get and put instructions, in effect):
 - `;`, `->`, `*->` with an else-branch, `\\+` and `not` become the engine's Or, IfThenElse,
   IfThen and Not with their parts compiled the same way (their cuts reach as interpreted: the
   condition's is local, a branch's cuts the clause); `*->` without else stays a term;
-- a first body goal comparing integers of the head (tak's `X =< Y`) is also tested in the
-  activation, which fails as a head would: no choicepoint is left for the next clause only to
-  fail at once. On anything but integers the goal stays first in the body, with its errors.
+- the first body goals, while they are comparisons of integers, type tests or `V is Expr` of
+  a new variable over known integers (tak's `X =< Y`, then its three `is`), are made in the
+  activation: a failing test fails the clause as a head would, with no choicepoint left for
+  the next clause only to fail at once, and a computed value names V (no variable made, bound
+  or trailed, no goal pushed). On anything but integers that goal and those after it stay in
+  the body, in order, with their errors;
+- `arg(N, T, A)` with N an integer when the clause is entered calls the deterministic
+  arg_bound (no choicepoint); a repeated head variable is bound or compared inline.
 
 Heads and bodies past a size bound, and a clause's first calls (`COMPILE_AFTER`: compiling
 costs an `exec`, worth it only for a clause called again and again), copy the clause and unify.
@@ -45,7 +50,8 @@ from typing import Callable
 
 from .builtins import body_calls
 from .engine import BUILTINS, CONTROL, NONDET_BUILTINS, IfThen, IfThenElse, Not, Or, SoftIfThenElse
-from .terms import TRUE, Atom, Int, Struct, Term, Var, iter_vars, is_ground
+from .library import arg_bound
+from .terms import TRUE, Atom, Float, Int, Struct, Term, Var, iter_vars, is_ground
 from .unify import rename
 
 Activation = Callable  # (args, bindings, height, rest) -> Goals | False
@@ -126,22 +132,66 @@ def activate_by_copy(head: Term, body: Term) -> Activation:
 
 
 def activate_ground(head: Term, body: Term) -> Activation:
-    """A clause without variables (a fact of a task tree) needs no copy: unify it as it is."""
+    """A clause without variables (a fact of a task tree, fib's `fib(0, 0) :- !.`) needs no
+    copy: its arguments are matched with the call's one by one, an unbound one bound, an
+    atomic one compared, a compound one unified (no goal term built for the unification)."""
     goals = body_goals(body)
-    pattern = head if isinstance(head, Struct) else None
+    pattern = head.args if isinstance(head, Struct) else ()
 
     def activate(args: tuple, b, height: int, rest):
-        if pattern is not None and not b.unify(pattern, Struct(pattern.name, args)):
-            return False
+        if pattern:
+            values = b.values
+            get = values.get
+            for p, x in zip(pattern, args):
+                while type(x) is Var:
+                    y = get(x)
+                    if y is None:
+                        break
+                    x = y
+                if x is p:
+                    continue
+                if type(x) is Var:
+                    values[x] = p
+                    b.trail.append(x)
+                elif type(p) is Struct:
+                    if not b.unify(p, x):
+                        return False
+                elif type(x) is not type(p) or x != p:
+                    return False
+        if not goals:
+            return rest
         return push_goals(goals, height, rest)
     return activate
 
 
 # Integer arithmetic computed inline: a binary or unary operator over integers, whose result
-# (within _SMALL) needs neither the big-number limit nor a float.
-_INLINE_BINARY = {"+": "+", "-": "-", "*": "*"}
+# (within _SMALL) needs neither the big-number limit nor a float. `//` truncates toward
+# zero and `rem` takes the dividend's sign (SWI-Prolog's defaults), `mod` the divisor's
+# (Python's %); a zero divisor or a negative shift raises in Python, and the goal is then
+# the general built-in's, with its error.
+_INLINE_BINARY = {"+": "+", "-": "-", "*": "*", "mod": "%", "/\\": "&", "\\/": "|", ">>": ">>",
+                  "//": "TDIV", "rem": "TREM"}
+_RAISING = frozenset({"mod", ">>", "//", "rem"})
+
+
+def _truncating_div(x: int, y: int) -> int:
+    """x // y rounded toward zero (ZeroDivisionError for y = 0)."""
+    q = x // y
+    if q < 0 and q * y != x:
+        q += 1
+    return q
+
+
+def _truncating_rem(x: int, y: int) -> int:
+    return x - y * _truncating_div(x, y)
 _COMPARISONS = {"<": "<", ">": ">", "=<": "<=", ">=": ">=", "=:=": "==", "=\\=": "!="}
 _SMALL = 1 << 62
+# Type tests a compiled clause makes itself when they are its first goal, on a head variable
+# (walked into x): as the built-ins of builtins.py decide them.
+_TYPE_TESTS = {"var": "type({x}) is V", "nonvar": "type({x}) is not V",
+               "atomic": "type({x}) is not V and type({x}) is not S", "atom": "type({x}) is A",
+               "integer": "type({x}) is I", "compound": "type({x}) is S",
+               "callable": "type({x}) is S or type({x}) is A", "number": "type({x}) is I or type({x}) is F"}
 # Control constructs compiled into engine.Or and the like (`*->` alone stays a term: rare).
 _COMPILED_CONTROL = frozenset({(";", 2), ("->", 2), ("\\+", 1), ("not", 1)})
 
@@ -168,7 +218,25 @@ def _expression_code(t: Term, local: dict[Var, str]) -> str:
         return repr(t.value)
     if len(t.args) == 1:
         return f"(-{_expression_code(t.args[0], local)})"
-    return f"({_expression_code(t.args[0], local)} {_INLINE_BINARY[t.name]} {_expression_code(t.args[1], local)})"
+    op = _INLINE_BINARY[t.name]
+    left, right = _expression_code(t.args[0], local), _expression_code(t.args[1], local)
+    if op.isalpha():
+        return f"{op}({left}, {right})"
+    return f"({left} {op} {right})"
+
+
+def _raises(t: Term) -> bool:
+    """Whether the inline expression `t` has an operation Python may refuse (x // 0)."""
+    return isinstance(t, Struct) and (t.name in _RAISING and len(t.args) == 2 or any(_raises(a) for a in t.args))
+
+
+def _int_now(x, get) -> bool:
+    """Whether `x` is bound to an integer now."""
+    while type(x) is Var:
+        x = get(x)
+        if x is None:
+            return False
+    return type(x) is Int
 
 
 def unify_goal(e, a: tuple, b) -> bool:
@@ -248,7 +316,18 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             raise OverflowError
         if isinstance(p, Var):
             if p in seen:
-                lines.append(f"{pad}if not b.unify({names[p]}, {x}): return False")
+                # a repeated head variable (app/3's H, `app(X, X, Y)`): an unbound side bound
+                # here, as Bindings.unify would bind it; two bound ones unified
+                y = f"u{next(counter)}"
+                lines.append(f"{pad}{y} = {names[p]}")
+                walk(y, pad, lines)
+                walk(x, pad, lines)
+                lines.append(f"{pad}if {y} is {x}: pass")
+                lines.append(f"{pad}elif type({y}) is V: values[{y}] = {x}; trail.append({y})")
+                lines.append(f"{pad}elif type({x}) is V: values[{x}] = {y}; trail.append({x})")
+                lines.append(f"{pad}elif type({y}) is S or type({x}) is S:")
+                lines.append(f"{pad}    if not b.unify({y}, {x}): return False")
+                lines.append(f"{pad}elif type({y}) is not type({x}) or {y} != {x}: return False")
             else:
                 seen.add(p)
                 lines.append(f"{pad}{names[p]} = {x}")
@@ -321,45 +400,89 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         general = build(goal, var=lambda v: slot[v] if v in slot else "a[0]")
         builtin = const(BUILTINS[(name, 2)])
         out.append(f"    if {test}:")
+        pad = "        "
+        if any(_raises(x) for x in exprs):   # x // 0 and the like: the general built-in's error
+            out.append("        try:")
+            pad = "            "
         if name == "is":
-            out.append(f"        r = {value(exprs[0])}")
-            out.append(f"        if -{_SMALL} < r < {_SMALL}:")
-            out.append("            t = a[0]")
-            out.append("            while type(t) is V:")
-            out.append("                y = get(t)")
-            out.append("                if y is None:")
-            out.append("                    b.values[t] = I(r); b.trail.append(t); return True")
-            out.append("                t = y")
-            out.append("            return type(t) is I and t.value == r")
+            out.append(f"{pad}r = {value(exprs[0])}")
+            if pad != "        ":
+                out.append("        except (ZeroDivisionError, ValueError): pass")
+                out.append("        else:")
+            out.append(f"{pad}if -{_SMALL} < r < {_SMALL}:")
+            out.append(f"{pad}    t = a[0]")
+            out.append(f"{pad}    while type(t) is V:")
+            out.append(f"{pad}        y = get(t)")
+            out.append(f"{pad}        if y is None:")
+            out.append(f"{pad}            b.values[t] = I(r); b.trail.append(t); return True")
+            out.append(f"{pad}        t = y")
+            out.append(f"{pad}    return type(t) is I and t.value == r")
         else:
-            out.append(f"        return {value(exprs[0])} {_COMPARISONS[name]} {value(exprs[1])}")
+            out.append(f"{pad}return {value(exprs[0])} {_COMPARISONS[name]} {value(exprs[1])}")
+            if pad != "        ":
+                out.append("        except (ZeroDivisionError, ValueError): pass")
         # anything else (a float, an unbound variable, a big result): the general built-in
         out.append(f"    return {builtin}(e, {general}.args, b)")
         helpers.append("\n".join(out))
         target = [names[goal.args[0]]] if name == "is" else []
         return f"({fn}, ({', '.join(target + [names[v] for v in operands])},))"
 
-    def guard(goal: Term) -> bool:
-        """Code testing a first body goal that compares integers of the head (tak/4's
-        `X =< Y`) in the activation: False when it fails, so the clause fails as its head
-        would, before a choicepoint is left for the next clause; `known` tells whether the
-        test was made (else the goal stays in the body, for floats, unbound variables and
-        errors)."""
-        if not (isinstance(goal, Struct) and goal.name in _COMPARISONS and len(goal.args) == 2
-                and all(_inline_expression(a) for a in goal.args) and set(iter_vars(goal)) <= seen):
+    def prefix_goal(goal: Term, k: int) -> bool:
+        """Code making the body's k-th goal in the activation, when the goals before it were
+        made there too (`st == k`): a type test of a known variable (boyer's
+        `rewrite(A, A) :- atomic(A), !.`), a comparison of integer expressions (tak's
+        `X =< Y`, queens' two `=\\=`), or `V is Expr` of a variable first met there, its value
+        computed now and named, with no variable made or bound (tak's three `is`). A test that
+        fails makes the clause fail as its head would: no choicepoint is left for the next
+        clause only to fail at once. Where the operands are not integers (floats, unbound
+        variables, errors to raise) `st` stays k: this goal and the rest stay in the body,
+        in order. False when the goal is none of these (the prefix ends there)."""
+        if not isinstance(goal, Struct):
             return False
+        if (len(goal.args) == 1 and goal.name in _TYPE_TESTS and isinstance(goal.args[0], Var)
+                and goal.args[0] in seen):
+            x = f"g{next(counter)}"
+            lines.append(f"    if st == {k}:")
+            lines.append(f"        {x} = {names[goal.args[0]]}")
+            walk(x, "        ", lines)
+            lines.append(f"        if not ({_TYPE_TESTS[goal.name].format(x=x)}): return False")
+            lines.append(f"        st = {k + 1}")
+            return True
+        if len(goal.args) != 2:
+            return False
+        if goal.name in _COMPARISONS:
+            exprs = list(goal.args)
+        elif (goal.name == "is" and isinstance(goal.args[0], Var) and goal.args[0] not in seen
+              and not isinstance(goal.args[1], (Var, Int))):
+            exprs = [goal.args[1]]
+        else:
+            return False
+        if not (all(_inline_expression(e) for e in exprs) and not any(_raises(e) for e in exprs)
+                and {v for e in exprs for v in iter_vars(e)} <= seen):
+            return False
+        lines.append(f"    if st == {k}:")
         local = {}
-        for v in dict.fromkeys(iter_vars(goal)):
+        for v in dict.fromkeys(v for e in exprs for v in iter_vars(e)):
             x = local[v] = f"g{next(counter)}"
-            lines.append(f"    {x} = {names[v]}")
-            walk(x, "    ", lines)
+            lines.append(f"        {x} = {names[v]}")
+            walk(x, "        ", lines)
+        known = " and ".join(f"type({x}) is I" for x in local.values()) or "True"
 
         def value(t: Term) -> str:
             return _expression_code(t, local)
 
-        lines.append("    known = " + (" and ".join(f"type({x}) is I" for x in local.values()) or "True"))
-        lines.append(f"    if known and not {value(goal.args[0])} {_COMPARISONS[goal.name]} {value(goal.args[1])}:"
-                     " return False")
+        if goal.name == "is":
+            target = goal.args[0]
+            lines.append(f"        if {known}:")
+            lines.append(f"            g = {value(exprs[0])}")
+            lines.append(f"            if -{_SMALL} < g < {_SMALL}: {names[target]} = I(g); st = {k + 1}")
+            seen.add(target)
+            computed.append((k, target))
+        else:
+            lines.append(f"        if {known}:")
+            lines.append(f"            if not {value(exprs[0])} {_COMPARISONS[goal.name]} {value(exprs[1])}:"
+                         " return False")
+            lines.append(f"            st = {k + 1}")
         return True
 
     def branch(t: Term, depth: int) -> str:
@@ -394,6 +517,13 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
             return control(goal, depth)
         if key == ("=", 2):
             return f"(U, ({build(args[0])}, {build(args[1])},))"
+        if key == ("arg", 3):
+            # arg(N, T, A) with N an integer when the clause is entered (a binding made
+            # then stays while this goal list lives): the deterministic arg_bound, which
+            # leaves no choicepoint; else the nondeterministic arg/3
+            n = build(args[0])
+            call = f"(ARG, ({n}, {build(args[1])}, {build(args[2])},))"
+            return f"({call} if INT_NOW({n}, get) else {build(goal)})"
         if key in CONTROL or key in NONDET_BUILTINS or goal.name == "call":   # call/9 and past too
             return build(goal)
         built = "(" + "".join(build(a) + ", " for a in args) + ")"
@@ -409,16 +539,26 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         goals = body_goals(body)
         if len(goals) > max_goals:
             raise OverflowError
-        test = guard(goals[0]) if goals else None
+        # The goals the activation makes itself (prefix_goal), while they are such goals.
+        computed: list[tuple[int, Var]] = []      # (k, V) of each `V is Expr` among them
+        made = 0
+        if goals and len(goals) <= 64:
+            lines.append("    st = 0")
+            while made < len(goals) and prefix_goal(goals[made], made):
+                made += 1
+            if not made:
+                lines.pop()
+            for k, v in computed:                 # not computed: a variable, as ever
+                lines.append(f"    if st <= {k}: {names[v]} = V('_')")
         for goal in goals:
             create(goal, "    ", seen)
         # The goal list is built last goal first, one statement each: Python's parser
         # refuses more than 200 nested parentheses.
         lines.append("    r = rest")
-        for goal in reversed(goals[1:] if test else goals):
+        for goal in reversed(goals[made:]):
             lines.append(f"    r = ({goal_code(goal)}, height, r)")
-        if test:
-            lines.append(f"    if not known: r = ({goal_code(goals[0])}, height, r)")
+        for k in reversed(range(made)):           # those not made here, in order
+            lines.append(f"    if st <= {k}: r = ({goal_code(goals[k])}, height, r)")
     except (OverflowError, RecursionError):
         return activate_by_copy(head, body)
     code = "\n".join(lines)
@@ -429,8 +569,9 @@ def compile_clause(head: Term, body: Term, max_nodes: int = 300, max_depth: int 
         ("    get = values.get\n" if "values" in uses else "    get = b.values.get\n") if "get" in uses else "")
     source = ("\n\n".join(helpers) + "\n\n" if helpers else "") + (
         "def activate(goal_args, b, height, rest):\n" + prologue + code + "\n    return r\n")
-    scope = {"S": Struct, "V": Var, "I": Int, "T": TRUE, "OR": Or, "ITE": IfThenElse,
+    scope = {"S": Struct, "V": Var, "I": Int, "A": Atom, "F": Float, "T": TRUE, "OR": Or, "ITE": IfThenElse,
              "SITE": SoftIfThenElse, "IT": IfThen, "NOT": Not, "U": unify_goal,
+             "TDIV": _truncating_div, "TREM": _truncating_rem, "ARG": arg_bound, "INT_NOW": _int_now,
              **{f"c{k}": constant for k, constant in enumerate(constants)}}
     try:
         exec(source, scope)

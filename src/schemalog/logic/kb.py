@@ -10,8 +10,10 @@
 
 A call whose first argument is bound only tries the clauses with the same key or
 a variable there; a call whose first argument is unbound uses the first other bound
-argument, indexed just in time. The lists are rebuilt (not mutated) on assert and
-retract, so a running call keeps its snapshot (the logical update view).
+argument, indexed just in time. A list a call may hold is never changed in place, so a
+running call keeps its snapshot (the logical update view): assert and retract replace the
+one bucket a clause's key names (a copy of that bucket, not a rebuild of the index), and
+copy the clause list only when a call was handed it.
 
 Several files make one program, as SWI-Prolog consults them, but a predicate is defined by
 one file: a clause of it read from a second file is an error naming both places, unless the
@@ -78,15 +80,22 @@ class StoredClause:
     _activation: object = field(default=None, init=False, repr=False, compare=False)
     _by_copy: object = field(default=None, init=False, repr=False, compare=False)
     _calls: int = field(default=0, init=False, repr=False, compare=False)
+    erased: bool = field(default=False, init=False, repr=False, compare=False)   # retracted
 
     def __post_init__(self) -> None:
         self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
 
     def renamed(self) -> tuple[Term, Term]:
-        """A copy of (head, body) with fresh variables."""
+        """A copy of (head, body) with fresh variables; a clause without variables is its
+        own copy (retract and clause/2 of a fact compile nothing)."""
         copy = self._copier
         if copy is None:
-            copy = self._copier = compile_copy(Struct(":-", (self.head, self.body)))
+            if is_ground(self.head) and is_ground(self.body):
+                copy = self._copier = False
+            else:
+                copy = self._copier = compile_copy(Struct(":-", (self.head, self.body)))
+        if copy is False:
+            return self.head, self.body
         pair = copy()
         return pair.args[0], pair.args[1]
 
@@ -120,12 +129,16 @@ class Predicate:
     The first argument is indexed as clauses are called; another argument is indexed
     just in time, the first time a call leaves the first argument unbound but binds that
     one (SWI-Prolog's JIT indexing), so `parent(B2, P)` with P bound is a lookup, not a
-    scan. Indexes are dropped on assert and retract and rebuilt on demand.
+    scan. An index is kept across assert and retract of a clause with a key there: the
+    bucket of that key is replaced by a copy with the clause added or removed (a bucket
+    may be held by a call). A clause with a variable there belongs in every bucket: adding
+    or removing one drops the index, rebuilt on demand.
 
     The logical update view: a call goes on with the clauses it started with, whatever is
-    asserted meanwhile. So once `clauses` has been handed to a call (`_shared`), adding a
-    clause replaces the list instead of growing it; until then assertz appends in place,
-    and a directive asserting n facts costs O(n), not O(n^2).
+    asserted or retracted meanwhile. So once `clauses` has been handed to a call
+    (`_shared`), adding or removing a clause replaces the list (one copy, in C) instead of
+    changing it; until then assertz appends and retract deletes in place, and a directive
+    asserting n facts costs O(n), not O(n^2).
     """
 
     __slots__ = ("clauses", "_index", "_unindexed", "_jit", "dynamic", "_shared", "_users")
@@ -159,7 +172,46 @@ class Predicate:
             self.clauses.append(clause)
         self._shared = False
         self._users += not clause.library
-        self.changed()
+        if self._index is not None:
+            if not _index_add(self._index, self._unindexed, clause, clause.key, front):
+                self._index = None
+        self._reindex_jit(clause, front)
+
+    def remove(self, clause: StoredClause) -> None:
+        """Remove one clause (retract); one already removed stays removed. The clause list
+        is searched by identity (in C) and copied only when a call holds it; the indexes
+        lose the clause from its key's bucket."""
+        if clause.erased:
+            return
+        clauses = self.clauses
+        try:
+            position = clauses.index(clause)   # StoredClause compares by identity
+        except ValueError:
+            return
+        if self._shared:
+            self.clauses = clauses[:position] + clauses[position + 1:]
+            self._shared = False
+        else:
+            del clauses[position]
+        clause.erased = True
+        self._users -= not clause.library
+        if self._index is not None:
+            if not _index_remove(self._index, self._unindexed, clause, clause.key):
+                self._index = None
+        self._reindex_jit(clause, None)
+
+    def _reindex_jit(self, clause: StoredClause, front: bool | None) -> None:
+        """Keep the just-in-time indexes after adding (`front` False or True) or removing
+        (None) `clause`; one it cannot keep is dropped, rebuilt on demand."""
+        if not self._jit:
+            return
+        for position, built in list(self._jit.items()):
+            key = _arg_key(clause, position)
+            if built is None:
+                del self._jit[position]      # judged useless before: judged again when asked
+            elif not (_index_add(built[0], built[1], clause, key, front) if front is not None
+                      else _index_remove(built[0], built[1], clause, key)):
+                del self._jit[position]
 
     def add_all(self, clauses: list[StoredClause]) -> None:
         """Add clauses last, in order."""
@@ -216,6 +268,8 @@ class Predicate:
             key = ("s", first.name, len(first.args))
         elif kind is Atom:
             key = ("a", first.name)
+        elif kind is Int:
+            key = ("Int", first.value)    # as first_arg_key keys an integer
         else:
             key = first_arg_key(first)
         return index.get(key, self._unindexed)
@@ -238,6 +292,34 @@ class Predicate:
                 return index.get(first_arg_key(value), unindexed)
         self._shared = True
         return self.clauses
+
+
+def _index_add(index: dict, unindexed: list, clause: StoredClause, key: Key | None, front: bool) -> bool:
+    """Add `clause` to its key's bucket (a new list: the old one may be held by a call);
+    False when the index cannot keep it (a variable there: it belongs in every bucket)."""
+    if key is None:
+        return False
+    bucket = index.get(key, unindexed)
+    index[key] = [clause, *bucket] if front else [*bucket, clause]
+    return True
+
+
+def _index_remove(index: dict, unindexed: list, clause: StoredClause, key: Key | None) -> bool:
+    """Remove `clause` from its key's bucket (a new list); False as for _index_add."""
+    if key is None:
+        return False
+    bucket = index.get(key)
+    if bucket is not None:
+        bucket = bucket.copy()
+        try:
+            bucket.remove(clause)            # by identity, in C
+        except ValueError:
+            return True
+        if len(bucket) == len(unindexed):    # only the clauses with a variable there are left
+            del index[key]
+        else:
+            index[key] = bucket
+    return True
 
 
 def _arg_key(clause: StoredClause, position: int) -> Key | None:
@@ -527,10 +609,26 @@ class KnowledgeBase:
             self.add_clause(term, front=front)
 
     def remove(self, clause: StoredClause) -> None:
-        """Remove one stored clause (retract)."""
+        """Remove one stored clause (retract): no scan of the predicate's other clauses
+        in Python, no rebuilt index (Predicate.remove)."""
         pred = self.predicates.get(indicator(clause.head))
         if pred is not None:
-            pred.replace([c for c in pred.clauses if c is not clause])
+            pred.remove(clause)
+
+    def remove_all(self, clauses: list[StoredClause]) -> None:
+        """Remove these stored clauses, of one predicate (retractall): one pass."""
+        if not clauses:
+            return
+        if len(clauses) < 8:
+            for clause in clauses:
+                self.remove(clause)
+            return
+        pred = self.predicates.get(indicator(clauses[0].head))
+        if pred is not None:
+            gone = {id(c) for c in clauses}
+            for clause in clauses:
+                clause.erased = True
+            pred.replace([c for c in pred.clauses if id(c) not in gone])
 
     def forget_file(self, file: str | Path) -> None:
         """Remove the clauses read from `file`, and what it defined (before it is read again)."""

@@ -336,6 +336,49 @@ def _arg(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         b.undo(mark)
 
 
+def arg_bound(e: Machine, a: tuple, b: Bindings) -> bool:
+    """arg(+N, +Term, ?Arg) with N bound to an integer: deterministic, no choicepoint (a
+    compiled clause calls it when N is an integer as the clause is entered; compile.py).
+    The same answers and errors as _arg's with N bound."""
+    values = b.values
+    get = values.get
+    n = a[0]
+    while type(n) is Var:
+        n = values[n]
+    term = a[1]
+    while type(term) is Var:
+        bound = get(term)
+        if bound is None:
+            raise instantiation_error()
+        term = bound
+    if type(term) is not Struct:
+        raise type_error("compound", term)
+    k = n.value
+    args = term.args
+    if not 1 <= k <= len(args):
+        if k < 0:
+            raise _domain_error("not_less_than_zero", n)
+        return False
+    x, v = a[2], args[k - 1]
+    while type(x) is Var:
+        bound = get(x)
+        if bound is None:
+            break
+        x = bound
+    while type(v) is Var:
+        bound = get(v)
+        if bound is None:
+            break
+        v = bound
+    if x is v:
+        return True
+    if type(x) is Var:          # the common case: Arg a fresh variable
+        values[x] = v
+        b.trail.append(x)
+        return True
+    return b.unify(x, v)
+
+
 # -- terms and lists -----------------------------------------------------------
 
 def _term_variables(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -404,14 +447,18 @@ def _retractall(e: Machine, a: tuple, b: Bindings) -> bool:
             and not pred.library_only():
         raise iso_error(Struct("permission_error", (Atom("modify"), Atom("static_procedure"),
                                                     Struct("/", (Atom(name), Int(arity))))))
-    if not e.kb.clauses(name, arity):
+    if pred is None or not pred.clauses:
         e.kb.declare_dynamic(name, arity)     # as in SWI: the predicate now exists, dynamic
-    for clause in list(e.kb.clauses(name, arity)):
+        return True
+    matched = []
+    # the first argument's bucket (a snapshot), then one pass removing what matched
+    for clause in pred.candidates(b.walk(head.args[0]) if isinstance(head, Struct) else None):
         mark = b.mark()
         h, _ = clause.renamed()
         if b.unify(head, h):
-            e.kb.remove(clause)
+            matched.append(clause)
         b.undo(mark)
+    e.kb.remove_all(matched)
     return True
 
 
