@@ -152,6 +152,24 @@ def test_a_btcpp_export_with_any_names_runs_in_bt_cpp(tree):
     assert list(run.trace) == [n.label for n in walk(tree) if not n.children]
 
 
+@pytest.mark.parametrize("task, program", [
+    # a task called SubTree: its BehaviorTree ID would name BT.CPP's own node (found by the test above)
+    ("'SubTree'", knowledge("SubTree", ["a", "b"], "cup", "arm")),
+    # a sub-task pick(x) beside an action pick_x: the tree's ID would be the action's node type
+    ("go", "task(go).\nobject(x).\nschema(go, [(pick(x), true), (pick_x, pick(x).done)], go.done).\n"
+           "schema(pick(x), [(a, true)], pick(x).done).\nschema(a, [], a.done).\n"
+           "schema(pick_x, [], pick_x.done).\n"),
+])
+def test_a_btcpp_export_names_no_behaviour_tree_after_a_node_type(task, program):
+    kb = KnowledgeBase()
+    kb.consult_text(program, "names.pl")
+    tree = instantiate(kb, parse_term(task))
+    assert tree.children   # the task is a BehaviorTree of its own, named after its label
+    run = run_btcpp(export_btcpp(tree, ()), tree, ())
+    assert run.status == "completed"
+    assert list(run.trace) == [n.label for n in walk(tree) if not n.children]
+
+
 def test_a_name_xml_cannot_hold_at_all_is_refused_with_a_message():
     # an agent name is kept as written where it is printable; a control character gets it quoted,
     # so nothing a knowledge file can say is refused: the one refusal left is a lone surrogate

@@ -337,11 +337,15 @@ def _attrs(pairs: list[tuple[str, str]]) -> str:
 
 
 class _Exporter:
-    def __init__(self) -> None:
+    def __init__(self, tree: Behaviour) -> None:
         self.trees: dict[str, str] = {}        # body -> BehaviorTree ID
         self.bodies: list[tuple[str, str]] = []
         self.actions: dict[str, None] = {}
-        self.used_ids: set[str] = {MAIN_TREE}
+        # BT.CPP refuses a BehaviorTree ID that names a registered node: a built-in one
+        # (a task called SubTree) or one of this document's actions (a sub-task pick(x)
+        # beside an action pick_x)
+        self.used_ids: set[str] = {MAIN_TREE, GENERIC_ACTION, *BUILTIN_NODES, *(
+            action_id(action) for node in walk(tree) if not node.children for action, _ in steps_of(node))}
 
     def _tree_id(self, label: Term) -> str:
         base = re.sub(r"_+", "_", re.sub(r"[^A-Za-z0-9_]", "_", term_to_text(label))).strip("_") or "task"
@@ -409,7 +413,7 @@ def export_btcpp(tree: Behaviour, initial=(), title: str = "") -> str:
 
 def _document(tree: Behaviour, initial, title: str) -> str:
     """The text of export_btcpp's document."""
-    exporter = _Exporter()
+    exporter = _Exporter(tree)
     task = exporter.element(tree, "          ")
     true_atoms = set(initial)
     atoms = list(dict.fromkeys([*atoms_of(tree), *initial]))
