@@ -228,10 +228,10 @@ def _sub_text(make) -> callable:
 
 def _atom_to_term(e: Machine, a: tuple, b: Bindings) -> bool:
     """atom_to_term(+Atom, -Term, -Bindings): Bindings = ['X'=_A, ...] in order of appearance."""
-    from .parse import parse_term
+    from .opread import parse_term
 
     text = text_of(e, a[0], b)
-    term = parse_term(text)
+    term = parse_term(text, "<argument>", e.kb.operators)
     names: dict[str, Var] = {}
     order: list[str] = []
 
@@ -680,7 +680,8 @@ def _op_type(t: Term, allow_var: bool) -> str | None:
 
 def _op(e: Machine, a: tuple, b: Bindings) -> bool:
     """op(+Priority, +Type, +Name or [Name, ...]): define (priority 0: remove) operators in
-    the table current_op/3 reads. The reader's own table stays fixed (docs/syntax.md)."""
+    the knowledge base's table, which the reader, the writers and current_op/3 follow
+    (docs/syntax.md, Declaring operators)."""
     # SWI-Prolog's order of checks: the types of Type and Priority, their domains, the names
     kind_term, priority_term = b.walk(a[1]), b.walk(a[0])
     if isinstance(kind_term, Var):
