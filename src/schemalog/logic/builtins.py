@@ -26,7 +26,7 @@ from ..errors import SchemalogError
 from .arith import _num, evaluate
 from .exceptions import CyclicTermError, PrologError, instantiation_error, iso_error, type_error
 from .terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
-                    canonical_names, int_text, list_items, make_list, term_to_text)
+                    NO_OPERATORS, canonical_names, int_text, list_items, make_list, term_to_text)
 from .unify import Bindings, rename, variant
 
 
@@ -754,6 +754,36 @@ def _written(e: Machine, term: Term, quoted: bool, canonical: bool = False) -> s
     return text
 
 
+# write_term/2's options it follows; others are accepted and not followed, as SWI-Prolog
+# accepts options it does not know.
+_WRITE_OPTIONS = {"quoted", "ignore_ops"}
+
+
+def _write_term(e: Machine, a: tuple, b: Bindings) -> bool:
+    """write_term(+Term, +Options): quoted(Bool) and ignore_ops(Bool) followed; errors as
+    swipl's (an option that is no compound is type_error(option, O))."""
+    chosen = {"quoted": False, "ignore_ops": False}
+    for option in proper_items(b, b.walk(a[1])):
+        option = b.walk(option)
+        if isinstance(option, Var):
+            raise instantiation_error()
+        if not isinstance(option, Struct):
+            raise type_error("option", option)
+        if option.name in _WRITE_OPTIONS and len(option.args) == 1:
+            value = b.walk(option.args[0])
+            if isinstance(value, Var):
+                raise instantiation_error()
+            if value not in (TRUE, Atom("false")):
+                raise type_error("bool", value)
+            chosen[option.name] = value == TRUE
+    term = b.resolve_finite(a[0])
+    ops = NO_OPERATORS if chosen["ignore_ops"] else e.kb.operators.view()
+    text = term_to_text(term, quoted=chosen["quoted"], ops=ops)
+    e.charge(len(text))
+    e.write(text)
+    return True
+
+
 def _format(e: Machine, a: tuple, b: Bindings) -> bool:
     fmt = text_of(e, a[0], b)
     args_term = b.resolve_finite(a[1]) if len(a) > 1 else NIL
@@ -1054,6 +1084,7 @@ CORE: dict[tuple[str, int], Builtin] = {
     ("print", 1): _write(quoted=True),
     ("writeq", 1): _write(quoted=True),
     ("write_canonical", 1): _write(quoted=True, canonical=True),
+    ("write_term", 2): _write_term,
     ("writeln", 1): lambda e, a, b: _write(False)(e, a, b) and (e.write("\n") or True),
     ("nl", 0): lambda e, a, b: e.write("\n") or True,
     ("format", 1): _format,
