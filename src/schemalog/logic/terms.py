@@ -232,7 +232,7 @@ INFIX_OPS: dict[str, tuple[int, str]] = {
                                    "=..", "is", "=:=", "=\\=", "<", ">", "=<", ">=")},
     **{op: (500, "yfx") for op in ("+", "-", "/\\", "\\/", "xor")},
     **{op: (400, "yfx") for op in ("*", "/", "//", "mod", "rem", "div", "<<", ">>")},
-    "**": (200, "xfx"), "^": (200, "xfy"), ":": (200, "xfy"), ".": (100, "xfy"),
+    "**": (200, "xfx"), "^": (200, "xfy"), ":": (600, "xfy"), ".": (100, "xfy"),
 }
 PREFIX_OPS: dict[str, tuple[int, str]] = {
     ":-": (1200, "fx"), "?-": (1200, "fx"),
@@ -547,10 +547,13 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
         text = quote_atom(term.name) if style.quoted else term.name
         # A symbol-char atom is bare as an argument or list element, f(-) and [:-], and
         # bracketed anywhere else, X=(:-) and (+), where it would read as an operator.
-        if max_priority != 999 and (text == ";" or _SYMBOL_DOT.match(text)):
+        if style.ops is NO_OPERATORS:
+            pass          # no operators (write_canonical, ignore_ops): no atom needs brackets
+        elif max_priority != 999 and (text == ";" or _SYMBOL_DOT.match(text)):
             text = f"({text})"
-        # A word operator or ',' '|' as an operand reads back only bracketed: X = (is).
-        elif max_priority < 999 and (term.name in style.ops.infix or term.name in style.ops.prefix
+        # A word operator or ',' '|' as an operand reads back only bracketed: X = (is),
+        # (nicht);a (not at the top, 1200, nor as an argument, 999).
+        elif max_priority != 999 and max_priority < 1200 and (term.name in style.ops.infix or term.name in style.ops.prefix
                                      or term.name in style.ops.postfix or term.name in (",", "|")):
             text = f"({text})"
         out.append(text)
@@ -614,7 +617,8 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
             arg_max = min(arg_max, 998)   # an operator atom bracketed, `- (is)`, as swipl writes it
         first = _first_char(operand, arg_max, style)
         # `- 1` is -(1) and `-1` the number; `\\+ -a` keeps its symbol runs apart.
-        sep = " " if name[0].isalpha() or (first and (_SYMBOL.match(first) or first == "(" or
+        # `- {a}`: SWI-Prolog 7 reads `-{a}` as a dict.
+        sep = " " if name[0].isalpha() or (first and (_SYMBOL.match(first) or first in "({" or
                                                      name == "-" and first.isdigit())) else ""
         bracket = priority > max_priority
         if bracket:
