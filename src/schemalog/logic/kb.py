@@ -35,6 +35,7 @@ from .. import defaults
 from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
 from ..inputs import missing
+from . import dcg
 from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
@@ -443,7 +444,13 @@ class KnowledgeBase:
 
     def add_clause(self, head: Term, body: Term = TRUE, pos: SourcePos | None = None,
                    front: bool = False) -> None:
-        """Add `head :- body`, checking that the head can be a clause head."""
+        """Add `head :- body`, checking that the head can be a clause head; a grammar rule
+        `A --> B` read from a file is added as its clause (dcg.py)."""
+        if pos is not None and dcg.is_rule(head, body):
+            try:
+                head, body = dcg.rule(*head.args)
+            except dcg.DCGError as err:
+                raise SchemalogError(f"grammar rule: {err}", pos) from None
         if isinstance(head, Var):
             raise SchemalogError("a clause head cannot be a variable", pos)
         if not isinstance(head, (Atom, Struct)):

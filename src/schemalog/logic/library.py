@@ -803,7 +803,30 @@ def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         raise
 
 
+def _dcg_body(e: Machine, a: tuple, b: Bindings) -> bool:
+    """'$dcg_body'(+Body, ?S0, ?S, -Goal): the goal that runs grammar body Body from S0 to S
+    (phrase/3, in prelude.pl), with swipl's errors for a body or list that cannot be one."""
+    from . import dcg
+
+    grammar = b.walk(a[0])
+    if isinstance(grammar, Var):
+        raise instantiation_error()
+    if not isinstance(grammar, (Atom, Struct, Str)):
+        raise type_error("callable", grammar)
+    for text in (a[1], a[2]):     # as swipl, only the first cell is looked at
+        cell = b.walk(text)
+        if not (isinstance(cell, Var) or cell == NIL or isinstance(cell, Struct) and cell.name == "[|]"
+                and len(cell.args) == 2):
+            raise type_error("list", cell)
+    try:
+        goal = dcg.body(b.resolve_finite(grammar), a[1], a[2])
+    except dcg.DCGError as err:
+        raise type_error(err.kind, err.culprit) from None
+    return b.unify(a[3], goal)
+
+
 EXTRA = {
+    ("$dcg_body", 4): _dcg_body,
     ("abolish", 1): _abolish,
     ("set_prolog_flag", 2): _set_prolog_flag,
     ("op", 3): _op,
