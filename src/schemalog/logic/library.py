@@ -521,14 +521,23 @@ def _predicate_indicator(e: Machine, t: Term, b: Bindings, *, open_ok: bool) -> 
     return name, arity
 
 
+# The library predicates SWI-Prolog has built in (abolish/1 refuses them); its others come
+# from autoloaded libraries, and abolish/1 of one succeeds and leaves it callable.
+_SYSTEM_LIBRARY = {("once", 1), ("phrase", 2), ("phrase", 3), ("repeat", 0)}
+
+
 def _abolish(e: Machine, a: tuple, b: Bindings) -> bool:
-    """abolish(+Name/Arity): forget the predicate, clauses and all; a built-in or a library
-    predicate is permission_error(modify, static_procedure, PI). A static user predicate
-    is abolished too, as SWI-Prolog does (ISO would refuse it)."""
+    """abolish(+Name/Arity): forget the predicate, clauses and all; a built-in is
+    permission_error(modify, static_procedure, PI), and so is a library predicate swipl has
+    built in (once/1, phrase/2...); another library predicate (append/3) stays, as swipl
+    autoloads it again. A static user predicate is abolished too, as SWI-Prolog does (ISO
+    would refuse it)."""
     name, arity = _predicate_indicator(e, a[0], b, open_ok=False)
     key = (name.name, arity.value)
-    if e.is_builtin(*key) or e.kb.is_library(key):
+    if e.is_builtin(*key) or key in _SYSTEM_LIBRARY and e.kb.is_library(key):
         raise _permission("modify", "static_procedure", key)
+    if e.kb.is_library(key):
+        return True
     e.kb.abolish(*key)
     return True
 
