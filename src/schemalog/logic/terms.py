@@ -545,6 +545,8 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
     """Write the head of `term` to `out`, and push what follows onto `stack` (reversed)."""
     if isinstance(term, Atom):
         text = quote_atom(term.name) if style.quoted else term.name
+        if term.name in RESERVED_WORDS and term.name not in style.ops.prefix:
+            text = term.name      # quoted only while it is a prefix operator (op/3 may remove it)
         # A symbol-char atom is bare as an argument or list element, f(-) and [:-], and
         # bracketed anywhere else, X=(:-) and (+), where it would read as an operator.
         if style.ops is NO_OPERATORS:
