@@ -120,3 +120,39 @@ def test_writeq_of_a_user_operator_reads_back_in_a_file():
     assert text == "a++b++(c===>d===>e)"
     again = parse_text(f":- op(650, yfx, ++).\n:- op(710, xfy, ===>).\nt({text}).\n", "f.pl")
     assert again[2].head.args[0] == term
+
+
+# The table-driven reader agrees with the grammar wherever the grammar reads: what lark reads
+# from any written term (and from token soup), opread reads the same under the default table.
+from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
+
+from schemalog.logic.opread import read_term  # noqa: E402
+from schemalog.logic.parse import parse_term as lark_term  # noqa: E402
+from schemalog.logic.terms import DEFAULT_OPERATORS, variable_names  # noqa: E402
+from schemalog.logic.unify import variant  # noqa: E402
+from test_parse_properties import terms  # noqa: E402
+
+SOUP = st.lists(st.sampled_from(["a", "X", "_", "1", "-1", "- 1", "-", "+", "(", ")", "[", "]", "{", "}", ",", "|",
+                                 "=", "=..", ":-", "\\+", "not", "is", "f(", "'q r'", '"s"', ";", "!", "a.b",
+                                 " ", "0'c", "1.5", "*", "^", "->", "dynamic"]), max_size=12).map("".join)
+
+
+def _agree(text: str) -> None:
+    try:
+        expected = lark_term(text, "<t>")
+    except SchemalogError:
+        return                                 # lark reads nothing: opread may read more
+    got = read_term(text, "<t>", DEFAULT_OPERATORS)
+    assert variant(got, expected), f"{text!r}: lark {expected!r}, opread {got!r}"
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(terms)
+def test_opread_reads_written_terms_as_lark_does(term):
+    _agree(term_to_text(term, names=variable_names([term])))
+
+
+@settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(SOUP)
+def test_opread_reads_token_soup_as_lark_does(text):
+    _agree(text)

@@ -281,7 +281,8 @@ def _prelude() -> tuple[Clause, ...]:
     text = (here / "prelude.pl").read_text(encoding="utf-8")
     # what the stored clauses are made of: the reader, the term and position classes, lark
     readers = [(path).read_text(encoding="utf-8") for path in
-               (here / "terms.py", here / "parse.py", here / "fastread.py", here.parent / "errors.py")]
+               (here / "terms.py", here / "parse.py", here / "fastread.py", here / "opread.py", here / "dcg.py",
+                here.parent / "errors.py")]
     return remembered("prelude", [text, grammar_text(), *readers, lark_version()],
                       lambda: tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause)))
 
