@@ -45,6 +45,7 @@ _TOKEN = re.compile("|".join((
     r"(?P<PUNCT>[()\[\]{},|])",
 )))
 
+_BAR = (1100, "xfy")        # `|` as an infix operator, which op/3 may not change below 1001
 _END_AFTER = re.compile(r"\s|%|/\*|\Z")
 
 # What a frame on the stack is: a clause, ( ), { }, a functor's arguments, a list, a list's tail.
@@ -214,6 +215,11 @@ class _Reader:
                     args.append(self.finish(run, 1200))
                     kind, run = _TAIL, []
                     break
+                if typ == "PUNCT" and tok == "|" and kind != _TAIL:
+                    # Outside a list, `a | b` is '|'(a, b) at 1100 xfy, as in SWI-Prolog 7
+                    # (a grammar rule's body reads it as `;`).
+                    run.append(_Item("|", "infix", token))
+                    break
                 if typ == "PUNCT" and tok in _CLOSERS:
                     if kind not in _CLOSERS[tok]:
                         raise self.error(f"unexpected {tok!r}{self.expected(kind)}", token.start)
@@ -325,7 +331,7 @@ class _Reader:
                 pending.append((item, priority, -1, priority if typ == "fy" else priority - 1))
             else:
                 table = ops.infix if item.kind == "infix" else ops.postfix
-                priority, typ = table[item.name]
+                priority, typ = table.get(item.name) or _BAR
                 left_max = priority if typ[0] == "y" else priority - 1
                 while pending and pending[-1][1] <= left_max:
                     reduce()

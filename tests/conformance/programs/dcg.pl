@@ -35,3 +35,4 @@ meta(G) --> G, G.
 abc --> "abc".
 cut_first(X) --> [X], !.
 cut_first(none) --> [].
+opt2 --> [] | [x].
