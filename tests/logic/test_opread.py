@@ -156,3 +156,10 @@ def test_opread_reads_written_terms_as_lark_does(term):
 @given(SOUP)
 def test_opread_reads_token_soup_as_lark_does(text):
     _agree(text)
+
+
+def test_op_directives_written_without_layout_or_in_a_conjunction_are_followed():
+    items = parse_text(":-op(700,xfx,my_ins).\n:- op(200, xf, fact), op(900, fy, nicht).\n"
+                       "p(a my_ins b).\nq(nicht 3 fact).\n", "f.pl")
+    assert items[2].head.args[0] == Struct("my_ins", (Atom("a"), Atom("b")))
+    assert items[3].head.args[0] == Struct("nicht", (Struct("fact", (Int(3),)),))

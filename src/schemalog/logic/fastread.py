@@ -27,7 +27,7 @@ from .parse import (_LAYOUT, MAX_NESTING, Clause, Directive, _atom_name, _BadEsc
                     _reader, _unescape, arrange, clause_item, float_of_token, int_of_token, lark_clause)
 from .opread import _clause_goals, declare, module_goal, read_clause
 from .terms import DEFAULT_OPERATORS, INFIX_OPS, NIL, Atom, Int, OperatorTable, Str, Struct, Var, \
-    default_operator_table, make_list
+    conjuncts, default_operator_table, make_list
 
 # Terminal names of grammar/schemalog.lark (lark names "(" LPAR, and so on).
 OPERAND_TERMINALS = frozenset({"PREFIX", "NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING",
@@ -135,7 +135,7 @@ def parse_text(text: str, file: str = "<string>", operators: OperatorTable | Non
 
 # Where a text may declare operators: `op(` in a directive. Only such texts need the
 # table-following loop below; the others keep the fast path whole.
-_OP_DIRECTIVE = re.compile(r"(?:^|[\s.,(])op\s*\(")
+_OP_DIRECTIVE = re.compile(r"(?<![A-Za-z0-9_'])op\s*\(")
 
 
 def _declares_operators(text: str) -> bool:
@@ -172,10 +172,12 @@ def _parse_with_operators(text: str, file: str, table: OperatorTable | None,
             except (_Fallback, _BadEscape, ValueError, OverflowError):
                 read, offset = _lark_or_opread(text, start, file, line_at, DEFAULT_OPERATORS)
         for item in read:
-            if isinstance(item, Directive) and isinstance(item.goal, Struct) and item.goal.name == "op":
-                changed = table if table is not None else default_operator_table()
-                if declare(changed, item.goal):
-                    table = changed
+            if isinstance(item, Directive):        # `:- op(...).`, `:- op(...), op(...).`
+                for goal in conjuncts(item.goal):
+                    if isinstance(goal, Struct) and goal.name == "op":
+                        changed = table if table is not None else default_operator_table()
+                        if declare(changed, goal):
+                            table = changed
         items.extend(read)
         if not read:
             return items
