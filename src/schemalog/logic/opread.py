@@ -188,7 +188,7 @@ class _Reader:
                 if atom == "-" and typ != "QATOM" and nxt.type in ("INT", "FLOAT") and nxt.start == after:
                     value, after = self.number(nxt, "-"), nxt.end
                 elif atom in ops.prefix and typ != "QATOM" and self.starts_term(nxt) \
-                        and not self.infix_next(nxt):
+                        and not self.infix_next(atom, nxt):
                     run.append(_Item(atom, "prefix", token))
                     token = nxt
                     continue
@@ -260,15 +260,21 @@ class _Reader:
                                  token.start)
             token = self.next(after)
 
-    def infix_next(self, token: _Token) -> bool:
-        """Whether a prefix operator before `token` is an atom: `token` is an infix or postfix
-        operator that cannot start a term itself (`- = a`, but `- - a` and `- (a)` are prefix)."""
+    def infix_next(self, prefix: str, token: _Token) -> bool:
+        """Whether the prefix operator `prefix` before `token` is an atom: `token` is an infix
+        or postfix operator that cannot start a term itself, with a term after it, whose left
+        argument the atom fits (its priority is the operator's), as SWI-Prolog reads them:
+        `- = a` is =(-, a), `- * a` *(-, a); `\\+ is - 1` is \\+((is)-1), `:- is` :-(is),
+        `- - a` and `- (a)` -(...)."""
         op = self.name_of(token) if token.type in ("NAME", "SYM", "SOLO") else None
         if op is None or op not in self.ops.infix and op not in self.ops.postfix:
             return False
         if op in self.ops.prefix or self.text.startswith("(", token.end):
             return False
-        return True
+        priority, typ = self.ops.infix.get(op) or self.ops.postfix[op]
+        if self.ops.prefix[prefix][0] > (priority if typ[0] == "y" else priority - 1):
+            return False
+        return op in self.ops.postfix or self.starts_term(self.next(token.end))
 
     @staticmethod
     def expected(kind: int, separator: bool = False) -> str:
