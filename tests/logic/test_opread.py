@@ -165,3 +165,16 @@ def test_op_directives_written_without_layout_or_in_a_conjunction_are_followed()
                        "p(a my_ins b).\nq(nicht 3 fact).\n", "f.pl")
     assert items[2].head.args[0] == Struct("my_ins", (Atom("a"), Atom("b")))
     assert items[3].head.args[0] == Struct("nicht", (Struct("fact", (Int(3),)),))
+
+
+def test_after_an_op_directive_long_chains_read_and_deep_nesting_is_refused_where_lark_refuses_it():
+    directive = ":- op(700, xfx, my_ins).\n"
+    chain = ", ".join(f"g{i}(X)" for i in range(10000))
+    assert len(parse_text(f"{directive}p(X) :- {chain}.\n", "f.pl")) == 2
+    deep = "p(" + "f(" * 2001 + "a" + ")" * 2001 + ").\n"
+    messages = []
+    for text in (f"{directive}{deep}", f"\n{deep}"):   # opread's, then lark's
+        with pytest.raises(SchemalogError) as caught:
+            parse_text(text, "f.pl")
+        messages.append(str(caught.value).splitlines()[0])
+    assert messages[0] == messages[1] == "f.pl:2:4002: error: brackets nested deeper than 2000 levels"

@@ -81,8 +81,9 @@ class _Reader:
     # -- tokens -----------------------------------------------------------------
     def error(self, message: str, offset: int) -> SchemalogError:
         line, column = self.line_at(offset)
-        return SchemalogError(f"syntax error: {message}", SourcePos(self.file, line, column),
-                              _source_line(self.text, line))
+        # lark's reader says the nesting limit without "syntax error", as a limit, not a mistake
+        said = message if message.startswith("brackets nested") else f"syntax error: {message}"
+        return SchemalogError(said, SourcePos(self.file, line, column), _source_line(self.text, line))
 
     def next(self, pos: int) -> _Token:
         """The token after layout from `pos` (type EOF at the end of the text)."""
