@@ -37,7 +37,7 @@ from schemalog.formats.documents import document_from_text
 from schemalog.logic.engine import Engine
 from schemalog.logic.exceptions import PrologError, StepLimitExceeded
 from schemalog.errors import SchemalogError
-from schemalog.logic.parse import parse_term
+from schemalog.logic.opread import parse_term
 from schemalog.logic.terms import CONS, Atom, Float, Int, Str, Struct, Var, iter_vars
 
 CONFORMANCE = Path(__file__).resolve().parent
@@ -222,7 +222,7 @@ def run_schemalog(program: str, query: str, cap: int = CAP) -> dict:
     out: list[str] = []
     answers: list[str] = []
     try:
-        goal = parse_term(query)
+        goal = parse_term(query, "<query>", kb.operators)   # the program's op/3 directives hold
     except SchemalogError:
         return {"answers": [], "end": "syntax_error", "output": ""}
     seen, qvars = set(), []

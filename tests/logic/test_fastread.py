@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 from schemalog.errors import SchemalogError
 from schemalog.logic import fastread
 from schemalog.logic.fastread import parse_text
-from schemalog.logic.parse import MAX_NESTING, Clause, Directive, _reader, parse_text_by_lark
+from schemalog.logic.fastread import parse_text_slowly
+from schemalog.logic.parse import MAX_NESTING, Clause, Directive, _reader
 from schemalog.logic.terms import INFIX_OPS, Atom, Float, Int, Str, Struct, Var, term_to_text, variable_names
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -54,7 +55,7 @@ def read(reader, text: str):
 
 
 def assert_same(text: str):
-    assert read(parse_text, text) == read(parse_text_by_lark, text), repr(text)
+    assert read(parse_text, text) == read(parse_text_slowly, text), repr(text)
 
 
 # ---------------------------------------------------------------------------

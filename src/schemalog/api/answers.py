@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterator
 
 from ..logic.builtins import compare_terms
-from ..logic.parse import parse_term
+from ..logic.opread import parse_term
 from ..logic.terms import Atom, Float, Int, Struct, Term, Var, int_text, iter_vars, term_to_text, variable_names
 from ..logic.unify import Bindings
 from .workspace import COMPRESSED, ORIGINAL, Workspace
@@ -32,9 +32,11 @@ class Query:
     names: tuple[tuple[str, Var], ...]
 
 
-def read_query(text: str, file: str = "<query>") -> Query:
-    """Parse a query (the final '.' is optional); syntax errors carry a caret."""
-    goal = parse_term(text, file)
+def read_query(text: str, file: str = "<query>", operators=None) -> Query:
+    """Parse a query (the final '.' is optional) with the operators of `operators` (an
+    OperatorTable: the workspace's, which the files' op/3 directives changed; default the
+    reader's); syntax errors carry a caret."""
+    goal = parse_term(text, file, operators, goal=True)
     seen: dict[Var, None] = {}
     for v in iter_vars(goal):
         seen.setdefault(v, None)
@@ -52,6 +54,7 @@ class Answer:
     # resolving, as rational trees: X = f(X), Y = f(Y) are one group (X = Y, Y = f(Y)),
     # though their finite forms f(X) and f(Y) differ. Empty: compare the values themselves.
     classes: tuple[int, ...] = ()
+    ops: object = None      # the Operators values are written with (default: the reader's)
 
     def groups(self) -> list[tuple[list[str], Term]]:
         """The query variables grouped by equal (==) values, in order of first appearance;
@@ -77,8 +80,8 @@ class Answer:
         return groups
 
 
-def answer_of(query: Query, b: Bindings) -> Answer:
-    """The bindings of one answer, resolved."""
+def answer_of(query: Query, b: Bindings, ops=None) -> Answer:
+    """The bindings of one answer, resolved; `ops` the Operators to write it with."""
     values = tuple((name, b.resolve_finite(v)) for name, v in query.names)
     leaders: list[Var] = []
     classes = []
@@ -88,7 +91,7 @@ def answer_of(query: Query, b: Bindings) -> Answer:
             at = len(leaders)
             leaders.append(v)
         classes.append(at)
-    answer = Answer(values, variable_names([value for _, value in values]), tuple(classes))
+    answer = Answer(values, variable_names([value for _, value in values]), tuple(classes), ops)
     for v in iter_vars(query.goal):             # `_Z` in the query keeps its name, as in SWI
         if v.name:
             answer.names[v] = v.name
@@ -104,7 +107,7 @@ def answer_text(answer: Answer) -> str:
     for members, value in answer.groups():
         parts.extend(f"{a} = {b}" for a, b in zip(members, members[1:]))
         if not isinstance(value, Var):
-            parts.append(f"{members[-1]} = {term_to_text(value, 699, answer.names, next_argument=True)}")
+            parts.append(f"{members[-1]} = {term_to_text(value, 699, answer.names, next_argument=True, ops=answer.ops)}")
     return ", ".join(parts) or "true"
 
 
@@ -118,7 +121,7 @@ def answer_json(answer: Answer) -> dict:
         elif isinstance(value, Float) and math.isfinite(value.value):
             out[name] = value.value
         else:
-            out[name] = term_to_text(value, 699, answer.names, next_argument=True)
+            out[name] = term_to_text(value, 699, answer.names, next_argument=True, ops=answer.ops)
     return out
 
 
@@ -151,7 +154,7 @@ def answers(workspace: Workspace, query: Query, output: Callable[[str], None] | 
     left, so the REPL does not ask for more); errors propagate."""
     engine = workspace.engine(output, max_steps)
     for b in engine.solve(query.goal):
-        yield answer_of(query, b), engine.deterministic
+        yield answer_of(query, b, workspace.kb.operators.view()), engine.deterministic
 
 
 # Where the relations take a behaviour's id: (name, arity) -> argument positions.

@@ -20,7 +20,7 @@ if TYPE_CHECKING:
 
 def state_atoms(state: str | Iterable[str], option: str = "state") -> list[Term]:
     """A state as text, 'hand.free, a1.done' (or an iterable of atoms' texts): its atoms."""
-    from ..logic.parse import parse_term
+    from ..logic.opread import parse_term
     from ..run.world import state_atoms as atoms_of
 
     text = state if isinstance(state, str) else ", ".join(state) or "true"
@@ -84,7 +84,7 @@ def scene_for_tree(tree, scene: str | os.PathLike, seed: int | None, jitter: flo
 
 def term_option(text: str, option: str) -> Term:
     """A term given as an option's text, or a usage error naming the option."""
-    from ..logic.parse import parse_term
+    from ..logic.opread import parse_term
 
     try:
         return parse_term(text, option)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..errors import SchemalogError, UsageError
 from ..logic.kb import KnowledgeBase
-from ..logic.parse import parse_term
+from ..logic.opread import parse_term
 from ..logic.terms import Struct, Term, Var, term_to_text
 from ..logic.unify import Bindings
 

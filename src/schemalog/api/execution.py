@@ -158,7 +158,7 @@ def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple
 
 def _failures(task: Task, fail: tuple[str, ...], fail_times, notes: list[str]) -> dict:
     """The robot fails these actions' commands (fail_times each; None: every time)."""
-    from ..logic.parse import parse_term
+    from ..logic.opread import parse_term
     from ..task.tree import walk
 
     actions = {n.label for n in walk(task.original.tree) if not n.children} | \

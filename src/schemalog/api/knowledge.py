@@ -19,7 +19,7 @@ from ..errors import SchemalogError, UsageError
 from ..logic.exceptions import PrologError
 from .limits import DEFAULT, LimitExceeded, within
 from ..logic.kb import KnowledgeBase
-from ..logic.parse import parse_term
+from ..logic.opread import parse_term
 from ..logic.terms import Atom, Float, Int, Str, Struct, Term, term_to_text
 from .choosing import choose_task, choose_tasks, defines, root_candidates, task_term  # noqa: F401 (the API layer's)
 
@@ -81,7 +81,6 @@ class Knowledge:
 
         if propagate not in defaults.PROPAGATE_MODES:
             raise UsageError(f"propagate {propagate!r}: choose {', '.join(defaults.PROPAGATE_MODES)}")
-        query = read_query(goal)
         workspace = self._workspaces.get(propagate)
         if workspace is None:
             from .workspace import Options, Workspace
@@ -89,6 +88,7 @@ class Knowledge:
             options = Options(propagate=propagate, max_bytes=self._max_bytes, max_steps=self._max_steps)
             workspace = self._workspaces[propagate] = Workspace([n for n, _ in self._sources], options,
                                                                 self._reread)
+        query = read_query(goal, operators=workspace.kb.operators)
         solutions = answers(workspace, query, output, max_steps or self._max_steps)
         spent = 0.0
         while True:

@@ -51,7 +51,7 @@ def open_workspace(files: Iterable[str], *, propagate: str = "full", max_bytes: 
 
 def tree_named(ws: Workspace, text: str) -> tuple[TaskView, str]:
     """(view, kind) of a command's argument: a task or a root id; none: the focus."""
-    from ..logic.parse import parse_term
+    from ..logic.opread import parse_term
 
     if not text:
         if ws.focus is None:

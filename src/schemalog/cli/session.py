@@ -92,7 +92,7 @@ class Repl:
             signal.signal(signal.SIGINT, previous)
 
     def _answer(self, stripped: str, more: Callable[[], bool]) -> bool:
-        query = read_query(stripped)
+        query = read_query(stripped, operators=self.workspace.kb.operators)
         shown = _Output(self._write)
         try:
             for answer, last in answers(self.workspace, query, shown.write, self.max_steps):

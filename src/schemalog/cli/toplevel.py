@@ -49,7 +49,7 @@ def run_query(workspace: Workspace, text: str, *, first: bool = False, as_json: 
               out: TextIO = sys.stdout, err: TextIO = sys.stderr, max_steps: int | None = None) -> int:
     """Print the answers of `text`: 0 with an answer, 1 without, 2 on an error."""
     try:
-        query = read_query(text)
+        query = read_query(text, operators=workspace.kb.operators)
     except SchemalogError as e:
         print(str(e), file=err)
         return 2

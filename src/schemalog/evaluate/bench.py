@@ -45,7 +45,7 @@ from ..errors import SchemalogError
 from ..run.execute import Executive
 from .generate import TOLERANCE, generate, node_count, scene_for, shortfall
 from ..run.scene import Scene, scene_from_yaml
-from ..logic.parse import parse_term
+from ..logic.opread import parse_term
 from ..shipped import shipped_text
 from ..task.tree import Behaviour, count_nodes, instantiate, walk
 from ..run.verify import prove

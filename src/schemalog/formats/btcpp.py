@@ -126,7 +126,7 @@ def literal_key(atom: Term) -> str:
 
 def key_atom(key: str) -> Term:
     """The atom a blackboard entry stands for (the inverse of literal_key; `door_open` -> door_open)."""
-    from ..logic.parse import parse_term
+    from ..logic.opread import parse_term
 
     if key.startswith("q__"):
         try:
@@ -280,7 +280,7 @@ def agent_text(agent: str) -> str:
 def agent_of(text: str) -> str:
     """The agent name an attribute holds (the inverse of agent_text)."""
     if text.startswith("'"):
-        from ..logic.parse import parse_term
+        from ..logic.opread import parse_term
         try:
             term = parse_term(text, "<agent>")
         except SchemalogError:
@@ -556,7 +556,7 @@ def _snake(name: str) -> str:
 
 
 def _value_term(value: str) -> Term:
-    from ..logic.parse import parse_term
+    from ..logic.opread import parse_term
 
     try:
         t = parse_term(value, "<port>")
@@ -679,7 +679,7 @@ class _Importer:
             self.fail(node, f"{attr}: {err}")
 
     def _label(self, node: XNode, text: str) -> Term:
-        from ..logic.parse import parse_term
+        from ..logic.opread import parse_term
 
         try:
             return parse_term(text, "<name>")
@@ -687,7 +687,7 @@ class _Importer:
             self.fail(node, f"name={text!r} is not a term: {err.message}")
 
     def _origins(self, node: XNode) -> tuple[Origin, ...]:
-        from ..logic.parse import parse_term
+        from ..logic.opread import parse_term
 
         text = node.attrs.get("_origins")
         if text is None:
@@ -699,7 +699,7 @@ class _Importer:
             self.fail(node, f"_origins: {getattr(err, 'message', err)}")
 
     def _common(self, node: XNode, port_style: bool) -> dict:
-        from ..logic.parse import parse_term
+        from ..logic.opread import parse_term
 
         a = node.attrs
         if "name" not in a or "_while" not in a or "_skipIf" not in a:
@@ -788,7 +788,7 @@ class _Importer:
         args = self._ports(node, skip | {"importance", "agent"})
         name = node.attrs.get("name")
         if name:
-            from ..logic.parse import parse_term
+            from ..logic.opread import parse_term
             try:
                 t = parse_term(name, "<name>")
                 if not args and isinstance(t, (Atom, Struct)) and is_ground(t):

@@ -73,18 +73,19 @@ class Document:
 # ---------------------------------------------------------------------------
 # Reading
 
-def read_document(path: str | Path, max_bytes: int = MAX_BYTES) -> Document:
-    """Read a knowledge file; SEED files are imported into the schema form."""
+def read_document(path: str | Path, max_bytes: int = MAX_BYTES, operators=None) -> Document:
+    """Read a knowledge file; SEED files are imported into the schema form. `operators` is
+    the table the text starts with (the files read before it may have declared some)."""
     name = str(path)
     text = read_source(path, max_bytes)
     if name.endswith(YAML_SUFFIXES):
         return document_from_yaml(text, name)
-    return document_from_text(text, name)
+    return document_from_text(text, name, operators)
 
 
-def document_from_text(text: str, file: str = "<string>") -> Document:
+def document_from_text(text: str, file: str = "<string>", operators=None) -> Document:
     """Parse Prolog text; SEED knowledge is imported."""
-    items = parse_text(text, file)
+    items = parse_text(text, file, operators)
     if is_seed(items):
         imported = import_seed(items)
         notes = tuple(imported.warnings) + tuple(f"{file}: note: {n}" for n in imported.notes)
@@ -102,7 +103,7 @@ def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES,
     if max_steps is not None:
         kb.max_steps = max_steps
     for p in paths:
-        read_document(p, max_bytes).to_kb(kb)
+        read_document(p, max_bytes, kb.operators).to_kb(kb)
     return kb
 
 

@@ -38,7 +38,8 @@ from dataclasses import dataclass, field
 from ..task import conditions as cond
 from ..errors import SchemalogError, SourcePos
 from ..logic.eclipse import RENAMED
-from ..logic.parse import Clause, Directive, parse_term
+from ..logic.opread import parse_term
+from ..logic.parse import Clause, Directive
 from ..task.schema import DEFAULT_AGENT, Entry, SchemaDef, read_entry, schema_term
 from ..logic.terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var, conjuncts, indicator,
                            iter_vars, list_items, make_list, term_to_text, variable_names)

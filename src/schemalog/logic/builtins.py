@@ -26,7 +26,7 @@ from ..errors import SchemalogError
 from .arith import _num, evaluate
 from .exceptions import CyclicTermError, PrologError, instantiation_error, iso_error, type_error
 from .terms import (CONS, NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var,
-                    int_text, list_items, make_list, term_to_text)
+                    NO_OPERATORS, canonical_names, int_text, list_items, make_list, term_to_text)
 from .unify import Bindings, rename, variant
 
 
@@ -36,7 +36,7 @@ class Database(Protocol):
     predicates: dict
     files: list
     flags: dict       # the Prolog flags (set_prolog_flag/2), name -> Term
-    operators: dict   # (name, "prefix" | "infix" | "postfix") -> (priority, type), for op/3
+    operators: dict   # terms.OperatorTable: (name, prefix | infix | postfix) -> (priority, type)
 
     def clauses(self, name: str, arity: int) -> list: ...
     def add_clause(self, head: Term, body: Term = TRUE, pos=None, front: bool = False) -> None: ...
@@ -592,13 +592,13 @@ def split_text(text: str, seps: str, pad: str) -> list[str]:
 def _term_text(e, a, b, make):
     t = b.walk(a[0])
     if not isinstance(t, Var):
-        text = term_to_text(b.resolve_finite(t))
+        text = term_to_text(b.resolve_finite(t), ops=e.kb.operators.view())
         e.charge(len(text))
         return b.unify(a[1], make(text))
-    from .parse import parse_term  # lark is loaded only when text is read as a term
+    from .opread import parse_term  # lark is loaded only when text is read as a term
     from ..errors import SchemalogError as _Err
     try:
-        return b.unify(t, parse_term(text_of(e, a[1], b)))
+        return b.unify(t, parse_term(text_of(e, a[1], b), "<argument>", e.kb.operators))
     except _Err as err:
         raise iso_error(Struct("syntax_error", (Atom(err.message),))) from None
 
@@ -772,19 +772,51 @@ def _retract(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         b.undo(mark)
 
 
-def _write(quoted: bool) -> Builtin:
+def _write(quoted: bool, canonical: bool = False) -> Builtin:
     def run(e: Machine, a: tuple, b: Bindings) -> bool:
-        e.write(_written(e, b.resolve_finite(a[0]), quoted))
+        e.write(_written(e, b.resolve_finite(a[0]), quoted, canonical))
         return True
     return run
 
 
-def _written(e: Machine, term: Term, quoted: bool) -> str:
+def _written(e: Machine, term: Term, quoted: bool, canonical: bool = False) -> str:
     """The text write/print/format write for `term` (a cyclic one in its finite form,
-    f(_G1) for X = f(X): docs/syntax.md), its length charged."""
-    text = term_to_text(term, quoted=quoted)
+    f(_G1) for X = f(X): docs/syntax.md), its length charged: operators as the knowledge
+    base's table has them (op/3), none for write_canonical."""
+    names = canonical_names(term) if canonical else None
+    text = term_to_text(term, quoted=quoted, ops=e.kb.operators.view(), canonical=canonical, names=names)
     e.charge(len(text))
     return text
+
+
+# write_term/2's options it follows; others are accepted and not followed, as SWI-Prolog
+# accepts options it does not know.
+_WRITE_OPTIONS = {"quoted", "ignore_ops"}
+
+
+def _write_term(e: Machine, a: tuple, b: Bindings) -> bool:
+    """write_term(+Term, +Options): quoted(Bool) and ignore_ops(Bool) followed; errors as
+    swipl's (an option that is no compound is type_error(option, O))."""
+    chosen = {"quoted": False, "ignore_ops": False}
+    for option in proper_items(b, b.walk(a[1])):
+        option = b.walk(option)
+        if isinstance(option, Var):
+            raise instantiation_error()
+        if not isinstance(option, Struct):
+            raise type_error("option", option)
+        if option.name in _WRITE_OPTIONS and len(option.args) == 1:
+            value = b.walk(option.args[0])
+            if isinstance(value, Var):
+                raise instantiation_error()
+            if value not in (TRUE, Atom("false")):
+                raise type_error("bool", value)
+            chosen[option.name] = value == TRUE
+    term = b.resolve_finite(a[0])
+    ops = NO_OPERATORS if chosen["ignore_ops"] else e.kb.operators.view()
+    text = term_to_text(term, quoted=chosen["quoted"], ops=ops)
+    e.charge(len(text))
+    e.write(text)
+    return True
 
 
 def _format(e: Machine, a: tuple, b: Bindings) -> bool:
@@ -1086,7 +1118,8 @@ CORE: dict[tuple[str, int], Builtin] = {
     ("write", 1): _write(quoted=False),
     ("print", 1): _write(quoted=True),
     ("writeq", 1): _write(quoted=True),
-    ("write_canonical", 1): _write(quoted=True),
+    ("write_canonical", 1): _write(quoted=True, canonical=True),
+    ("write_term", 2): _write_term,
     ("writeln", 1): lambda e, a, b: _write(False)(e, a, b) and (e.write("\n") or True),
     ("nl", 0): lambda e, a, b: e.write("\n") or True,
     ("format", 1): _format,

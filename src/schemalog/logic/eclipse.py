@@ -49,7 +49,7 @@ def _term_string(e: Machine, a: tuple, b: Bindings) -> bool:
         return b.unify(s, Str(text))
     text = _string(s)
     e.charge(len(text))
-    from .parse import parse_term  # lark is loaded only when text is read as a term
+    from .opread import parse_term  # lark is loaded only when text is read as a term
     from ..errors import SchemalogError
     try:
         return b.unify(a[0], parse_term(text))

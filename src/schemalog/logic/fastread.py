@@ -1,7 +1,7 @@
 """The reader's fast path: lark's own terminals, matched by two regexes, and a small
 operator-precedence parser for the grammar's clauses; lark reads any clause it does not.
 
-    parse_text(text, file) -> list[Clause | Directive]    what parse.parse_text_by_lark returns
+    parse_text(text, file, operators) -> list[Clause | Directive]    what parse_text_slowly returns
 
 lark's contextual lexer matches, in each parser state, the terminals that state accepts, in
 lark's priority order. Every state of the grammar accepts either terms' first tokens
@@ -10,7 +10,10 @@ alternations of the compiled terminals, in lark's order, give the tokens lark gi
 parser below follows grammar/schemalog.lark rule by rule and builds the terms the
 transformer in parse.py builds, with the same `arrange`. Whatever it does not take as the
 grammar does (a syntax error, a priority clash, a bad escape, nesting past MAX_NESTING) it
-hands to lark for that one clause, so every error is lark's, with its file:line:column.
+hands to lark for that one clause, so every error is lark's, with its file:line:column
+(where lark finds no reading either, opread.py, the table-driven reader, may: `X = +a`).
+A text with an `op/3` directive is read clause by clause, the directive changing the table
+for the clauses after it; while the table differs from the grammar's, opread.py reads them.
 """
 
 from __future__ import annotations
@@ -19,10 +22,12 @@ import functools
 import hashlib
 import re
 
-from ..errors import SourcePos
+from ..errors import SchemalogError, SourcePos
 from .parse import (_LAYOUT, MAX_NESTING, Clause, Directive, _atom_name, _BadEscape, _LineIndex, _Operand,
                     _reader, _unescape, arrange, clause_item, float_of_token, int_of_token, lark_clause)
-from .terms import INFIX_OPS, NIL, Atom, Int, Str, Struct, Var, make_list
+from .opread import _clause_goals, declare, module_goal, read_clause
+from .terms import DEFAULT_OPERATORS, INFIX_OPS, NIL, Atom, Int, OperatorTable, Str, Struct, Var, \
+    conjuncts, default_operator_table, make_list
 
 # Terminal names of grammar/schemalog.lark (lark names "(" LPAR, and so on).
 OPERAND_TERMINALS = frozenset({"PREFIX", "NAME", "QATOM", "SYMATOM", "VAR", "INT", "FLOAT", "STRING",
@@ -90,8 +95,14 @@ def scanners() -> tuple[re.Pattern, re.Pattern] | None:
     return scanner(OPERAND_TERMINALS, lanes), scanner(OPERATOR_TERMINALS)
 
 
-def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
-    """Parse program text into clauses and directives, lark reading the clauses this does not."""
+def parse_text(text: str, file: str = "<string>", operators: OperatorTable | None = None) -> list[Clause | Directive]:
+    """Parse program text into clauses and directives, lark reading the clauses this does not.
+
+    `operators` is the operator table the text starts with (default: the grammar's); an
+    `op/3` directive changes it for the clauses after it, which opread.py then reads."""
+    table = operators.copy() if operators is not None and operators.view() is not DEFAULT_OPERATORS else None
+    if table is not None or _declares_operators(text):
+        return _parse_with_operators(text, file, table)
     found = scanners()
     line_at = _LineIndex(text)
     if found is None:
@@ -114,7 +125,7 @@ def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
         try:
             term, offset = _read_term(text, start, operand, operator, atoms, quoted, names, shared)
         except (_Fallback, _BadEscape, ValueError, OverflowError):
-            read, offset = lark_clause(text, offset, file, line_at)
+            read, offset = _lark_or_opread(text, offset, file, line_at, DEFAULT_OPERATORS)
             items.extend(read)
             if not read:
                 return items
@@ -122,10 +133,78 @@ def parse_text(text: str, file: str = "<string>") -> list[Clause | Directive]:
         items.append(clause_item(term, SourcePos(file, *line_at(start))))
 
 
+# Where a text may declare operators: `op(` in a directive. Only such texts need the
+# table-following loop below; the others keep the fast path whole.
+_OP_DIRECTIVE = re.compile(r"(?<![A-Za-z0-9_'])op\s*\(")
+
+
+def _declares_operators(text: str) -> bool:
+    return _OP_DIRECTIVE.search(text) is not None
+
+
+def parse_text_slowly(text: str, file: str = "<string>") -> list[Clause | Directive]:
+    """Parse program text as parse_text does, without its fast path: what it must agree with."""
+    return _parse_with_operators(text, file, None, fast=False)
+
+
+def _parse_with_operators(text: str, file: str, table: OperatorTable | None,
+                          fast: bool = True) -> list[Clause | Directive]:
+    """Read clause by clause, following the `op/3` directives: while the table is the
+    grammar's, a clause is read as parse_text reads it, else by opread."""
+    line_at = _LineIndex(text)
+    found = scanners() if fast else None
+    items: list[Clause | Directive] = []
+    offset, size = 0, len(text)
+    caches: tuple = ({"[]": NIL}, {}, {}, {})
+    while True:
+        start = _LAYOUT.match(text, offset).end()
+        if start == size:
+            return items
+        if table is not None and table.view() is not DEFAULT_OPERATORS:
+            term, offset = read_clause(text, start, file, line_at, table.view())
+            read = [clause_item(term, SourcePos(file, *line_at(start)))]
+        else:
+            try:
+                if found is None:
+                    raise _Fallback
+                term, offset = _read_term(text, start, found[0].match, found[1].match, *caches)
+                read = [clause_item(term, SourcePos(file, *line_at(start)))]
+            except (_Fallback, _BadEscape, ValueError, OverflowError):
+                read, offset = _lark_or_opread(text, start, file, line_at, DEFAULT_OPERATORS)
+        for item in read:
+            if isinstance(item, Directive):        # `:- op(...).`, `:- op(...), op(...).`
+                for goal in conjuncts(item.goal):
+                    if isinstance(goal, Struct) and goal.name == "op":
+                        changed = table if table is not None else default_operator_table()
+                        if declare(changed, goal):
+                            table = changed
+        items.extend(read)
+        if not read:
+            return items
+
+
+def _lark_or_opread(text: str, offset: int, file: str, line_at: _LineIndex, ops) -> tuple[list, int]:
+    """The clause lark reads from `offset`, or, where lark finds none, opread's reading of it
+    with `ops` (`X = =..(a, [b])`, `X = +a`); lark's error when neither reads it."""
+    try:
+        return lark_clause(text, offset, file, line_at)
+    except SchemalogError as lark_error:
+        try:
+            term, end = read_clause(text, offset, file, line_at, ops)
+        except SchemalogError:
+            raise lark_error from None
+        if term is None:
+            return [], end
+        if "modules are not supported" in lark_error.message and module_goal(_clause_goals(term)):
+            raise lark_error from None
+        start = _LAYOUT.match(text, offset).end()
+        return [clause_item(term, SourcePos(file, *line_at(start)))], end
+
+
 def _all_by_lark(text: str, file: str, line_at: _LineIndex) -> list[Clause | Directive]:
     items, offset = [], 0
     while True:
-        read, offset = lark_clause(text, offset, file, line_at)
+        read, offset = _lark_or_opread(text, offset, file, line_at, DEFAULT_OPERATORS)
         if not read:
             return items
         items.extend(read)

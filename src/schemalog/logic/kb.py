@@ -37,6 +37,7 @@ from .. import defaults
 from ..cache import remembered
 from ..errors import SchemalogError, SourcePos
 from ..inputs import missing
+from . import dcg
 from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
 from .engine import Engine, is_builtin
 from .exceptions import PrologError, StepLimitExceeded
@@ -362,7 +363,8 @@ def _prelude() -> tuple[Clause, ...]:
     text = (here / "prelude.pl").read_text(encoding="utf-8")
     # what the stored clauses are made of: the reader, the term and position classes, lark
     readers = [(path).read_text(encoding="utf-8") for path in
-               (here / "terms.py", here / "parse.py", here / "fastread.py", here.parent / "errors.py")]
+               (here / "terms.py", here / "parse.py", here / "fastread.py", here / "opread.py", here / "dcg.py",
+                here.parent / "errors.py")]
     return remembered("prelude", [text, grammar_text(), *readers, lark_version()],
                       lambda: tuple(c for c in parse_text(text, "<prelude>") if isinstance(c, Clause)))
 
@@ -376,12 +378,10 @@ INITIAL_FLAGS: dict[str, Term] = {
 }
 
 
-def initial_operators() -> dict[tuple[str, str], tuple[int, str]]:
-    """The reader's operator table (terms.py), keyed (name, prefix | infix)."""
-    from .terms import INFIX_OPS, PREFIX_OPS
-    table = {(name, "infix"): op for name, op in INFIX_OPS.items()}
-    table.update({(name, "prefix"): op for name, op in PREFIX_OPS.items()})
-    return table
+def initial_operators() -> "OperatorTable":
+    """The reader's operator table (terms.py), keyed (name, prefix | infix | postfix)."""
+    from .terms import default_operator_table
+    return default_operator_table()
 
 
 @dataclass(frozen=True)
@@ -481,10 +481,10 @@ class KnowledgeBase:
         self.max_bytes = MAX_BYTES  # the limit of a file consulted by a directive (--max-bytes)
         self.max_steps = defaults.MAX_STEPS  # the step limit each directive runs under (--max-steps)
         self._consulting: list[Path] = []
-        # The Prolog flags (set_prolog_flag/2) and the operator table op/3 and current_op/3
-        # see (the reader keeps its own fixed table: docs/syntax.md).
+        # The Prolog flags (set_prolog_flag/2) and the operator table op/3 changes: the files
+        # read after a change, queries and the writers follow it (docs/syntax.md, Operators).
         self.flags: dict[str, Term] = dict(INITIAL_FLAGS)
-        self.operators: dict[tuple[str, str], tuple[int, str]] = initial_operators()
+        self.operators = initial_operators()
         if prelude:
             for clause in _prelude():
                 self._store(StoredClause(clause.head, clause.body, clause.pos, library=True))
@@ -527,7 +527,13 @@ class KnowledgeBase:
 
     def add_clause(self, head: Term, body: Term = TRUE, pos: SourcePos | None = None,
                    front: bool = False) -> None:
-        """Add `head :- body`, checking that the head can be a clause head."""
+        """Add `head :- body`, checking that the head can be a clause head; a grammar rule
+        `A --> B` read from a file is added as its clause (dcg.py)."""
+        if pos is not None and dcg.is_rule(head, body):
+            try:
+                head, body = dcg.rule(*head.args)
+            except dcg.DCGError as err:
+                raise SchemalogError(f"grammar rule: {err}", pos) from None
         if isinstance(head, Var):
             raise SchemalogError("a clause head cannot be a variable", pos)
         if not isinstance(head, (Atom, Struct)):
@@ -656,7 +662,7 @@ class KnowledgeBase:
     def consult_text(self, text: str, file: str = "<string>", base: Path | None = None,
                      run_directives: bool = True) -> None:
         """Add every clause of `text`; directives declare, include or run goals."""
-        for item in parse_text(text, file):
+        for item in parse_text(text, file, self.operators):
             if isinstance(item, Clause):
                 self.add_clause(item.head, item.body, item.pos)
             elif run_directives:
@@ -719,10 +725,6 @@ class KnowledgeBase:
             raise SchemalogError(f":- {term_to_text(goal)}: tabling is not supported by schemalog's engine "
                                  f"(docs/syntax.md); without the directive the predicate runs untabled, "
                                  f"which may not end where tabling would", d.pos)
-        if isinstance(goal, Struct) and goal.name == "op" and len(goal.args) == 3:
-            self.warnings.append(f"{d.pos}: warning: op/3 ignored: schemalog's operator table is "
-                                 f"fixed (see docs/syntax.md)")
-            return
         if isinstance(goal, Struct) and goal.name in ("consult", "include", "ensure_loaded") \
                 or isinstance(goal, Struct) and goal.name == "[|]":
             targets = list_items(goal)[0] if goal.name == "[|]" else [goal.args[0]]

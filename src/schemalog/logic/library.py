@@ -228,10 +228,10 @@ def _sub_text(make) -> callable:
 
 def _atom_to_term(e: Machine, a: tuple, b: Bindings) -> bool:
     """atom_to_term(+Atom, -Term, -Bindings): Bindings = ['X'=_A, ...] in order of appearance."""
-    from .parse import parse_term
+    from .opread import parse_term
 
     text = text_of(e, a[0], b)
-    term = parse_term(text)
+    term = parse_term(text, "<argument>", e.kb.operators)
     names: dict[str, Var] = {}
     order: list[str] = []
 
@@ -568,14 +568,23 @@ def _predicate_indicator(e: Machine, t: Term, b: Bindings, *, open_ok: bool) -> 
     return name, arity
 
 
+# The library predicates SWI-Prolog has built in (abolish/1 refuses them); its others come
+# from autoloaded libraries, and abolish/1 of one succeeds and leaves it callable.
+_SYSTEM_LIBRARY = {("once", 1), ("phrase", 2), ("phrase", 3), ("repeat", 0)}
+
+
 def _abolish(e: Machine, a: tuple, b: Bindings) -> bool:
-    """abolish(+Name/Arity): forget the predicate, clauses and all; a built-in or a library
-    predicate is permission_error(modify, static_procedure, PI). A static user predicate
-    is abolished too, as SWI-Prolog does (ISO would refuse it)."""
+    """abolish(+Name/Arity): forget the predicate, clauses and all; a built-in is
+    permission_error(modify, static_procedure, PI), and so is a library predicate swipl has
+    built in (once/1, phrase/2...); another library predicate (append/3) stays, as swipl
+    autoloads it again. A static user predicate is abolished too, as SWI-Prolog does (ISO
+    would refuse it)."""
     name, arity = _predicate_indicator(e, a[0], b, open_ok=False)
     key = (name.name, arity.value)
-    if e.is_builtin(*key) or e.kb.is_library(key):
+    if e.is_builtin(*key) or key in _SYSTEM_LIBRARY and e.kb.is_library(key):
         raise _permission("modify", "static_procedure", key)
+    if e.kb.is_library(key):
+        return True
     e.kb.abolish(*key)
     return True
 
@@ -727,7 +736,8 @@ def _op_type(t: Term, allow_var: bool) -> str | None:
 
 def _op(e: Machine, a: tuple, b: Bindings) -> bool:
     """op(+Priority, +Type, +Name or [Name, ...]): define (priority 0: remove) operators in
-    the table current_op/3 reads. The reader's own table stays fixed (docs/syntax.md)."""
+    the knowledge base's table, which the reader, the writers and current_op/3 follow
+    (docs/syntax.md, Declaring operators)."""
     # SWI-Prolog's order of checks: the types of Type and Priority, their domains, the names
     kind_term, priority_term = b.walk(a[1]), b.walk(a[0])
     if isinstance(kind_term, Var):
@@ -849,7 +859,30 @@ def _setup_call_cleanup(e: Machine, a: tuple, b: Bindings) -> Iterator[None]:
         raise
 
 
+def _dcg_body(e: Machine, a: tuple, b: Bindings) -> bool:
+    """'$dcg_body'(+Body, ?S0, ?S, -Goal): the goal that runs grammar body Body from S0 to S
+    (phrase/3, in prelude.pl), with swipl's errors for a body or list that cannot be one."""
+    from . import dcg
+
+    grammar = b.walk(a[0])
+    if isinstance(grammar, Var):
+        raise instantiation_error()
+    if not isinstance(grammar, (Atom, Struct, Str)):
+        raise type_error("callable", grammar)
+    for text in (a[1], a[2]):     # as swipl, only the first cell is looked at
+        cell = b.walk(text)
+        if not (isinstance(cell, Var) or cell == NIL or isinstance(cell, Struct) and cell.name == "[|]"
+                and len(cell.args) == 2):
+            raise type_error("list", cell)
+    try:
+        goal = dcg.body(b.resolve_finite(grammar), a[1], a[2])
+    except dcg.DCGError as err:
+        raise type_error(err.kind, err.culprit) from None
+    return b.unify(a[3], goal)
+
+
 EXTRA = {
+    ("$dcg_body", 4): _dcg_body,
     ("abolish", 1): _abolish,
     ("set_prolog_flag", 2): _set_prolog_flag,
     ("op", 3): _op,

@@ -130,3 +130,7 @@ aggregate_all(min(E), G, M) :- !, findall(E, G, L), L = [_|_], min_list(L, M).
 aggregate_all(bag(E), G, L) :- !, findall(E, G, L).
 aggregate_all(set(E), G, S) :- !, findall(E, G, L), sort(L, S).
 
+
+% Grammar rules (logic/dcg.py translates Head --> Body when a file is read).
+phrase(G, L) :- phrase(G, L, []).
+phrase(G, L, R) :- '$dcg_body'(G, L, R, Goal), call(Goal).

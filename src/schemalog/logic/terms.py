@@ -232,19 +232,87 @@ INFIX_OPS: dict[str, tuple[int, str]] = {
                                    "=..", "is", "=:=", "=\\=", "<", ">", "=<", ">=")},
     **{op: (500, "yfx") for op in ("+", "-", "/\\", "\\/", "xor")},
     **{op: (400, "yfx") for op in ("*", "/", "//", "mod", "rem", "div", "<<", ">>")},
-    "**": (200, "xfx"), "^": (200, "xfy"), ".": (100, "xfy"),
+    "**": (200, "xfx"), "^": (200, "xfy"), ":": (600, "xfy"), ".": (100, "xfy"),
 }
 PREFIX_OPS: dict[str, tuple[int, str]] = {
     ":-": (1200, "fx"), "?-": (1200, "fx"),
     "dynamic": (1150, "fx"), "discontiguous": (1150, "fx"), "multifile": (1150, "fx"),
     "initialization": (1150, "fx"), "table": (1150, "fx"),
-    "\\+": (900, "fy"), "not": (900, "fy"), "-": (200, "fy"), "\\": (200, "fy"),
+    "\\+": (900, "fy"), "not": (900, "fy"), "-": (200, "fy"), "+": (200, "fy"), "\\": (200, "fy"),
 }
 # Words the grammar reads as prefix operators: as plain atoms they must be quoted.
 RESERVED_WORDS = frozenset(name for name in PREFIX_OPS if name[0].isalpha())
 
+
+class Operators:
+    """One operator table as the reader and the writer look it up: name -> (priority, type)
+    for each of prefix (fy fx), infix (xfx xfy yfx) and postfix (xf yf) operators."""
+
+    __slots__ = ("prefix", "infix", "postfix")
+
+    def __init__(self, prefix: dict, infix: dict, postfix: dict) -> None:
+        self.prefix, self.infix, self.postfix = prefix, infix, postfix
+
+
+DEFAULT_OPERATORS = Operators(PREFIX_OPS, INFIX_OPS, {})
+NO_OPERATORS = Operators({}, {}, {})     # write_canonical, ignore_ops(true)
+_KINDS = {"fy": "prefix", "fx": "prefix", "xfx": "infix", "xfy": "infix", "yfx": "infix",
+          "xf": "postfix", "yf": "postfix"}
+
+
+def operator_kind(op_type: str) -> str:
+    """`prefix`, `infix` or `postfix`: the class of an operator type (fy, xfx, xf, ...)."""
+    return _KINDS[op_type]
+
+
+class OperatorTable(dict):
+    """(name, prefix | infix | postfix) -> (priority, type): the table op/3 changes and
+    current_op/3 reads, starting as the reader's default; `view()` is the Operators of it
+    (kept until the table changes)."""
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._view: Operators | None = None
+
+    def __setitem__(self, key, value) -> None:
+        self._view = None
+        super().__setitem__(key, value)
+
+    def pop(self, key, *default):
+        self._view = None
+        return super().pop(key, *default)
+
+    def update(self, *args, **kwargs) -> None:
+        self._view = None
+        super().update(*args, **kwargs)
+
+    def copy(self) -> "OperatorTable":
+        return OperatorTable(self)
+
+    def view(self) -> Operators:
+        """The table as the reader and the writer look it up."""
+        if self._view is None:
+            parts: dict[str, dict] = {"prefix": {}, "infix": {}, "postfix": {}}
+            for (name, kind), op in self.items():
+                parts[kind][name] = op
+            if parts["prefix"] == PREFIX_OPS and parts["infix"] == INFIX_OPS and not parts["postfix"]:
+                self._view = DEFAULT_OPERATORS
+            else:
+                self._view = Operators(parts["prefix"], parts["infix"], parts["postfix"])
+        return self._view
+
+
+def default_operator_table() -> OperatorTable:
+    """A fresh table holding the reader's default operators (terms.py's own table)."""
+    table = OperatorTable({(name, "infix"): op for name, op in INFIX_OPS.items()})
+    table.update({(name, "prefix"): op for name, op in PREFIX_OPS.items()})
+    return table
+
 _SOLO = re.compile(r"[a-z][A-Za-z0-9_]*\Z")
 _SYMBOL = re.compile(r"[+\-*/\\^<>=~:?@#&$]+\Z")
+# A symbol-char name with a "." in it (=..) is written bare too, but "." alone: where a bare
+# symbol atom could be followed by the end of a clause it is bracketed (_expand).
+_SYMBOL_DOT = re.compile(r"(?!\.\Z)[+\-*/\\^<>=~:?@#&$.]+\Z")
 _ESCAPES = {"\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r", "\a": "\\a",
             "\b": "\\b", "\f": "\\f", "\v": "\\v", "\0": "\\0\\", "\x1b": "\\e"}
 # Quoting replaces each character that needs an escape in one str.replace pass, the
@@ -280,7 +348,7 @@ def quote_atom(name: str) -> str:
         return name
     if _SOLO.match(name) and name not in RESERVED_WORDS:
         return name
-    if _SYMBOL.match(name) and not name.startswith("/*"):
+    if _SYMBOL_DOT.match(name) and not name.startswith("/*"):
         return name
     return f"'{_escape(name, _IN_QUOTES)}'"
 
@@ -359,29 +427,37 @@ Names = dict  # dict[Var, str]: print names for variables (see `variable_names`)
 
 def term_to_text(term: Term, max_priority: int = 1200, names: Names | None = None,
                  quoted: bool = True, spaced: bool = False, next_argument: bool = False,
-                 spaced_operators: bool = False) -> str:
+                 spaced_operators: bool = False, ops: Operators | None = None, canonical: bool = False) -> str:
     """Write `term` as SWI-Prolog's writeq would (write/1 with quoted=False).
 
     `spaced` puts spaces around word operators everywhere, `(a or b) and c`, where
     writeq writes `(a or b)and c`; both read back the same. `next_argument` puts a space
     after each argument's comma, `f(a, [b, c])`, as SWI-Prolog's top level prints answers.
     `spaced_operators` puts a space on both sides of every infix operator but the comma,
-    `a :- b, c * (1 + 2)`, as ECLiPSe's writeq does."""
+    `a :- b, c * (1 + 2)`, as ECLiPSe's writeq does. `ops` is the operator table to write
+    operators by (default: the reader's own); `canonical` writes every compound in functional
+    notation, `{}(a)` too, as write_canonical does (lists stay lists)."""
     style = _Style(names or {}, quoted, spaced, next_argument)
     style.operators = spaced_operators
+    if canonical:
+        style.ops, style.curly = NO_OPERATORS, False
+    elif ops is not None:
+        style.ops = ops
     return "".join(_write(term, max_priority, style))
 
 
 class _Style:
     """How to write: variable print names, and whether to quote atoms and strings."""
 
-    __slots__ = ("names", "quoted", "spaced", "comma", "dots", "operators")
+    __slots__ = ("names", "quoted", "spaced", "comma", "dots", "operators", "ops", "curly")
 
     def __init__(self, names: Names, quoted: bool, spaced: bool = False, next_argument: bool = False) -> None:
         self.names = names
         self.quoted = quoted
         self.spaced = spaced
         self.operators = False   # a space on both sides of every infix operator (ECLiPSe)
+        self.ops = DEFAULT_OPERATORS   # the operator table terms are written by
+        self.curly = True              # {a} for '{}'(a); write_canonical writes {}(a)
         self.comma = ", " if next_argument else ","
         # id(a '.'/2 term) -> whether it is written infix (obj.prop); the term is alive
         # for the whole write, so its id is stable. See _dot_infix.
@@ -413,6 +489,16 @@ def variable_names(terms: Iterable[Term]) -> Names:
     return names
 
 
+def canonical_names(term: Term) -> Names:
+    """write_canonical's variable names, as SWI-Prolog's: `_` for a variable that occurs
+    once, `A`, `B`, ... for the others, in order of first occurrence."""
+    counts: dict[Var, int] = {}
+    for v in iter_vars(term):
+        counts[v] = counts.get(v, 0) + 1
+    letters = (f"{chr(65 + i % 26)}{i // 26 or ''}" for i in itertools.count())
+    return {v: "_" if n == 1 else next(letters) for v, n in counts.items()}
+
+
 def _write(term: Term, max_priority: int, style: _Style) -> Iterator[str]:
     """Yield the text of `term`; an explicit stack, so deep terms print without recursion."""
     out: list[str] = []
@@ -431,10 +517,10 @@ def _write(term: Term, max_priority: int, style: _Style) -> Iterator[str]:
 class _InfixOp:
     """An infix operator whose spacing depends on the text written just before it."""
 
-    __slots__ = ("name", "right_first")
+    __slots__ = ("name", "right_first", "postfix")
 
-    def __init__(self, name: str, right_first: str) -> None:
-        self.name, self.right_first = name, right_first
+    def __init__(self, name: str, right_first: str, postfix: bool = False) -> None:
+        self.name, self.right_first, self.postfix = name, right_first, postfix
 
     def text(self, out: list[str], style: "_Style") -> str:
         name = self.name
@@ -444,7 +530,8 @@ class _InfixOp:
             return f" {name} "
         last = next((chunk[-1] for chunk in reversed(out) if chunk), "")
         if name[0].isalpha():  # a word operator: apart from names, not after a bracket
-            return f"{'' if last in ')]}' and not style.spaced else ' '}{name} "
+            before = '' if last in ')]}' and not style.spaced else ' '
+            return f"{before}{name}" if self.postfix else f"{before}{name} "
         op = name
         # Keep symbol runs apart so they do not read as one token: `1- -1`, `a= \\+b`.
         if last and _SYMBOL.match(last):
@@ -458,13 +545,18 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
     """Write the head of `term` to `out`, and push what follows onto `stack` (reversed)."""
     if isinstance(term, Atom):
         text = quote_atom(term.name) if style.quoted else term.name
+        if term.name in RESERVED_WORDS and term.name not in style.ops.prefix:
+            text = term.name      # quoted only while it is a prefix operator (op/3 may remove it)
         # A symbol-char atom is bare as an argument or list element, f(-) and [:-], and
         # bracketed anywhere else, X=(:-) and (+), where it would read as an operator.
-        if max_priority != 999 and (text == ";" or _SYMBOL.match(text)):
+        if style.ops is NO_OPERATORS:
+            pass          # no operators (write_canonical, ignore_ops): no atom needs brackets
+        elif max_priority != 999 and (text == ";" or _SYMBOL_DOT.match(text)):
             text = f"({text})"
-        # A word operator or ',' '|' as an operand reads back only bracketed: X = (is).
-        elif max_priority < 999 and (term.name in INFIX_OPS or term.name in PREFIX_OPS
-                                     or term.name in (",", "|")):
+        # A word operator or ',' '|' as an operand reads back only bracketed: X = (is),
+        # (nicht);a (not at the top, 1200, nor as an argument, 999).
+        elif max_priority != 999 and max_priority < 1200 and (term.name in style.ops.infix or term.name in style.ops.prefix
+                                     or term.name in style.ops.postfix or term.name in (",", "|")):
             text = f"({text})"
         out.append(text)
     elif isinstance(term, Var):
@@ -499,14 +591,15 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
             stack.append("|")
         _push_args(items, 999, stack, style.comma)
         return
-    if name == "{}" and len(args) == 1:
+    if name == "{}" and len(args) == 1 and style.curly:
         out.append("{")
         stack.append("}")
         stack.append((args[0], 1200))
         return
     # obj.prop reads back only when prop starts with a letter: else '.'(a,1).
-    if len(args) == 2 and name in INFIX_OPS and (name != "." or _dot_infix(term, style)):
-        priority, kind = INFIX_OPS[name]
+    ops = style.ops
+    if len(args) == 2 and name in ops.infix and (name != "." or _dot_infix(term, style)):
+        priority, kind = ops.infix[name]
         left_max = priority if kind == "yfx" else priority - 1
         right_max = priority if kind == "xfy" else priority - 1
         bracket = priority > max_priority
@@ -517,23 +610,38 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         stack.append(_InfixOp(name, _first_char(args[1], right_max, style)))
         stack.append((args[0], left_max))
         return
-    if len(args) == 1 and name in PREFIX_OPS:
-        priority, kind = PREFIX_OPS[name]
+    if len(args) == 1 and name in ops.prefix:
+        priority, kind = ops.prefix[name]
         arg_max = priority if kind == "fy" else priority - 1
-        first = _first_char(args[0], arg_max, style)
+        operand = args[0]
+        if isinstance(operand, Atom) and (operand.name in ops.infix or operand.name in ops.prefix
+                                          or operand.name in ops.postfix):
+            arg_max = min(arg_max, 998)   # an operator atom bracketed, `- (is)`, as swipl writes it
+        first = _first_char(operand, arg_max, style)
         # `- 1` is -(1) and `-1` the number; `\\+ -a` keeps its symbol runs apart.
-        sep = " " if name[0].isalpha() or (first and (_SYMBOL.match(first) or first == "(" or
+        # `- {a}`: SWI-Prolog 7 reads `-{a}` as a dict.
+        sep = " " if name[0].isalpha() or (first and (_SYMBOL.match(first) or first in "({" or
                                                      name == "-" and first.isdigit())) else ""
         bracket = priority > max_priority
         if bracket:
             out.append("(")
             stack.append(")")
-        out.append(name + sep)
+        out.append(quote_atom(name) if style.quoted and name not in RESERVED_WORDS else name)
+        out.append(sep)
         stack.append((args[0], arg_max))
+        return
+    if len(args) == 1 and name in ops.postfix:
+        priority, kind = ops.postfix[name]
+        bracket = priority > max_priority
+        if bracket:
+            out.append("(")
+            stack.append(")")
+        stack.append(_InfixOp(name, "", postfix=True))
+        stack.append((args[0], priority if kind == "yf" else priority - 1))
         return
     # Functional notation: `-(a,b)` and `not(a,b)` read back as compounds, unquoted;
     # `'[]'(a)` and `'{}'(a)` keep their quotes.
-    if not style.quoted or _SYMBOL.match(name) and not name.startswith("/*") or name in RESERVED_WORDS:
+    if not style.quoted or _SYMBOL_DOT.match(name) and not name.startswith("/*") or name in RESERVED_WORDS:
         out.append(name)
     else:
         out.append(quote_atom(name) if name not in _QUOTED_FUNCTORS else f"'{name}'")
@@ -542,8 +650,9 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
     _push_args(list(args), 999, stack, style.comma)
 
 
-# Atoms that read bare but not as functors: '[]'(a), '!'(a), ';'(a,b,c).
-_QUOTED_FUNCTORS = frozenset({"[]", "{}", "!", ";", "|", ","})
+# Atoms that read bare but not as functors: '[]'(a) (SWI-Prolog 7 reads [](a) as another
+# atom's), '|'(a,b), ','(a,b); `{}(a)`, `!(a)` and `;(a,b,c)` read as functors, as in SWI-Prolog.
+_QUOTED_FUNCTORS = frozenset({"[]", "|", ","})
 
 
 def _starts_name(char: str) -> bool:
@@ -567,7 +676,7 @@ def _dot_infix(term: Struct, style: _Style) -> bool:
         spine.append(node)
         node = node.args[1]
     for node in reversed(spine):  # node.args[1] is decided already: _first_char stops there
-        dots[id(node)] = _starts_name(_first_char(node.args[1], INFIX_OPS["."][0], style))
+        dots[id(node)] = _starts_name(_first_char(node.args[1], style.ops.infix["."][0], style))
     return dots[id(term)]
 
 
@@ -578,18 +687,24 @@ def _first_char(term: Term, max_priority: int, style: _Style) -> str:
             name, args = term.name, term.args
             if name == CONS and len(args) == 2:
                 return "["
-            if name == "{}" and len(args) == 1:
+            if name == "{}" and len(args) == 1 and style.curly:
                 return "{"
-            if len(args) == 2 and name in INFIX_OPS:
+            ops = style.ops
+            if len(args) == 2 and name in ops.infix:
                 if name == "." and not _dot_infix(term, style):
                     return "'"  # written '.'(A,B): see _expand_struct
-                priority, kind = INFIX_OPS[name]
+                priority, kind = ops.infix[name]
                 if priority > max_priority:
                     return "("
                 term, max_priority = args[0], priority if kind == "yfx" else priority - 1
                 continue
-            if len(args) == 1 and name in PREFIX_OPS:
-                return "(" if PREFIX_OPS[name][0] > max_priority else name[0]
+            if len(args) == 1 and name in ops.prefix:
+                return "(" if ops.prefix[name][0] > max_priority else name[0]
+            if len(args) == 1 and name in ops.postfix:
+                if ops.postfix[name][0] > max_priority:
+                    return "("
+                term, max_priority = args[0], ops.postfix[name][0] - (ops.postfix[name][1] == "xf")
+                continue
             return name[0] if not style.quoted or _SYMBOL.match(name) or name in RESERVED_WORDS \
                 else quote_atom(name)[0]
         out: list[str] = []

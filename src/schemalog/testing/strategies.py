@@ -14,7 +14,7 @@ try:
 except ImportError:  # pragma: no cover - depends on the environment
     raise ImportError("schemalog.testing.strategies needs hypothesis: pip install hypothesis") from None
 
-from ..logic.parse import parse_term
+from ..logic.opread import parse_term
 from ..logic.terms import term_to_text
 from ..task import conditions as cond
 from ..task.tree import Behaviour
