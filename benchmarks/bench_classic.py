@@ -16,7 +16,7 @@ timed and each system's peak resident memory per program (the child's maximum RS
 interpreter's own included; `os.wait4`). With `--baseline CHECKOUT`, schemalog from that
 checkout's src/ runs in the same rounds too (the same N), for a before/after in one run.
 
-A program our reader cannot load yet (DCG rules, user operators) is listed as not loadable
+A program our reader cannot load (none now) is listed as not loadable
 with the error, and counts in no mean. `--smoke` only checks the answers (tests/logic/
 test_classic.py runs it).
 """
@@ -41,9 +41,7 @@ CLASSIC = HERE / "classic"
 
 # Programs our reader cannot load yet, and why (checked by --smoke: a program listed here
 # that loads and answers as swipl does is reported, so the list stays true).
-NOT_LOADABLE = {
-    "chat_parser": "DCG rules (-->): the reader stores them as '-->'/2 facts",
-}
+NOT_LOADABLE: dict[str, str] = {}   # chat_parser was, until the reader translated DCG rules
 
 _DRIVER = """
 '$bc_calibrate'(N0, Target, N) :-
