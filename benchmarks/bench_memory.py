@@ -132,7 +132,7 @@ def main() -> None:
 
         print("1. Tail-recursive loop, run(K): K naive reverses of 30 elements\n")
         print("| reversals | schemalog LIPS | schemalog peak MB | collection off: LIPS | peak MB "
-              "| swipl -O LIPS | swipl peak MB | ratio (LIPS) |")
+              "| swipl -O LIPS | swipl peak MB | slower than swipl |")
         print("|---:|---:|---:|---:|---:|---:|---:|---:|")
         for k in args.reversals:
             goal = f"run({k})"
