@@ -233,6 +233,8 @@ def test_writer_examples(term, text):
     S("=", Atom("+"), Atom("a")), S("-", Atom("-")), make_list([Atom(";")], Atom("@#")),
     S("[]", Atom("a")), S("{}", Atom("a"), Atom("b")), Str("\0"), Str("a\0b"), Atom("\0"), Atom("\x1b"),
     Float(float("inf")), Float(float("-inf")), Float(-0.0), Float(1e15), Float(-1.5e-7),
+    # a bare symbol functor with a dot after a symbol operator: `a* ./(b)`, not `a*./(b)`
+    S("*", Atom(""), S("*", Atom(""), S("./", Atom("")))), S("-", S("./", Atom("a"))), S("=", Atom("a"), S("=..", Atom("b"))),
 ], ids=repr)
 def test_round_trip_examples(term):
     """Cases that once failed, or sit on the edge of the number and operator syntax."""

@@ -312,6 +312,7 @@ _SOLO = re.compile(r"[a-z][A-Za-z0-9_]*\Z")
 _SYMBOL = re.compile(r"[+\-*/\\^<>=~:?@#&$]+\Z")
 # A symbol-char name with a "." in it (=..) is written bare too, but "." alone: where a bare
 # symbol atom could be followed by the end of a clause it is bracketed (_expand).
+_SYMBOL_DOT_CHAR = re.compile(r"[+\-*/\\^<>=~:?@#&$.]\Z")   # one character that joins a symbol run
 _SYMBOL_DOT = re.compile(r"(?!\.\Z)[+\-*/\\^<>=~:?@#&$.]+\Z")
 _ESCAPES = {"\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r", "\a": "\\a",
             "\b": "\\b", "\f": "\\f", "\v": "\\v", "\0": "\\0\\", "\x1b": "\\e"}
@@ -533,10 +534,11 @@ class _InfixOp:
             before = '' if last in ')]}' and not style.spaced else ' '
             return f"{before}{name}" if self.postfix else f"{before}{name} "
         op = name
-        # Keep symbol runs apart so they do not read as one token: `1- -1`, `a= \\+b`.
-        if last and _SYMBOL.match(last):
+        # Keep symbol runs apart so they do not read as one token: `1- -1`, `a= \\+b`,
+        # `a* ./(b)` (a bare `./` is a symbol atom: `.` joins the run).
+        if last and _SYMBOL_DOT_CHAR.match(last):
             op = " " + op
-        if self.right_first and _SYMBOL.match(self.right_first):
+        if self.right_first and _SYMBOL_DOT_CHAR.match(self.right_first):
             op = op + " "
         return op
 
@@ -620,7 +622,7 @@ def _expand_struct(term: Struct, max_priority: int, style: _Style, out: list[str
         first = _first_char(operand, arg_max, style)
         # `- 1` is -(1) and `-1` the number; `\\+ -a` keeps its symbol runs apart.
         # `- {a}`: SWI-Prolog 7 reads `-{a}` as a dict.
-        sep = " " if name[0].isalpha() or (first and (_SYMBOL.match(first) or first in "({" or
+        sep = " " if name[0].isalpha() or (first and (_SYMBOL_DOT_CHAR.match(first) or first in "({" or
                                                      name == "-" and first.isdigit())) else ""
         bracket = priority > max_priority
         if bracket:
