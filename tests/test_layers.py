@@ -17,7 +17,7 @@ import pytest
 import schemalog
 
 PACKAGE = Path(schemalog.__file__).resolve().parent
-LAYERS = ["", "logic", "task", "run", "formats", "learn", "evaluate", "api", "testing", "cli"]  # "" = errors, shipped
+LAYERS = ["", "logic", "task", "bt", "run", "formats", "learn", "evaluate", "api", "testing", "cli"]  # "" = errors, shipped
 
 
 def _module_name(path: Path) -> str:

@@ -1,0 +1,100 @@
+"""Compression of behaviour trees under BT.CPP 4's semantics: rewrites that leave every
+leaf tick, halt, script and root status as it was (docs/semantics.md, "Behaviour trees").
+
+    compress(document) -> Compressed(document, rewrites)
+    Rewrite = (rule, type, name, line, column)   one rewrite, where it was made in the original
+
+The rules (each proved on real trees by bt/prove.py; compress is not trusted without it):
+
+    flatten      Sequence(.., Sequence(a, b), ..)  ->  Sequence(.., a, b, ..)
+                 the same for SequenceWithMemory, ReactiveSequence, Fallback, ReactiveFallback:
+                 a composite inside one of the same type resumes, restarts and skips as the
+                 outer one would at the same place (BT.CPP src/controls/*_node.cpp)
+    single       Sequence(a) -> a, Fallback(a) -> a (any of those five composites): the
+                 status of the only child is the composite's
+    inverters    Inverter(Inverter(a)) -> a
+    forced       ForceSuccess(ForceSuccess(a)) -> ForceSuccess(a), and the other three pairs
+                 of ForceSuccess/ForceFailure: the outer one decides every status but RUNNING
+
+A node is rewritten only when its type is one of those above and it carries no `_`-attribute
+(a pre- or post-condition belongs to that node: `_skipIf`, `_onSuccess`, ...). Its `name` goes
+with it: BT.CPP's traces and Groot2 show it, but it does nothing. Custom nodes, opaque ones
+and everything else are kept as they are, ports and remapping included.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .model import Document, Node
+
+COMPOSITES = frozenset({"Sequence", "SequenceWithMemory", "ReactiveSequence", "Fallback", "ReactiveFallback"})
+FORCES = frozenset({"ForceSuccess", "ForceFailure"})
+
+
+@dataclass(frozen=True)
+class Rewrite:
+    """One rewrite: the rule, and the node it removed (type, name, where it stood)."""
+
+    rule: str
+    type: str
+    name: str
+    line: int
+    column: int
+
+    def __str__(self) -> str:
+        where = f"{self.line}:{self.column}: " if self.line else ""
+        named = f" {self.name!r}" if self.name != self.type else ""
+        return f"{where}{self.rule}: removed {self.type}{named}"
+
+
+@dataclass(frozen=True)
+class Compressed:
+    """A compressed document and the rewrites that made it, in the order made."""
+
+    document: Document
+    rewrites: tuple[Rewrite, ...]
+
+
+def _plain(node: Node, types: frozenset[str]) -> bool:
+    """Whether `node` is of one of `types`, in its own element form, with no `_`-attribute."""
+    return node.type in types and not node.form and not any(k.startswith("_") for k, _ in node.attrs)
+
+
+def _removed(rule: str, node: Node) -> Rewrite:
+    return Rewrite(rule, node.type, node.name, node.line, node.column)
+
+
+def compress_node(node: Node, log: list[Rewrite]) -> Node:
+    """`node` with the rules applied bottom-up, each rewrite appended to `log`."""
+    children = tuple(compress_node(c, log) for c in node.children)
+    if node.type in COMPOSITES and not node.form:
+        flat: list[Node] = []
+        for child in children:
+            if _plain(child, frozenset({node.type})) and child.children:
+                log.append(_removed("flatten", child))
+                flat.extend(child.children)
+            else:
+                flat.append(child)
+        children = tuple(flat)
+    node = node.with_children(children)
+    if _plain(node, COMPOSITES) and len(children) == 1:
+        log.append(_removed("single", node))
+        return children[0]
+    if _plain(node, frozenset({"Inverter"})) and len(children) == 1 and _plain(children[0], frozenset({"Inverter"})) \
+            and len(children[0].children) == 1:
+        log.append(_removed("inverters", node))
+        log.append(_removed("inverters", children[0]))
+        return children[0].children[0]
+    if node.type in FORCES and not node.form and len(children) == 1 and _plain(children[0], FORCES) \
+            and len(children[0].children) == 1:
+        log.append(_removed("forced", children[0]))
+        return node.with_children(children[0].children)
+    return node
+
+
+def compress(document: Document) -> Compressed:
+    """Apply the rules to every behaviour tree of `document`."""
+    log: list[Rewrite] = []
+    trees = tuple((tree_id, compress_node(root, log)) for tree_id, root in document.trees)
+    return Compressed(document.with_trees(trees), tuple(log))
