@@ -1,6 +1,6 @@
 """Behaviour trees in and out of BehaviorTree.CPP 4 XML: everything BT.CPP 4 loads, as bt.model.
 
-    read_bt(text, file, read, models=())  -> Document     a <root> document and the files it includes
+    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes
     read_models(text, file)               -> models       the <TreeNodesModel> of a nodes file
     write_bt(document)                    -> str          a BTCPP_format="4" document BT.CPP and Groot2 load
     infer_models(document)                -> models       the models write_bt adds for undeclared node types
@@ -445,14 +445,16 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     visit(main, (main,))
 
 
-def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = ()) -> Document:
+def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
+            main: str | None = None) -> Document:
     """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
-    node models from elsewhere (a nodes file) that the document's own models take precedence over."""
+    node models from elsewhere (a nodes file) that the document's own models take precedence over,
+    `main` names the tree to run as BT.CPP's createTree(name) does (default: as createTreeFromText)."""
     reader = _Reader(read, tuple(models))
     root = reader.document(text, file, (os.path.normpath(file),))
     if not reader.trees:
         _fail(root, "the document defines no <BehaviorTree>")
-    main = root.get("main_tree_to_execute")
+    main = main if main is not None else root.get("main_tree_to_execute")
     if main is None:
         if len(reader.trees) != 1:
             _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
