@@ -115,7 +115,7 @@ class _Element:
     pos: SourcePos
 
     def get(self, key: str) -> str | None:
-        """The value of attribute `key`, or None."""
+        """Return the value of attribute `key`, or None."""
         for k, v in self.attrs:
             if k == key:
                 return v
@@ -128,7 +128,7 @@ _REFERENCE = re.compile(r"&(?:lt|gt|amp|quot|apos|#[0-9]+|#[xX][0-9a-fA-F]+);")
 
 
 def _decode(raw: str) -> str:
-    """Text as tinyxml2 gives it: newlines normalised, XML's five entities and character
+    """Decode text as tinyxml2 does: newlines normalised, XML's five entities and character
     references decoded, any other `&` kept as it is."""
     raw = raw.replace("\r\n", "\n").replace("\r", "\n")
 
@@ -146,7 +146,7 @@ def _decode(raw: str) -> str:
 
 
 def _tolerant(text: str) -> tuple[str, list[tuple[Attrs, str]]]:
-    """(text a strict parser accepts with the same shape and positions, each start tag's
+    """Return (text a strict parser accepts, with the same shape and positions; each start tag's
     attributes and following text as tinyxml2 reads them, in document order)."""
     out = list(text)
     tags: list[tuple[Attrs, str]] = []
@@ -202,7 +202,7 @@ def _tolerant(text: str) -> tuple[str, list[tuple[Attrs, str]]]:
 
 
 def _parse(text: str, file: str) -> _Element:
-    """The element tree of `text`, well-formedness and limits checked by parse_xml."""
+    """Parse `text` into elements, well-formedness and limits checked by parse_xml."""
     strict, tags = _tolerant(text)
     root = parse_xml(strict, file)
     order: list[XNode] = []
@@ -231,6 +231,7 @@ def _parse(text: str, file: str) -> _Element:
 # Reading
 
 def _fail(element: _Element, message: str):
+    """Raise a SchemalogError at `element`."""
     raise SchemalogError(message, element.pos)
 
 
@@ -254,7 +255,7 @@ def _check_root(root: _Element) -> None:
 
 
 def _models(root: _Element) -> list[NodeModel]:
-    """The entries of the <TreeNodesModel> of `root`."""
+    """Read the entries of the <TreeNodesModel> of `root`."""
     out = []
     for block in root.children:
         if block.tag != "TreeNodesModel":
@@ -309,7 +310,7 @@ class _Reader:
         self.v3_hint = False
 
     def kind(self, node_type: str, form: str) -> str | None:
-        """The kind of a node type: BT.CPP's own, a model's, the generic form's, or None (opaque)."""
+        """Return a node type's kind: BT.CPP's own, a model's, the generic form's, or None (opaque)."""
         if node_type in BUILTIN:
             return BUILTIN[node_type]
         for m in (*self.models, *self.extra):
@@ -378,8 +379,11 @@ class _Reader:
         self.trees.append(_Tree(tree_id, element, self.node(element.children[0])))
 
     def node(self, element: _Element) -> Node:
-        """One element of a tree as a Node, checked as BT.CPP checks it."""
+        """Convert one element of a tree to a Node, checked as BT.CPP checks it."""
         tag, node_id = element.tag, element.get("ID")
+        if tag in V3_ONLY and self.v3_hint:
+            _fail(element, f"<{tag}> is a BT.CPP 3 node (version 4 has {V3_ONLY[tag]}) and the file has no "
+                           f"BTCPP_format=\"4\": a BT.CPP 3 file, which schemalog does not read")
         if tag in (*GENERIC, "SubTree") and not node_id:
             _fail(element, f"The tag <{tag}> must have the attribute [ID]")
         if tag == "BehaviorTree":
@@ -400,9 +404,6 @@ class _Reader:
             return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column)
         generic = tag in GENERIC
         node_type = node_id if generic else tag
-        if tag in V3_ONLY and self.v3_hint:
-            _fail(element, f"<{tag}> is a BT.CPP 3 node (version 4 has {V3_ONLY[tag]}) and the file has no "
-                           f"BTCPP_format=\"4\": a BT.CPP 3 file, which schemalog does not read")
         kind = self.kind(node_type, tag if generic else "")
         count = len(children)
         if kind == "Decorator" and count != 1:
@@ -475,11 +476,12 @@ _XML_NAME = re.compile(r"[A-Za-z_:][A-Za-z0-9_:.\-]*")
 
 
 def _is_port(key: str) -> bool:
+    """Tell whether attribute `key` can be a port (not reserved, not an `_`-attribute)."""
     return key not in RESERVED and not key.startswith("_")
 
 
 def infer_models(document: Document) -> tuple[NodeModel, ...]:
-    """Models for the custom node types the trees use and document.models does not declare."""
+    """Infer models for the custom node types the trees use and document.models does not declare."""
     declared = {m.type for m in document.models}
     kinds: dict[str, set[str]] = {}
     ports: dict[str, dict[str, str]] = {}
@@ -503,21 +505,25 @@ def infer_models(document: Document) -> tuple[NodeModel, ...]:
 
 
 def _name(text: str, what: str) -> str:
+    """Return `text`, refused unless it is an XML name."""
     if not _XML_NAME.fullmatch(text):
         raise Unquotable(f"{what} {text!r} is not an XML name, so it cannot be written as one")
     return text
 
 
 def _text(text: str) -> str:
+    """Escape `text` as XML character data."""
     xml_attribute(text)                                     # raises Unquotable for what XML cannot hold
     return escape(text).replace("\r", "&#13;")
 
 
 def _attrs(pairs) -> str:
+    """Write attributes, each value quoted by xml_attribute."""
     return "".join(f" {_name(k, 'the attribute name')}={xml_attribute(v)}" for k, v in pairs)
 
 
 def _node(n: Node, indent: str) -> list[str]:
+    """Write the element of `n` and its children, one line each."""
     if n.form:
         head = f"{indent}<{_name(n.form, 'the form')} ID={xml_attribute(n.type)}{_attrs(n.attrs)}"
         tag = n.form
@@ -533,6 +539,7 @@ def _node(n: Node, indent: str) -> list[str]:
 
 
 def _model(m: NodeModel) -> list[str]:
+    """Write the TreeNodesModel entry of `m`."""
     head = f"    <{_name(m.kind, 'the model kind')} ID={xml_attribute(m.type)}"
     if not m.ports:
         return [head + "/>"]
@@ -546,7 +553,7 @@ def _model(m: NodeModel) -> list[str]:
 
 
 def write_bt(document: Document) -> str:
-    """A BTCPP_format="4" document of every tree, in the document's order, with a TreeNodesModel."""
+    """Write a BTCPP_format="4" document of every tree, in the document's order, with a TreeNodesModel."""
     trees = document.trees
     lines = ['<?xml version="1.0" encoding="UTF-8"?>',
              f'<root BTCPP_format="4" main_tree_to_execute={xml_attribute(document.main)}>']
@@ -555,10 +562,10 @@ def write_bt(document: Document) -> str:
         lines += _node(root, "    ")
         lines.append("  </BehaviorTree>")
     models = (*document.models, *infer_models(document))
+    lines.append("  <TreeNodesModel>" if models else "  <TreeNodesModel/>")
+    for m in models:
+        lines += _model(m)
     if models:
-        lines.append("  <TreeNodesModel>")
-        for m in models:
-            lines += _model(m)
         lines.append("  </TreeNodesModel>")
     lines += ["</root>", ""]
     return "\n".join(lines)
