@@ -7,6 +7,7 @@ write_bt; what BT.CPP refuses is refused with file:line:column.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -15,6 +16,7 @@ from hypothesis import strategies as st
 
 from schemalog.bt.model import Document, Node, NodeModel, Port, size, walk
 from schemalog.errors import SchemalogError
+from schemalog.formats.quoting import xml_attribute
 from schemalog.formats.btxml import BUILTIN, MAX_INCLUDE_DEPTH, infer_models, read_bt, read_models, write_bt
 
 CORPUS = Path(__file__).resolve().parent / "corpus"
@@ -360,3 +362,73 @@ def test_read_bt_of_write_bt_is_the_document(document):
     assert back.models == document.models + infer_models(document)
     complete = Document(document.trees, document.main, back.models)
     assert read_bt(write_bt(complete), "again.xml") == complete   # with every model declared: equal, models too
+
+
+# ---------------------------------------------------------------------------
+# The written documents load in BT.CPP itself (behaviortreepy; custom leaves registered as stubs)
+
+def _portless(document: Document) -> bool:
+    return not any(n.type not in BUILTIN and n.ports for _, root in document.trees for n in walk(root))
+
+
+LOADABLE = [p for p in corpus_files() if BTCPP in p.parents and _portless(read_corpus(p))
+            and p.name != "t14_subtree_model_1.xml"]       # its tree reads ports only its caller remaps
+
+
+def _bt_cpp_tick(document: Document):
+    bt = pytest.importorskip("behaviortreepy")
+    factory = bt.BehaviorTreeFactory()
+    for node_type in {n.type for _, root in document.trees for n in walk(root) if n.type not in BUILTIN}:
+        factory.register_simple_action(node_type, lambda node: bt.NodeStatus.SUCCESS)
+    tree = factory.create_tree_from_text(write_bt(document))
+    status = tree.tick_once()
+    while status == bt.NodeStatus.RUNNING:
+        status = tree.tick_once()
+    return status == bt.NodeStatus.SUCCESS
+
+
+@pytest.mark.parametrize("path", LOADABLE, ids=_ids(LOADABLE))
+def test_a_written_corpus_tree_loads_and_runs_in_bt_cpp(path):
+    assert len(LOADABLE) >= 10
+    assert _bt_cpp_tick(read_corpus(path))
+
+
+def test_written_scripts_subtree_models_and_awkward_values_run_in_bt_cpp():
+    """The `&&` of t14's scripts, its SubTree model's defaults and an awkward literal (a quote,
+    <, &, a newline; BT.CPP's script strings are ASCII) survive write_bt as BT.CPP reads them:
+    the main tree succeeds only if all of them arrive intact."""
+    top = ('<root BTCPP_format="4" main_tree_to_execute="MainTree">\n'
+           '  <include path="t14_subtree_model_1.xml"/>\n  <include path="t14_subtree_model_2.xml"/>\n</root>\n')
+    assert _bt_cpp_tick(read_bt(top, str(BTCPP / "tutorials" / "t14.xml"), read=_read_file))
+    text = _tree("<Sequence>\n      <Script code=\"s:='a&lt;&amp;&#10;&quot;b'; n:=2\"/>\n"
+                 "      <Precondition if=\"n>1 && s=='a<&&#10;&quot;b'\" else=\"FAILURE\">"
+                 "<AlwaysSuccess/></Precondition>\n    </Sequence>")
+    awkward = read_bt(text, "awkward.xml")
+    script, pre = [n for n in walk(awkward.root) if n.type in ("Script", "Precondition")]
+    assert script.attr("code") == "s:='a<&\n\"b'; n:=2" and pre.attr("if") == "n>1 && s=='a<&\n\"b'"
+    bt = pytest.importorskip("behaviortreepy")
+    assert bt.BehaviorTreeFactory().create_tree_from_text(text).tick_once() == bt.NodeStatus.SUCCESS   # as read
+    assert _bt_cpp_tick(awkward)                                                                       # as written
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.text(st.sampled_from("a&;#xX19quotlgmp<>\n\r"), max_size=14))
+def test_attribute_values_read_as_bt_cpp_reads_them(raw):
+    """What read_bt makes of a raw attribute value, bare `&`s and all, is what BT.CPP makes of
+    it: a Precondition compares a string with the raw value as BT.CPP reads it, a Script assigns
+    that string as read_bt read it (written back with proper references)."""
+    bt = pytest.importorskip("behaviortreepy")
+    condition = f"s=='{raw}'"
+    read = read_bt(_tree(f'<Precondition if="{condition}" else="FAILURE"><AlwaysSuccess/></Precondition>'),
+                   "raw.xml").root.attr("if")
+    literal = re.fullmatch(r"s=='([^'\x00-\x09\x0b-\x1f]*)'", read)
+    if literal is None or not read.isascii():
+        return                                  # not one string literal of BT.CPP's script language
+    check = _tree(f"<Sequence><Script code={xml_attribute('s:=' + repr_script(literal.group(1)))}/>"
+                  f'<Precondition if="{condition}" else="FAILURE"><AlwaysSuccess/></Precondition></Sequence>')
+    assert bt.BehaviorTreeFactory().create_tree_from_text(check).tick_once() == bt.NodeStatus.SUCCESS, (raw, read)
+
+
+def repr_script(text: str) -> str:
+    """Quote `text` as a string literal of BT.CPP's script language."""
+    return "'" + text + "'"

@@ -29,10 +29,11 @@ A node's `type` is its registration ID: the tag, or the ID of the generic forms 
 <Condition>, <Control>, <Decorator> (whose tag `form` keeps, their ID left out of `attrs`). A
 <SubTree> is Node("SubTree") with its ID among its attributes where the document put it, so its
 remapping is kept exactly, in order. Attribute values are read as BT.CPP's tinyxml2 reads them:
-`&&`, `<` and unknown `&name;` in a value are literal text (BT.CPP's own tutorials write scripts
-such as `if="A>B && color != BLUE"`, which a strict XML parser calls malformed), the five XML
-entities and character references are decoded, and a newline in a value stays a newline. The
-rest of the XML is checked with defusedxml (formats/btcpp.parse_xml: no entities, no external
+`&&`, `<` and unknown `&name;` in a value are text (BT.CPP's own tutorials write scripts such
+as `if="A>B && color != BLUE"`, which a strict XML parser calls malformed), the five XML
+entities and character references are decoded, a newline in a value stays a newline, and a
+bare `&` after a decoded reference reads as tinyxml2's in-place decoding leaves it (`&quot;&b`
+is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml (formats/btcpp.parse_xml: no entities, no external
 references, bounded size), which also gives every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names
@@ -124,25 +125,88 @@ class _Element:
 
 _NAME = re.compile(r"[^\s/>=\"'<&]+")
 _SPACE = re.compile(r"\s*")
-_REFERENCE = re.compile(r"&(?:lt|gt|amp|quot|apos|#[0-9]+|#[xX][0-9a-fA-F]+);")
+
+
+_ENTITIES = ((b"quot", 0x22), (b"amp", 0x26), (b"apos", 0x27), (b"lt", 0x3C), (b"gt", 0x3E))
+_MAX_CODE_POINT = 0x10FFFF
+
+
+def _utf8(ucs: int) -> bytes:
+    """Encode a code point as tinyxml2's ConvertUTF32ToUTF8 does (surrogates too; nothing past 4 bytes)."""
+    if ucs < 0x80:
+        return bytes((ucs,))
+    if ucs < 0x800:
+        return bytes((0xC0 | ucs >> 6, 0x80 | ucs & 0x3F))
+    if ucs < 0x10000:
+        return bytes((0xE0 | ucs >> 12, 0x80 | ucs >> 6 & 0x3F, 0x80 | ucs & 0x3F))
+    if ucs < 0x200000:
+        return bytes((0xF0 | ucs >> 18, 0x80 | ucs >> 12 & 0x3F, 0x80 | ucs >> 6 & 0x3F, 0x80 | ucs & 0x3F))
+    return b""
+
+
+def _character_reference(buf: bytearray, p: int) -> tuple[int, bytes] | None:
+    """Read the reference `&#...;` at `p` as tinyxml2's GetCharacterRef does: (end, bytes), or None
+    where it gives up (the `&` is then kept)."""
+    n = len(buf)
+    if p + 2 >= n:
+        return p + 1, b""                       # "&#" ends the value: tinyxml2 drops the "&"
+    hexadecimal = buf[p + 2] == 0x78            # only a lowercase x
+    first = p + 3 if hexadecimal else p + 2
+    if first >= n:
+        return None
+    semicolon = buf.find(b";", first)
+    if semicolon < 0:
+        return None
+    ucs, mult, base = 0, 1, 16 if hexadecimal else 10
+    k, stop = semicolon - 1, 0x78 if hexadecimal else 0x23   # digits are read right to left, to an x or #
+    while buf[k] != stop:
+        digit = int(chr(buf[k]), 16) if chr(buf[k]) in "0123456789abcdefABCDEF" else 99
+        if digit >= base:
+            return None
+        ucs = (ucs + mult * digit) & 0xFFFFFFFF
+        mult = min(mult * base, _MAX_CODE_POINT)
+        k -= 1
+    if ucs > _MAX_CODE_POINT:
+        return None
+    return semicolon + 1, _utf8(ucs)
 
 
 def _decode(raw: str) -> str:
-    """Decode text as tinyxml2 does: newlines normalised, XML's five entities and character
-    references decoded, any other `&` kept as it is."""
-    raw = raw.replace("\r\n", "\n").replace("\r", "\n")
-
-    def one(m: re.Match) -> str:
-        ref = m.group()[1:-1]
-        if ref.startswith("#"):
-            code = int(ref[2:], 16) if ref[1] in "xX" else int(ref[1:])
-            try:
-                return chr(code)
-            except (ValueError, OverflowError):
-                return m.group()
-        return {"lt": "<", "gt": ">", "amp": "&", "quot": '"', "apos": "'"}[ref]
-
-    return _REFERENCE.sub(one, raw)
+    """Decode an attribute value or text as tinyxml2's StrPair::GetStr does, in place: newlines
+    normalised (CR LF, LF CR and CR become LF), the five entities and character references
+    decoded, any other `&` skipped over, which leaves the byte that stood at the write position
+    (the `&` itself until something before it was decoded: `&quot;&b` reads `"qb` in BT.CPP),
+    the value ending at a NUL."""
+    buf = bytearray(raw.encode("utf-8", "surrogateescape"))
+    n, p, q = len(buf), 0, 0
+    while p < n:
+        c = buf[p]
+        nxt = buf[p + 1] if p + 1 < n else 0
+        if c in (0x0D, 0x0A):
+            p += 2 if nxt == (0x0A if c == 0x0D else 0x0D) else 1
+            buf[q] = 0x0A
+            q += 1
+        elif c == 0x26 and nxt == 0x23:
+            ref = _character_reference(buf, p)
+            if ref is None:
+                buf[q] = c
+                p, q = p + 1, q + 1
+            else:
+                p, data = ref
+                buf[q:q + len(data)] = data
+                q += len(data)
+        elif c == 0x26:
+            for name, value in _ENTITIES:
+                if buf.startswith(name, p + 1) and p + 1 + len(name) < n and buf[p + 1 + len(name)] == 0x3B:
+                    buf[q] = value
+                    p, q = p + len(name) + 2, q + 1
+                    break
+            else:
+                p, q = p + 1, q + 1             # tinyxml2: "fixme: treat as error?"
+        else:
+            buf[q] = c
+            p, q = p + 1, q + 1
+    return bytes(buf[:q]).split(b"\0", 1)[0].decode("utf-8", "surrogateescape")
 
 
 def _tolerant(text: str) -> tuple[str, list[tuple[Attrs, str]]]:
@@ -154,8 +218,7 @@ def _tolerant(text: str) -> tuple[str, list[tuple[Attrs, str]]]:
     while i < n:
         c = text[i]
         if c == "&":
-            if not _REFERENCE.match(text, i):
-                out[i] = "_"                    # a bare & is literal text to tinyxml2
+            out[i] = "_"                        # the text is taken from here, decoded as tinyxml2 does
             i += 1
             continue
         if c != "<":
