@@ -238,6 +238,28 @@ def test_what_bt_cpp_refuses_is_refused_where_it_is(name, text, where, words):
         assert (err.value.line, err.value.column) == where
 
 
+# Refused here although BT.CPP 4.x loads them (or crashes on them), each on purpose.
+BEYOND_BT_CPP = {
+    "version 3": "BT.CPP only warns when BTCPP_format is missing and ignores its value",
+    "version 5": "BT.CPP only warns when BTCPP_format is missing and ignores its value",
+    "a tree defined twice": "BT.CPP keeps the last tree of an ID silently",
+    "subtree containing itself": "BT.CPP recurses until its stack overflows",
+}
+
+
+@pytest.mark.parametrize("name,text", [(r[0], r[1]) for r in REFUSED if r[0] not in BEYOND_BT_CPP],
+                         ids=[r[0] for r in REFUSED if r[0] not in BEYOND_BT_CPP])
+def test_bt_cpp_refuses_them_too(name, text):
+    """BT.CPP itself (behaviortreepy), with the leaves the text uses registered, refuses each."""
+    bt = pytest.importorskip("behaviortreepy")
+    factory = bt.BehaviorTreeFactory()
+    trees = set(re.findall(r'<BehaviorTree ID="([^"]*)"', text))
+    for leaf in {"A", "B", "X", "Say", "Foo"} - trees:
+        factory.register_simple_action(leaf, lambda node: bt.NodeStatus.SUCCESS)
+    with pytest.raises(Exception):
+        factory.create_tree_from_text(text)
+
+
 def _files(files: dict[str, str]):
     def read(path: str) -> str:
         try:
