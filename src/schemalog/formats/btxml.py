@@ -33,11 +33,13 @@ remapping is kept exactly, in order. Attribute values are read as BT.CPP's tinyx
 as `if="A>B && color != BLUE"`, which a strict XML parser calls malformed), the five XML
 entities and character references are decoded, a newline in a value stays a newline, and a
 bare `&` after a decoded reference reads as tinyxml2's in-place decoding leaves it (`&quot;&b`
-is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml (formats/btcpp.parse_xml: no entities, no external
-references, bounded size), which also gives every element its line and column.
+is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml
+(formats/btcpp.parse_xml: no entities, no external references, bounded size), which also gives
+every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names
-it. The main tree is the top file's main_tree_to_execute, else the only tree. Node types that
+it. The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
+main_tree_to_execute, else the only tree. Node types that
 BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
