@@ -1,0 +1,639 @@
+"""Behaviour trees in and out of BehaviorTree.CPP 4 XML: everything BT.CPP 4 loads, as bt.model.
+
+    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes
+    read_models(text, file)               -> models       the <TreeNodesModel> of a nodes file
+    write_bt(document)                    -> str          a BTCPP_format="4" document BT.CPP and Groot2 load
+    infer_models(document)                -> models       the models write_bt adds for undeclared node types
+
+The XML read (BT.CPP's xml_parsing.cpp, BTCPP_format 4):
+
+    <root BTCPP_format="4" main_tree_to_execute="Main">
+      <include path="other.xml"/>                     read through read(path), relative to this file
+      <BehaviorTree ID="Main">                        exactly one node under each tree
+        <Sequence name="s">                           Node("Sequence", (("name", "s"),), children)
+          <ComputePathToPose goal="{goal}"/>          Node("ComputePathToPose", (("goal", "{goal}"),))
+          <Action ID="Say" message="hi"/>             Node("Say", (("message", "hi"),), form="Action")
+          <SubTree ID="Sub" goal="{goal}" _autoremap="true"/>
+                                                      Node("SubTree", (("ID", "Sub"), ("goal", "{goal}"),
+                                                           ("_autoremap", "true")))
+        </Sequence>
+      </BehaviorTree>
+      <TreeNodesModel>                                NodeModel("Say", "Action", (Port("input",
+        <Action ID="Say">                                  "message", "hello", "std::string", "What to say"),))
+          <input_port name="message" type="std::string" default="hello">What to say</input_port>
+        </Action>
+      </TreeNodesModel>
+    </root>
+
+A node's `type` is its registration ID: the tag, or the ID of the generic forms <Action>,
+<Condition>, <Control>, <Decorator> (whose tag `form` keeps, their ID left out of `attrs`). A
+<SubTree> is Node("SubTree") with its ID among its attributes where the document put it, so its
+remapping is kept exactly, in order. Attribute values are read as BT.CPP's tinyxml2 reads them:
+`&&`, `<` and unknown `&name;` in a value are text (BT.CPP's own tutorials write scripts such
+as `if="A>B && color != BLUE"`, which a strict XML parser calls malformed), the five XML
+entities and character references are decoded, a newline in a value stays a newline, and a
+bare `&` after a decoded reference reads as tinyxml2's in-place decoding leaves it (`&quot;&b`
+is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml
+(formats/btcpp.parse_xml: no entities, no external references, bounded size), which also gives
+every element its line and column.
+
+A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names
+it. The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
+main_tree_to_execute, else the only tree. Node types that
+BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
+refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
+recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
+form or <SubTree> without ID, an ID on any other node, a <BehaviorTree> without exactly one child
+(or without an ID beside other elements, or named after a registered node), a second
+<TreeNodesModel> in one file, a decorator without exactly one child, a control node without
+children, a leaf with children, a <SubTree> with children or naming no tree, a SubTree model's
+mandatory port left unremapped, an `_autoremap` that is not a boolean, a main tree that does not
+exist, an <include> without path or through ros_pkg (no ROS package index here). Beyond BT.CPP,
+and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
+includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
+end), and two trees with one ID (BT.CPP keeps the last silently).
+
+write_bt writes every tree (in order), main_tree_to_execute and a <TreeNodesModel> with the
+document's models, then a model for every other custom node type used (infer_models: kind from
+the generic form, else a leaf is an Action, a node always over one child a Decorator, else a
+Control; ports from the attributes used, `input` where a use gives a literal, else `inout`).
+read_bt(write_bt(d)) == d for trees, main and models when d's models cover its custom node types;
+otherwise the read-back models are d.models + infer_models(d). A port description is kept
+stripped of surrounding white space (XML text between tags).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from xml.sax.saxutils import escape
+
+from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
+from ..errors import SchemalogError, SourcePos
+from .btcpp import XNode, parse_xml
+from .quoting import Unquotable, xml_attribute
+
+MAX_INCLUDE_DEPTH = 16
+GENERIC = ("Action", "Condition", "Control", "Decorator")
+PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
+PORT_TAG_OF = {v: k for k, v in PORT_TAGS.items()}
+# Attributes BT.CPP reads itself (IsReservedAttribute: name, ID, _autoremap and the scripted
+# pre- and post-conditions); they are never ports.
+RESERVED = frozenset({"name", "ID", "_autoremap", "_failureIf", "_successIf", "_skipIf", "_while",
+                      "_onSuccess", "_onFailure", "_onHalted", "_post"})
+
+# The node types BehaviorTreeFactory registers in BT.CPP 4 (bt_factory.cpp), by kind.
+BUILTIN: dict[str, str] = {
+    **dict.fromkeys(("Sequence", "SequenceWithMemory", "ReactiveSequence", "Fallback", "ReactiveFallback",
+                     "Parallel", "ParallelAll", "IfThenElse", "WhileDoElse", "Switch2", "Switch3", "Switch4",
+                     "Switch5", "Switch6", "AsyncSequence", "AsyncFallback"), "Control"),
+    **dict.fromkeys(("Inverter", "RetryUntilSuccessful", "RetryUntilSuccesful", "KeepRunningUntilFailure",
+                     "Repeat", "Timeout", "Delay", "RunOnce", "ForceSuccess", "ForceFailure", "Precondition",
+                     "LoopInt", "LoopBool", "LoopDouble", "LoopString", "SkipUnlessUpdated",
+                     "WaitValueUpdate"), "Decorator"),
+    **dict.fromkeys(("AlwaysSuccess", "AlwaysFailure", "Script", "SetBlackboard", "UnsetBlackboard",
+                     "Sleep"), "Action"),
+    **dict.fromkeys(("ScriptCondition", "WasEntryUpdated"), "Condition"),
+    "SubTree": "SubTree",
+}
+# Node types of BT.CPP 3 that version 4 does not register (renamed or removed).
+V3_ONLY = {"SequenceStar": "SequenceWithMemory", "FallbackStar": "Fallback", "SubTreePlus": "SubTree",
+           "BlackboardCheckInt": "Precondition", "BlackboardCheckDouble": "Precondition",
+           "BlackboardCheckString": "Precondition"}
+
+
+# ---------------------------------------------------------------------------
+# XML as tinyxml2 reads it
+
+@dataclass(frozen=True)
+class _Element:
+    """One element: tag, attributes in document order (values as tinyxml2 reads them), children,
+    the text right after its start tag, and where it starts."""
+
+    tag: str
+    attrs: Attrs
+    children: tuple["_Element", ...]
+    text: str
+    pos: SourcePos
+
+    def get(self, key: str) -> str | None:
+        """Return the value of attribute `key`, or None."""
+        for k, v in self.attrs:
+            if k == key:
+                return v
+        return None
+
+
+_NAME = re.compile(r"[^\s/>=\"'<&]+")
+_SPACE = re.compile(r"\s*")
+
+
+_ENTITIES = ((b"quot", 0x22), (b"amp", 0x26), (b"apos", 0x27), (b"lt", 0x3C), (b"gt", 0x3E))
+_MAX_CODE_POINT = 0x10FFFF
+
+
+def _utf8(ucs: int) -> bytes:
+    """Encode a code point as tinyxml2's ConvertUTF32ToUTF8 does (surrogates too; nothing past 4 bytes)."""
+    if ucs < 0x80:
+        return bytes((ucs,))
+    if ucs < 0x800:
+        return bytes((0xC0 | ucs >> 6, 0x80 | ucs & 0x3F))
+    if ucs < 0x10000:
+        return bytes((0xE0 | ucs >> 12, 0x80 | ucs >> 6 & 0x3F, 0x80 | ucs & 0x3F))
+    if ucs < 0x200000:
+        return bytes((0xF0 | ucs >> 18, 0x80 | ucs >> 12 & 0x3F, 0x80 | ucs >> 6 & 0x3F, 0x80 | ucs & 0x3F))
+    return b""
+
+
+def _character_reference(buf: bytearray, p: int) -> tuple[int, bytes] | None:
+    """Read the reference `&#...;` at `p` as tinyxml2's GetCharacterRef does: (end, bytes), or None
+    where it gives up (the `&` is then kept)."""
+    n = len(buf)
+    if p + 2 >= n:
+        return p + 1, b""                       # "&#" ends the value: tinyxml2 drops the "&"
+    hexadecimal = buf[p + 2] == 0x78            # only a lowercase x
+    first = p + 3 if hexadecimal else p + 2
+    if first >= n:
+        return None
+    semicolon = buf.find(b";", first)
+    if semicolon < 0:
+        return None
+    ucs, mult, base = 0, 1, 16 if hexadecimal else 10
+    k, stop = semicolon - 1, 0x78 if hexadecimal else 0x23   # digits are read right to left, to an x or #
+    while buf[k] != stop:
+        digit = int(chr(buf[k]), 16) if chr(buf[k]) in "0123456789abcdefABCDEF" else 99
+        if digit >= base:
+            return None
+        ucs = (ucs + mult * digit) & 0xFFFFFFFF
+        mult = min(mult * base, _MAX_CODE_POINT)
+        k -= 1
+    if ucs > _MAX_CODE_POINT:
+        return None
+    return semicolon + 1, _utf8(ucs)
+
+
+def _decode(raw: str) -> str:
+    """Decode an attribute value or text as tinyxml2's StrPair::GetStr does, in place: newlines
+    normalised (CR LF, LF CR and CR become LF), the five entities and character references
+    decoded, any other `&` skipped over, which leaves the byte that stood at the write position
+    (the `&` itself until something before it was decoded: `&quot;&b` reads `"qb` in BT.CPP),
+    the value ending at a NUL."""
+    buf = bytearray(raw.encode("utf-8", "surrogateescape"))
+    n, p, q = len(buf), 0, 0
+    while p < n:
+        c = buf[p]
+        nxt = buf[p + 1] if p + 1 < n else 0
+        if c in (0x0D, 0x0A):
+            p += 2 if nxt == (0x0A if c == 0x0D else 0x0D) else 1
+            buf[q] = 0x0A
+            q += 1
+        elif c == 0x26 and nxt == 0x23:
+            ref = _character_reference(buf, p)
+            if ref is None:
+                buf[q] = c
+                p, q = p + 1, q + 1
+            else:
+                p, data = ref
+                buf[q:q + len(data)] = data
+                q += len(data)
+        elif c == 0x26:
+            for name, value in _ENTITIES:
+                if buf.startswith(name, p + 1) and p + 1 + len(name) < n and buf[p + 1 + len(name)] == 0x3B:
+                    buf[q] = value
+                    p, q = p + len(name) + 2, q + 1
+                    break
+            else:
+                p, q = p + 1, q + 1             # tinyxml2: "fixme: treat as error?"
+        else:
+            buf[q] = c
+            p, q = p + 1, q + 1
+    return bytes(buf[:q]).split(b"\0", 1)[0].decode("utf-8", "surrogateescape")
+
+
+def _tolerant(text: str) -> tuple[str, list[tuple[Attrs, str]]]:
+    """Return (text a strict parser accepts, with the same shape and positions; each start tag's
+    attributes and following text as tinyxml2 reads them, in document order)."""
+    out = list(text)
+    tags: list[tuple[Attrs, str]] = []
+    i, n = 0, len(text)
+    while i < n:
+        c = text[i]
+        if c == "&":
+            out[i] = "_"                        # the text is taken from here, decoded as tinyxml2 does
+            i += 1
+            continue
+        if c != "<":
+            i += 1
+            continue
+        for opener, closer in (("<!--", "-->"), ("<![CDATA[", "]]>"), ("<?", "?>"), ("<!", ">"), ("</", ">")):
+            if text.startswith(opener, i):
+                end = text.find(closer, i + len(opener))
+                i = n if end < 0 else end + len(closer)
+                break
+        else:
+            m = _NAME.match(text, i + 1)
+            if not m:
+                i += 1
+                continue
+            j, attrs = m.end(), []
+            while True:
+                j = _SPACE.match(text, j).end()
+                name = _NAME.match(text, j)
+                if not name:
+                    break
+                j = _SPACE.match(text, name.end()).end()
+                if not text.startswith("=", j):
+                    break
+                j = _SPACE.match(text, j + 1).end()
+                if j >= n or text[j] not in "\"'":
+                    break
+                end = text.find(text[j], j + 1)
+                if end < 0:
+                    break
+                for k in range(j + 1, end):
+                    if text[k] in "<&":
+                        out[k] = "_"            # the value is taken from here, not from the parser
+                attrs.append((name.group(), _decode(text[j + 1:end])))
+                j = end + 1
+            close = text.find(">", j)
+            after = ""
+            if close > 0 and text[close - 1] != "/":
+                nxt = text.find("<", close + 1)
+                after = text[close + 1:nxt if nxt >= 0 else n]
+            tags.append((tuple(attrs), after))
+            i = j
+    return "".join(out), tags
+
+
+def _parse(text: str, file: str) -> _Element:
+    """Parse `text` into elements, well-formedness and limits checked by parse_xml."""
+    strict, tags = _tolerant(text)
+    root = parse_xml(strict, file)
+    order: list[XNode] = []
+    stack = [root]
+    while stack:
+        x = stack.pop()
+        order.append(x)
+        stack.extend(reversed(x.children))
+    if len(order) != len(tags):
+        raise SchemalogError("the XML could not be read as BT.CPP reads it (start tags and elements do not "
+                             "match)", SourcePos(file, 1, 1))
+    index = {id(x): k for k, x in enumerate(order)}
+
+    def build(x: XNode) -> _Element:
+        attrs, after = tags[index[id(x)]]
+        if tuple(k for k, _ in attrs) != tuple(x.attrs):
+            raise SchemalogError(f"the attributes of <{x.tag}> could not be read as BT.CPP reads them",
+                                 SourcePos(file, x.line, x.column))
+        return _Element(x.tag, attrs, tuple(build(c) for c in x.children), _decode(after).strip(),
+                        SourcePos(file, x.line, x.column))
+
+    return build(root)
+
+
+# ---------------------------------------------------------------------------
+# Reading
+
+def _fail(element: _Element, message: str):
+    """Raise a SchemalogError at `element`."""
+    raise SchemalogError(message, element.pos)
+
+
+def _check_root(root: _Element) -> None:
+    """Refuse a document that is not a BT.CPP 4 <root>."""
+    if root.tag != "root":
+        _fail(root, f"a BT.CPP document starts with <root BTCPP_format=\"4\">, not <{root.tag}> (BT.CPP: "
+                    f"\"The XML must have a root node called <root>\")")
+    version = root.get("BTCPP_format")
+    if version == "3":
+        _fail(root, "BTCPP_format=\"3\": a BT.CPP 3 file; schemalog reads version 4 (convert it with Groot2 "
+                    "or BT.CPP's migration guide: SequenceStar is SequenceWithMemory, SubTreePlus is SubTree, ...)")
+    if version is not None and version != "4":
+        _fail(root, f"BTCPP_format=\"{version}\": schemalog reads BT.CPP version 4 files")
+    seen = None
+    for child in root.children:
+        if child.tag == "TreeNodesModel":
+            if seen is not None:
+                _fail(child, "Only a single node <TreeNodesModel> is supported (BT.CPP)")
+            seen = child
+
+
+def _models(root: _Element) -> list[NodeModel]:
+    """Read the entries of the <TreeNodesModel> of `root`."""
+    out = []
+    for block in root.children:
+        if block.tag != "TreeNodesModel":
+            continue
+        for entry in block.children:
+            if entry.tag not in (*GENERIC, "SubTree"):
+                continue
+            node_id = entry.get("ID")
+            if not node_id:
+                if entry.tag == "SubTree":
+                    _fail(entry, "a <SubTree> model needs an ID")
+                continue                        # BT.CPP ignores it
+            ports = []
+            for p in entry.children:
+                if p.tag not in PORT_TAGS:
+                    continue
+                name = p.get("name")
+                if not name:
+                    if entry.tag == "SubTree":
+                        _fail(p, "Missing attribute [name] in port (SubTree model)")
+                    continue
+                ports.append(Port(PORT_TAGS[p.tag], name, p.get("default"), p.get("type") or "",
+                                  p.text or (p.get("description") or "").strip()))
+            out.append(NodeModel(node_id, entry.tag, tuple(ports)))
+    return out
+
+
+def read_models(text: str, file: str = "<xml>") -> tuple[NodeModel, ...]:
+    """Read the <TreeNodesModel> entries of a nodes file (such as Nav2's nav2_tree_nodes.xml)."""
+    root = _parse(text, file)
+    _check_root(root)
+    return tuple(_models(root))
+
+
+@dataclass(frozen=True)
+class _Tree:
+    """A <BehaviorTree> as read: its ID, its element, its root node."""
+
+    id: str
+    element: _Element
+    root: Node
+
+
+class _Reader:
+    def __init__(self, read, models: tuple[NodeModel, ...]) -> None:
+        self.read = read
+        self.trees: list[_Tree] = []
+        self.models: list[NodeModel] = []
+        self.extra = models
+        self.includes: list[str] = []
+        self.suffix = 0
+        self.v3_hint = False
+
+    def kind(self, node_type: str, form: str) -> str | None:
+        """Return a node type's kind: BT.CPP's own, a model's, the generic form's, or None (opaque)."""
+        if node_type in BUILTIN:
+            return BUILTIN[node_type]
+        for m in (*self.models, *self.extra):
+            if m.type == node_type:
+                return m.kind
+        return form or None
+
+    def document(self, text: str, file: str, chain: tuple[str, ...]) -> _Element:
+        """Read one file: its includes first (as BT.CPP does), then its models and trees."""
+        root = _parse(text, file)
+        _check_root(root)
+        if len(chain) == 1 and root.get("BTCPP_format") is None:
+            self.v3_hint = True
+        for child in root.children:
+            if child.tag == "include":
+                self.include(child, file, chain)
+        self.models.extend(m for m in _models(root) if all(m.type != k.type for k in self.models))
+        elements = len(root.children)
+        for child in root.children:
+            if child.tag == "BehaviorTree":
+                self.tree(child, elements)
+        return root
+
+    def include(self, element: _Element, file: str, chain: tuple[str, ...]) -> None:
+        """Read the file an <include> names, relative to the including file."""
+        path = element.get("path")
+        if path is None:
+            _fail(element, "Invalid <include> tag: missing 'path' attribute (BT.CPP)")
+        if element.get("ros_pkg") is not None and not os.path.isabs(path):
+            _fail(element, f"<include ros_pkg={element.get('ros_pkg')!r}>: schemalog has no ROS package index; "
+                           f"give the path relative to this file")
+        if self.read is None:
+            _fail(element, f"<include path={path!r}>: includes are read only from files")
+        target = os.path.normpath(os.path.join(os.path.dirname(file), path))
+        if target in chain:
+            _fail(element, f"recursive include: {' -> '.join([*chain, target])}")
+        if len(chain) > MAX_INCLUDE_DEPTH:
+            _fail(element, f"includes nest deeper than {MAX_INCLUDE_DEPTH} files")
+        try:
+            text = self.read(target)
+        except SchemalogError as err:
+            _fail(element, f"<include path={path!r}>: {err.message}")
+        except OSError as err:
+            _fail(element, f"<include path={path!r}>: {err.strerror or err}")
+        self.includes.append(target)
+        self.document(text, target, (*chain, target))
+
+    def tree(self, element: _Element, elements: int) -> None:
+        """Register one <BehaviorTree>."""
+        tree_id = element.get("ID")
+        if not tree_id:
+            if elements > 1:
+                _fail(element, "The tag <BehaviorTree> must have the attribute [ID] (BT.CPP: an unnamed tree "
+                               "must be the only element of <root>)")
+            tree_id = f"BehaviorTree_{self.suffix}"
+            self.suffix += 1
+        if tree_id in BUILTIN:
+            _fail(element, "The attribute [ID] of tag <BehaviorTree> must not use the name of a registered "
+                           f"Node ({tree_id})")
+        for other in self.trees:
+            if other.id == tree_id:
+                _fail(element, f"BehaviorTree {tree_id} is defined twice (first at {other.element.pos})")
+        if len(element.children) != 1:
+            _fail(element, f"The tag <BehaviorTree> with ID '{tree_id}' must have exactly 1 child, not "
+                           f"{len(element.children)}")
+        self.trees.append(_Tree(tree_id, element, self.node(element.children[0])))
+
+    def node(self, element: _Element) -> Node:
+        """Convert one element of a tree to a Node, checked as BT.CPP checks it."""
+        tag, node_id = element.tag, element.get("ID")
+        if tag in V3_ONLY and self.v3_hint:
+            _fail(element, f"<{tag}> is a BT.CPP 3 node (version 4 has {V3_ONLY[tag]}) and the file has no "
+                           f"BTCPP_format=\"4\": a BT.CPP 3 file, which schemalog does not read")
+        if tag in (*GENERIC, "SubTree") and not node_id:
+            _fail(element, f"The tag <{tag}> must have the attribute [ID]")
+        if tag == "BehaviorTree":
+            _fail(element, "a <BehaviorTree> inside a tree: trees are defined under <root> and used by <SubTree>")
+        if tag not in (*GENERIC, "SubTree") and node_id is not None:
+            _fail(element, f"Attribute [ID] is not allowed in <{tag}> (BT.CPP): only <Action>, <Condition>, "
+                           f"<Control>, <Decorator> and <SubTree> have one")
+        children = tuple(self.node(c) for c in element.children)
+        autoremap = element.get("_autoremap")
+        if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
+            _fail(element, f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)")
+        if tag == "SubTree":
+            if children:
+                _fail(element, f"<SubTree> with ID '{node_id}' should not have any child")
+            if node_id in BUILTIN:
+                _fail(element, "The attribute [ID] of tag <SubTree> must not use the name of a registered "
+                               f"Node ({node_id})")
+            return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column)
+        generic = tag in GENERIC
+        node_type = node_id if generic else tag
+        kind = self.kind(node_type, tag if generic else "")
+        count = len(children)
+        if kind == "Decorator" and count != 1:
+            _fail(element, f"The node '{node_type}' must have exactly 1 child, not {count} (a decorator)")
+        if kind == "Control" and count == 0:
+            _fail(element, f"The node '{node_type}' must have 1 or more children (a control node)")
+        if kind in ("Action", "Condition") and count:
+            _fail(element, f"The node '{node_type}' must not have any child (an {kind.lower()})")
+        attrs = tuple((k, v) for k, v in element.attrs if not (generic and k == "ID"))
+        return Node(node_type, attrs, children, tag if generic else "", element.pos.line, element.pos.column)
+
+
+def _subtree_checks(reader: _Reader, main: str) -> None:
+    """Refuse a SubTree, reachable from the main tree, that names no tree, contains itself or
+    leaves a mandatory port of its model unremapped."""
+    trees = {t.id: t for t in reader.trees}
+    models = {m.type: m for m in (*reader.models, *reader.extra) if m.kind == "SubTree"}
+
+    def visit(tree_id: str, path: tuple[str, ...]) -> None:
+        for n in walk(trees[tree_id].root):
+            if n.type != "SubTree" or n.form:
+                continue
+            target = n.attr("ID")
+            where = SourcePos(trees[tree_id].element.pos.file, n.line, n.column)
+            if target not in trees:
+                raise SchemalogError(f"<SubTree ID=\"{target}\"> names no BehaviorTree (BT.CPP: Can't find a "
+                                     f"tree with name: {target})", where)
+            if target in path:
+                raise SchemalogError(f"SubTree {target} contains itself: {' -> '.join([*path, target])}", where)
+            model = models.get(target)
+            autoremap = n.attr("_autoremap", "false") in ("true", "TRUE", "True", "1")
+            if model is not None and not autoremap:
+                for port in model.ports:
+                    if n.attr(port.name) is None and not port.default:
+                        raise SchemalogError(f"In the <TreeNodesModel> the <Subtree ID=\"{target}\"> is defining a "
+                                             f"mandatory port called [{port.name}], but you are not remapping it",
+                                             where)
+            visit(target, (*path, target))
+
+    visit(main, (main,))
+
+
+def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
+            main: str | None = None) -> Document:
+    """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
+    node models from elsewhere (a nodes file) that the document's own models take precedence over,
+    `main` names the tree to run as BT.CPP's createTree(name) does (default: as createTreeFromText)."""
+    reader = _Reader(read, tuple(models))
+    root = reader.document(text, file, (os.path.normpath(file),))
+    if not reader.trees:
+        _fail(root, "the document defines no <BehaviorTree>")
+    main = main if main is not None else root.get("main_tree_to_execute")
+    if main is None:
+        if len(reader.trees) != 1:
+            _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
+                        f"single BehaviorTree (BT.CPP); it holds {len(reader.trees)}")
+        main = reader.trees[0].id
+    elif all(t.id != main for t in reader.trees):
+        _fail(root, f"main_tree_to_execute=\"{main}\" names no BehaviorTree")
+    _subtree_checks(reader, main)
+    own = tuple(reader.models)
+    merged = own + tuple(m for m in reader.extra if all(m.type != k.type for k in own))
+    return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes))
+
+
+# ---------------------------------------------------------------------------
+# Writing
+
+_XML_NAME = re.compile(r"[A-Za-z_:][A-Za-z0-9_:.\-]*")
+
+
+def _is_port(key: str) -> bool:
+    """Tell whether attribute `key` can be a port (not reserved, not an `_`-attribute)."""
+    return key not in RESERVED and not key.startswith("_")
+
+
+def infer_models(document: Document) -> tuple[NodeModel, ...]:
+    """Infer models for the custom node types the trees use and document.models does not declare."""
+    declared = {m.type for m in document.models}
+    kinds: dict[str, set[str]] = {}
+    ports: dict[str, dict[str, str]] = {}
+    for _, root in document.trees:
+        for n in walk(root):
+            if n.type in BUILTIN or n.type in declared or (n.type == "SubTree" and not n.form):
+                continue
+            kind = n.form or ("Action" if not n.children else "Decorator" if len(n.children) == 1 else "Control")
+            kinds.setdefault(n.type, set()).add(kind)
+            seen = ports.setdefault(n.type, {})
+            for key, value in n.attrs:
+                if _is_port(key):
+                    literal = not (value.startswith("{") and value.endswith("}"))
+                    seen[key] = "input" if literal or seen.get(key) == "input" else "inout"
+    out = []
+    for node_type, found in kinds.items():
+        kind = next((k for k in GENERIC if k in found and k in ("Action", "Condition")), None) or (
+            "Control" if "Control" in found else "Decorator")
+        out.append(NodeModel(node_type, kind, tuple(Port(d, k) for k, d in ports[node_type].items())))
+    return tuple(out)
+
+
+def _name(text: str, what: str) -> str:
+    """Return `text`, refused unless it is an XML name."""
+    if not _XML_NAME.fullmatch(text):
+        raise Unquotable(f"{what} {text!r} is not an XML name, so it cannot be written as one")
+    return text
+
+
+def _text(text: str) -> str:
+    """Escape `text` as XML character data."""
+    xml_attribute(text)                                     # raises Unquotable for what XML cannot hold
+    return escape(text).replace("\r", "&#13;")
+
+
+def _attrs(pairs) -> str:
+    """Write attributes, each value quoted by xml_attribute."""
+    return "".join(f" {_name(k, 'the attribute name')}={xml_attribute(v)}" for k, v in pairs)
+
+
+def _node(n: Node, indent: str) -> list[str]:
+    """Write the element of `n` and its children, one line each."""
+    if n.form:
+        head = f"{indent}<{_name(n.form, 'the form')} ID={xml_attribute(n.type)}{_attrs(n.attrs)}"
+        tag = n.form
+    else:
+        tag = _name(n.type, "the node type")
+        head = f"{indent}<{tag}{_attrs(n.attrs)}"
+    if not n.children:
+        return [head + "/>"]
+    lines = [head + ">"]
+    for c in n.children:
+        lines += _node(c, indent + "  ")
+    return [*lines, f"{indent}</{tag}>"]
+
+
+def _model(m: NodeModel) -> list[str]:
+    """Write the TreeNodesModel entry of `m`."""
+    head = f"    <{_name(m.kind, 'the model kind')} ID={xml_attribute(m.type)}"
+    if not m.ports:
+        return [head + "/>"]
+    lines = [head + ">"]
+    for p in m.ports:
+        pairs = [("name", p.name)] + ([("type", p.type)] if p.type else []) + (
+            [("default", p.default)] if p.default is not None else [])
+        port = f"      <{PORT_TAG_OF[p.direction]}{_attrs(pairs)}"
+        lines.append(port + (f">{_text(p.description)}</{PORT_TAG_OF[p.direction]}>" if p.description else "/>"))
+    return [*lines, f"    </{m.kind}>"]
+
+
+def write_bt(document: Document) -> str:
+    """Write a BTCPP_format="4" document of every tree, in the document's order, with a TreeNodesModel."""
+    trees = document.trees
+    lines = ['<?xml version="1.0" encoding="UTF-8"?>',
+             f'<root BTCPP_format="4" main_tree_to_execute={xml_attribute(document.main)}>']
+    for tree_id, root in trees:
+        lines.append(f"  <BehaviorTree ID={xml_attribute(tree_id)}>")
+        lines += _node(root, "    ")
+        lines.append("  </BehaviorTree>")
+    models = (*document.models, *infer_models(document))
+    lines.append("  <TreeNodesModel>" if models else "  <TreeNodesModel/>")
+    for m in models:
+        lines += _model(m)
+    if models:
+        lines.append("  </TreeNodesModel>")
+    lines += ["</root>", ""]
+    return "\n".join(lines)
+
+
+__all__ = ["read_bt", "read_models", "write_bt", "infer_models", "BUILTIN", "MAX_INCLUDE_DEPTH"]
