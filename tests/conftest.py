@@ -7,6 +7,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from hypothesis import Phase, settings
 
 from schemalog.logic.engine import Engine
 from schemalog.logic.kb import KnowledgeBase
@@ -20,6 +21,15 @@ from schemalog.cli.main import tune_gc
 # The tests run with the garbage-collector setting the schemalog command uses, so that
 # the 100k-behaviour cases measure schemalog, not Python's default GC thresholds.
 tune_gc()
+
+# Hypothesis's explain phase traces every line a failing property runs again (sys.settrace).
+# Over the reader and the writer that turned one failure, found in seconds, into a CI run that
+# did not end in 90 minutes (stop 40: test_term_round_trip_with_clause_variable_names). The
+# failure and its shrunk example are what a reader of the log needs; the profile loaded (CI's
+# included) is kept, without that phase.
+settings.register_profile("schemalog", settings(settings.default,
+                                                phases=[p for p in Phase if p is not Phase.explain]))
+settings.load_profile("schemalog")
 
 # A shell runs a background job with SIGINT ignored, and a child inherits an ignored signal:
 # the Ctrl-C tests would then test nothing a user can meet (`.ci/run &` failed them). A
