@@ -108,15 +108,16 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         sa, sb = step(pa, pair[0]), step(pb, pair[1])
         diff = _difference(sa, sb)
         if diff:
-            choices = _choices(parent, pair)
-            cex = Counterexample(choices, _trace(pa, choices), _trace(pb, choices), diff)
+            choices, ticks = _choices(parent, pair)
+            cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
             return Verdict(False, True, explored, diff, cex)
         successors: list[tuple[tuple[Config, Config], object]] = []
         if isinstance(sa, Await):
             if len(sa.config.pending) >= max_events_per_tick:
                 limit = limit or f"a root tick reached {max_events_per_tick} events (max_events_per_tick)"
                 continue
-            successors = [((advance(pair[0], o), advance(pair[1], o)), o) for o in sa.options]
+            successors = [((advance(pair[0], o), advance(pair[1], o)),
+                           _NONE if sa.options == (None,) else o) for o in sa.options]
         elif sa.limited or sb.limited:
             limit = limit or sa.error or sb.error
         elif sa.status is RUNNING:
@@ -137,26 +138,35 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
 
 
 _ROOT = object()                                      # the label of "the root is ticked again"
+_NONE = object()                                      # the label of an event without a choice
 
 
-def _choices(parent: dict, pair: tuple) -> tuple:
-    """The environment's outcomes on the breadth-first path to `pair`."""
-    out = []
+def _choices(parent: dict, pair: tuple) -> tuple[tuple, int]:
+    """The environment's outcomes on the breadth-first path to `pair`, and its root ticks."""
+    out, ticks = [], 1
     while parent[pair] is not None:
         pair, label = parent[pair]
-        if label is not _ROOT:
+        if label is _ROOT:
+            ticks += 1
+        elif label is not _NONE:
             out.append(label)
-    return tuple(reversed(out))
+    return tuple(reversed(out)), ticks
 
 
-def _trace(prog: Program, choices: tuple) -> tuple[TickTrace, ...]:
-    """Run `prog` under `choices`, root tick by root tick, up to the first event left unanswered."""
+def _trace(prog: Program, choices: tuple, max_ticks: int | None = None) -> tuple[TickTrace, ...]:
+    """Run `prog` under `choices`, root tick by root tick, up to the first event left unanswered,
+    the end of the run, `max_ticks` root ticks, or (no max_ticks) the end of the first root tick
+    that leaves no choice unused."""
     ticks: list[TickTrace] = []
     config, i = initial(), 0
     events: list[Event] = []
     while True:
         s = step(prog, config)
         if isinstance(s, Await):
+            if s.options == (None,):                       # no choice: answered by itself
+                events.append(s.event)
+                config = advance(config, None)
+                continue
             if i == len(choices):
                 ticks.append(TickTrace(tuple(events) + (s.event,), None))
                 return tuple(ticks)
@@ -166,9 +176,17 @@ def _trace(prog: Program, choices: tuple) -> tuple[TickTrace, ...]:
             continue
         ticks.append(TickTrace(s.events, s.status, s.error))
         events = []
-        if s.status is not RUNNING:
+        if s.status is not RUNNING or len(ticks) == max_ticks or (max_ticks is None and i == len(choices)):
             return tuple(ticks)
         config = s.config
+
+
+def replay(document: Document, choices: tuple, *,
+           rules: Mapping[str, Rule] | None = None) -> tuple[TickTrace, ...]:
+    """Run the document under the given outcomes (events without a choice take none), root tick
+    by root tick, until the run ends or the outcomes run out: at the end of a root tick, or in
+    one, which then ends with the event waiting for an answer (status None)."""
+    return _trace(program(document, rules), tuple(choices))
 
 
 def describe(event: Event) -> str:

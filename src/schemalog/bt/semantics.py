@@ -1097,7 +1097,8 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None) -> Prog
                 raise SchemalogError(f"SubTree {node.name!r} calls tree {tid!r}, which the document does not define")
             if tid in calls:
                 raise SchemalogError(f"SubTree {tid!r} calls itself (through {' -> '.join(calls)})")
-            ident = ("SubTree", tid, node.ports, node.attr("_autoremap", "false"))
+            ports = tuple((k, v) for k, v in node.ports if k != "ID")
+            ident = ("SubTree", tid, ports, node.attr("_autoremap", "false"))
             kid = build(called, context + (ident,), path + (0,), calls + (tid,))
             return PNode(node, "SubTree", (kid,), context, path)
         kids = tuple(build(c, context, path + (i,), calls) for i, c in enumerate(node.children))
