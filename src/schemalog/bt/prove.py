@@ -226,10 +226,11 @@ def explain(verdict: Verdict) -> str:
             if k >= len(ticks):
                 continue
             t = ticks[k]
-            for e in t.events:
-                lines.append(f"  {side}: {describe(e)}")
-            end = (t.status.value if t.status else f"error: {t.error}") if (t.status or t.error) else "(the trees part here)"
-            lines.append(f"  {side}: root -> {end}")
+            for j, e in enumerate(t.events):
+                waiting = t.status is None and not t.error and j == len(t.events) - 1
+                lines.append(f"  {side}: {describe(e)}" + ("   <- the trees part here" if waiting else ""))
+            if t.status is not None or t.error:
+                lines.append(f"  {side}: root -> {t.status.value if t.status else 'error: ' + t.error}")
     return "\n".join(lines) + "\n"
 
 
