@@ -1,0 +1,261 @@
+"""Prove two behaviour trees equal under BT.CPP 4 semantics, or refute them with a shortest
+counterexample (docs/semantics.md, "Behaviour trees (BT.CPP 4 semantics)").
+
+    pair        = (Config, Config)          both trees between two events, after the same choices
+    Verdict     = Verdict(equal, complete, states, reason, counterexample)
+    Counterexample = Counterexample(choices, ticks_a, ticks_b, difference)
+    TickTrace   = TickTrace(events, status)  one root tick: its events, the root's status
+                                             (None: the tick where the trees part, unfinished)
+
+Both trees run under one environment: the i-th event of each gets the same outcome. The product
+is explored breadth-first from the initial pair, memoised on pairs; a pair whose next events
+differ (kind, node identity, choices offered), or whose root ticks end differently, refutes.
+The root is ticked again while it returns RUNNING; after SUCCESS, FAILURE or SKIPPED the run
+ends, as Tree::tickWhileRunning does (src/bt_factory.cpp, Tree::tickRoot). `equal` with
+`complete` is a proof; `equal` without it only says no difference was found within the limits.
+"""
+
+from __future__ import annotations
+
+import random
+from collections import deque
+from dataclasses import dataclass
+from collections.abc import Mapping
+
+from schemalog.bt.model import Document
+from schemalog.bt.semantics import (RUNNING, Await, Config, Event, Program, RootTicked, Rule,
+                                    Status, advance, initial, program, step)
+
+
+@dataclass(frozen=True)
+class TickTrace:
+    """One root tick as a tree ran it: its events and the root's status (None: unfinished)."""
+
+    events: tuple[Event, ...]
+    status: Status | None
+    error: str = ""
+
+
+@dataclass(frozen=True)
+class Counterexample:
+    """The environment's choices that tell the trees apart, and what each tree did under them."""
+
+    choices: tuple
+    ticks_a: tuple[TickTrace, ...]
+    ticks_b: tuple[TickTrace, ...]
+    difference: str
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Whether the trees are equal, whether that was exhausted (a proof), and why."""
+
+    equal: bool
+    complete: bool
+    states: int
+    reason: str
+    counterexample: Counterexample | None = None
+
+
+def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
+    """Why two steps differ, or ''."""
+    if isinstance(sa, Await) and isinstance(sb, Await):
+        ea, eb = sa.event, sb.event
+        if (ea.kind, ea.node) != (eb.kind, eb.node):
+            return f"the next event differs: a {describe(ea)}, b {describe(eb)}"
+        if sa.options != sb.options:
+            return f"{describe(ea)} may have {_options(sa.options)} in a, {_options(sb.options)} in b"
+        return ""
+    if isinstance(sa, RootTicked) and isinstance(sb, RootTicked):
+        if sa.status != sb.status or bool(sa.error) != bool(sb.error):
+            return f"the root tick ends with {_end(sa)} in a, {_end(sb)} in b"
+        return ""
+    if isinstance(sa, Await):
+        return f"a goes on with {describe(sa.event)}, b's root tick ends with {_end(sb)}"
+    return f"a's root tick ends with {_end(sa)}, b goes on with {describe(sb.event)}"
+
+
+def _end(s: RootTicked) -> str:
+    return s.status.value if s.status is not None else f"an error ({s.error})"
+
+
+def _options(options: tuple) -> str:
+    return "/".join(_outcome(o) for o in options)
+
+
+def _outcome(o: object) -> str:
+    if isinstance(o, Status):
+        return o.value
+    if isinstance(o, bool):
+        return "true" if o else "false"
+    if isinstance(o, int):
+        return f"case {o + 1}" if o >= 0 else str(o)
+    return "" if o is None else str(o)
+
+
+def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
+                rules: Mapping[str, Rule] | None = None) -> Verdict:
+    """Explore both trees under every environment; equal when no environment tells them apart."""
+    pa, pb = program(a, rules), program(b, rules)
+    start = (initial(), initial())
+    parent: dict[tuple[Config, Config], tuple | None] = {start: None}
+    queue = deque([start])
+    explored = 0
+    limit = ""
+    while queue:
+        pair = queue.popleft()
+        explored += 1
+        sa, sb = step(pa, pair[0]), step(pb, pair[1])
+        diff = _difference(sa, sb)
+        if diff:
+            choices, ticks = _choices(parent, pair)
+            cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
+            return Verdict(False, True, explored, diff, cex)
+        successors: list[tuple[tuple[Config, Config], object]] = []
+        if isinstance(sa, Await):
+            if len(sa.config.pending) >= max_events_per_tick:
+                limit = limit or f"a root tick reached {max_events_per_tick} events (max_events_per_tick)"
+                continue
+            successors = [((advance(pair[0], o), advance(pair[1], o)),
+                           _NONE if sa.options == (None,) else o) for o in sa.options]
+        elif sa.limited or sb.limited:
+            limit = limit or sa.error or sb.error
+        elif sa.status is RUNNING:
+            successors = [((sa.config, sb.config), _ROOT)]
+        for nxt, label in successors:
+            if nxt in parent:
+                continue
+            if len(parent) >= max_states:
+                limit = limit or f"{max_states} states explored (max_states)"
+                break
+            parent[nxt] = (pair, label)
+            queue.append(nxt)
+    if limit:
+        return Verdict(True, False, explored,
+                       f"no difference found, but not a proof: {limit}")
+    return Verdict(True, True, explored,
+                   f"equal under every environment ({explored} pairs of states, exhausted)")
+
+
+_ROOT = object()                                      # the label of "the root is ticked again"
+_NONE = object()                                      # the label of an event without a choice
+
+
+def _choices(parent: dict, pair: tuple) -> tuple[tuple, int]:
+    """The environment's outcomes on the breadth-first path to `pair`, and its root ticks."""
+    out, ticks = [], 1
+    while parent[pair] is not None:
+        pair, label = parent[pair]
+        if label is _ROOT:
+            ticks += 1
+        elif label is not _NONE:
+            out.append(label)
+    return tuple(reversed(out)), ticks
+
+
+def _trace(prog: Program, choices: tuple, max_ticks: int | None = None) -> tuple[TickTrace, ...]:
+    """Run `prog` under `choices`, root tick by root tick, up to the first event left unanswered,
+    the end of the run, `max_ticks` root ticks, or (no max_ticks) the end of the first root tick
+    that leaves no choice unused."""
+    ticks: list[TickTrace] = []
+    config, i = initial(), 0
+    events: list[Event] = []
+    while True:
+        s = step(prog, config)
+        if isinstance(s, Await):
+            if s.options == (None,):                       # no choice: answered by itself
+                events.append(s.event)
+                config = advance(config, None)
+                continue
+            if i == len(choices):
+                ticks.append(TickTrace(tuple(events) + (s.event,), None))
+                return tuple(ticks)
+            outcome = choices[i]
+            events.append(Event(s.event.kind, s.event.node, outcome, s.event.label))
+            config, i = advance(config, outcome), i + 1
+            continue
+        ticks.append(TickTrace(s.events, s.status, s.error))
+        events = []
+        if s.status is not RUNNING or len(ticks) == max_ticks or (max_ticks is None and i == len(choices)):
+            return tuple(ticks)
+        config = s.config
+
+
+def replay(document: Document, choices: tuple, *,
+           rules: Mapping[str, Rule] | None = None) -> tuple[TickTrace, ...]:
+    """Run the document under the given outcomes (events without a choice take none), root tick
+    by root tick, until the run ends or the outcomes run out: at the end of a root tick, or in
+    one, which then ends with the event waiting for an answer (status None)."""
+    return _trace(program(document, rules), tuple(choices))
+
+
+def describe(event: Event) -> str:
+    """An event as a Nav2 user reads it: node type, name, ports, outcome."""
+    context, identity = event.node
+    where = "".join(f"SubTree {c[1]}{_ports(c[2])} > " for c in context)
+    head, detail = identity
+    if event.kind in ("script", "check") and isinstance(detail, str):
+        what = f"{head} `{detail}`"                    # a script attribute and its code
+    else:
+        name = f" \"{event.label}\"" if event.label and event.label != head else ""
+        what = f"{head}{name}{_ports(detail)}"
+    verb = {"tick": "tick", "halt": "halt", "check": "check", "script": "run script",
+            "time": "time at", "choose": "choice of"}.get(event.kind, event.kind)
+    outcome = _outcome(event.outcome)
+    return f"{verb} {where}{what}" + (f" -> {outcome}" if outcome else "")
+
+
+def _ports(ports) -> str:
+    if not isinstance(ports, tuple) or not ports:
+        return ""
+    return " " + " ".join(f"{k}=\"{v}\"" for k, v in ports)
+
+
+def explain(verdict: Verdict) -> str:
+    """The verdict for people: a proof, a bounded search, or the counterexample tick by tick."""
+    if verdict.equal:
+        return ("proved equal: " if verdict.complete else "NOT proved: ") + verdict.reason + "\n"
+    cex = verdict.counterexample
+    lines = [f"refuted after {verdict.states} states: {verdict.reason}"]
+    if cex is None:
+        return lines[0] + "\n"
+    lines.append("environment's choices: " + (", ".join(_outcome(c) or "-" for c in cex.choices) or "none"))
+    for k in range(max(len(cex.ticks_a), len(cex.ticks_b))):
+        lines.append(f"root tick {k + 1}:")
+        for side, ticks in (("a", cex.ticks_a), ("b", cex.ticks_b)):
+            if k >= len(ticks):
+                continue
+            t = ticks[k]
+            for j, e in enumerate(t.events):
+                waiting = t.status is None and not t.error and j == len(t.events) - 1
+                lines.append(f"  {side}: {describe(e)}" + ("   <- the trees part here" if waiting else ""))
+            if t.status is not None or t.error:
+                lines.append(f"  {side}: root -> {t.status.value if t.status else 'error: ' + t.error}")
+    return "\n".join(lines) + "\n"
+
+
+def simulate(document: Document, seed: int, root_ticks: int, *,
+             rules: Mapping[str, Rule] | None = None,
+             restart: bool = True) -> tuple[tuple[Event, ...], int, tuple[Status | None, ...]]:
+    """Tick the tree `root_ticks` times under a seeded random environment; count node ticks."""
+    prog = program(document, rules)
+    rng = random.Random(seed)
+    events: list[Event] = []
+    statuses: list[Status | None] = []
+    node_ticks = 0
+    config = initial()
+    while len(statuses) < root_ticks:
+        s = step(prog, config)
+        if isinstance(s, Await):
+            config = advance(config, rng.choice(s.options))
+            continue
+        events.extend(s.events)
+        node_ticks += s.node_ticks
+        statuses.append(s.status)
+        if s.status is RUNNING:
+            config = s.config
+        elif restart and s.status is not None:
+            config = s.config                             # tickWhileRunning called again
+        else:
+            break
+    return tuple(events), node_ticks, tuple(statuses)

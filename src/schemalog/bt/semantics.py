@@ -1,0 +1,1135 @@
+"""BehaviorTree.CPP 4's tick semantics as a small-step interpreter over immutable configurations
+(docs/semantics.md, "Behaviour trees (BT.CPP 4 semantics)").
+
+    Program = program(document, rules)      the main tree with every SubTree expanded: PNodes
+    PNode   = PNode(node, rule, kids, context, path)  a node, the table key of its rule, its
+                                            children, the SubTree calls above it, its address
+    Config  = Config(memory, pending)       between events: what the nodes remember and the
+                                            outcomes the environment chose so far in this root tick
+    memory  = ((path, status, vars), ...)   sorted by path; only nodes that are not IDLE or keep a
+                                            variable (a Sequence's child index, a Retry's count)
+    Event   = Event(kind, node, outcome, label)  kind: "tick" | "halt" | "check" | "script" |
+                                            "time" | "choose"; node = (context, identity), where
+                                            context is the tuple of SubTree identities above it
+    Step    = Await(event, options, config) | RootTicked(status, error, node_ticks, config)
+
+`step(program, config)` replays the current root tick from `config.memory` with the outcomes in
+`config.pending` and stops at the next event (Await: the event without its outcome and the
+outcomes the environment may choose; `advance(config, outcome)` is the configuration after it)
+or at the end of the root tick (RootTicked: the root's status and the memory the next root tick
+starts from). Events with no choice (a script, a halt) also stop, with the single option None.
+Nothing else is nondeterministic: blackboard values are not interpreted, so the environment
+answering the i-th event is any function of the events before it.
+
+Node rules live in one table, RULES (type -> Rule). A user passes more in `rules=`; a type the
+table does not define is opaque (docs). Each rule cites the BT.CPP 4 or Nav2 source it follows.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from enum import Enum
+from types import MappingProxyType
+
+from schemalog.bt.model import Document, Node
+from schemalog.errors import SchemalogError
+
+
+class Status(Enum):
+    """A node's status as BT.CPP 4 names it (include/behaviortree_cpp/basic_types.h)."""
+
+    IDLE = "IDLE"
+    """Not ticked since its last reset: a node's resting state, never the result of a tick."""
+    RUNNING = "RUNNING"
+    """Still working: tick it again."""
+    SUCCESS = "SUCCESS"
+    """Done, and it achieved its goal."""
+    FAILURE = "FAILURE"
+    """Done, and it did not."""
+    SKIPPED = "SKIPPED"
+    """Not executed: a pre-condition (`_skipIf`, `_while`) said so; the node stays IDLE."""
+
+
+IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED = (Status.IDLE, Status.RUNNING, Status.SUCCESS,
+                                            Status.FAILURE, Status.SKIPPED)
+COMPLETED = (SUCCESS, FAILURE)
+PRE_CONDITIONS = ("_failureIf", "_successIf", "_skipIf", "_while")   # PreCond's order, tree_node.h
+ACTION_OUTCOMES = (SUCCESS, FAILURE, RUNNING)
+CONDITION_OUTCOMES = (SUCCESS, FAILURE)
+
+
+class TreeError(SchemalogError):
+    """What BT.CPP throws while ticking (a child count a node refuses, an IDLE it cannot handle)."""
+
+
+class NodeTickLimit(TreeError):
+    """One root tick ticked more nodes than the limit (a loop that no event interrupts)."""
+
+
+@dataclass(frozen=True)
+class Event:
+    """One observable thing a tick does: its kind, the node (context, identity), the outcome."""
+
+    kind: str
+    node: tuple
+    outcome: object = None
+    label: str = field(default="", compare=False)     # the node's name, for people
+
+
+@dataclass(frozen=True)
+class Config:
+    """Where a run is between two events: the nodes' memory, the outcomes chosen in this tick."""
+
+    memory: tuple = ()
+    pending: tuple = ()
+
+
+@dataclass(frozen=True)
+class Await:
+    """The run stopped at `event` (outcome None); the environment picks one of `options`."""
+
+    event: Event
+    options: tuple
+    config: Config
+
+
+@dataclass(frozen=True)
+class RootTicked:
+    """The root tick ended with `status` (or BT.CPP threw `error`), next tick from `config`."""
+
+    status: Status | None
+    error: str
+    node_ticks: int
+    config: Config
+    events: tuple = ()
+    limited: bool = False                      # error is max_node_ticks, a limit, not BT.CPP's
+
+
+@dataclass(frozen=True)
+class Rule:
+    """How a node type ticks and halts; `literal` names the ports that must be literal numbers
+    or statuses (a blackboard reference makes the node opaque)."""
+
+    tick: Callable[["_Run", "PNode"], Status]
+    halt: Callable[["_Run", "PNode"], None] | None = None
+    literal: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class PNode:
+    """A node of the expanded program: its rule's key, its children, the SubTree calls above it."""
+
+    node: Node
+    rule: str
+    kids: tuple["PNode", ...]
+    context: tuple
+    path: tuple[int, ...]
+
+    @property
+    def identity(self) -> tuple:
+        """What events record of this node: the SubTree calls above it and its own identity."""
+        return (self.context, self.node.identity)
+
+
+@dataclass(frozen=True)
+class Program:
+    """A document's main tree ready to run: expanded SubTrees and the rule table it runs with."""
+
+    root: PNode
+    rules: Mapping[str, Rule]
+
+
+class _Stop(Exception):
+    def __init__(self, event: Event, options: tuple) -> None:
+        self.event, self.options = event, options
+
+
+# ---------------------------------------------------------------------------------------------
+# The run of one root tick (a replay from the tick's start memory, private to step())
+
+class _Run:
+    """The mutable scratch state of one replay; step() is pure because each call makes its own."""
+
+    def __init__(self, program: Program, config: Config, max_node_ticks: int) -> None:
+        self.program = program
+        self.mem: dict[tuple, list] = {p: [Status(s), dict(v)] for p, s, v in config.memory}
+        self.pending = config.pending
+        self.pos = 0
+        self.events: list[Event] = []
+        self.node_ticks = 0
+        self.max_node_ticks = max_node_ticks
+
+    # memory
+    def _slot(self, n: PNode) -> list:
+        return self.mem.setdefault(n.path, [IDLE, {}])
+
+    def status(self, n: PNode) -> Status:
+        """The node's status (IDLE when never ticked or reset)."""
+        return self.mem[n.path][0] if n.path in self.mem else IDLE
+
+    def set_status(self, n: PNode, status: Status) -> None:
+        """Set the node's status (TreeNode::setStatus / resetStatus)."""
+        self._slot(n)[0] = status
+
+    def get(self, n: PNode, key: str, default=0):
+        """A variable the node's rule keeps between ticks."""
+        return self.mem[n.path][1].get(key, default) if n.path in self.mem else default
+
+    def put(self, n: PNode, key: str, value) -> None:
+        """Keep a variable; a falsy value is the initial one and is dropped (canonical memory)."""
+        slot = self._slot(n)[1]
+        if value in (0, None, False, ()) and not isinstance(value, Status):
+            slot.pop(key, None)
+        else:
+            slot[key] = value
+
+    def freeze(self) -> tuple:
+        """The memory as a canonical tuple."""
+        return tuple(sorted((p, s.value, tuple(sorted(v.items()))) for p, (s, v) in self.mem.items()
+                            if s is not IDLE or v))
+
+    # events
+    def event(self, kind: str, n: PNode, options: tuple, identity=None):
+        """Record an event of node `n`; return the environment's outcome (None for no choice)."""
+        node = (n.context, identity if identity is not None else n.node.identity)
+        if self.pos < len(self.pending):
+            outcome = self.pending[self.pos]
+            if outcome not in options:
+                raise SchemalogError(f"outcome {outcome!r} is not one of {options!r}")
+            self.pos += 1
+            self.events.append(Event(kind, node, outcome, n.node.name))
+            return outcome
+        raise _Stop(Event(kind, node, None, n.node.name), options)
+
+    def script(self, n: PNode, code: str, key: str) -> None:
+        """Execute a script: an event without a choice."""
+        self.event("script", n, (None,), (key, code))
+
+    def check(self, n: PNode, code: str, key: str) -> bool:
+        """Evaluate a script condition: the environment says true or false."""
+        return self.event("check", n, (True, False), (key, code))
+
+    # TreeNode::executeTick, haltNode; ControlNode::haltChild, resetChildren
+    def tick(self, n: PNode) -> Status:
+        """executeTick (src/tree_node.cpp): pre-conditions, the rule's tick, post-conditions."""
+        self.node_ticks += 1
+        if self.node_ticks > self.max_node_ticks:
+            raise NodeTickLimit(f"more than {self.max_node_ticks} node ticks in one root tick "
+                            f"(a loop without an event, e.g. Repeat num_cycles=-1 over AlwaysSuccess)")
+        new = self._pre_conditions(n)
+        if new is None:
+            new = self.program.rules[n.rule].tick(self, n)
+        if new in COMPLETED:                                  # checkPostConditions
+            key = "_onSuccess" if new is SUCCESS else "_onFailure"
+            for k in (key, "_post"):
+                code = n.node.attr(k)
+                if code is not None:
+                    self.script(n, code, k)
+        if new is not SKIPPED:                               # preserve IDLE if skipped
+            self.set_status(n, new)
+        return new
+
+    def _pre_conditions(self, n: PNode) -> Status | None:
+        """checkPreConditions (src/tree_node.cpp), in PreCond's order."""
+        status = self.status(n)
+        for key in PRE_CONDITIONS:
+            code = n.node.attr(key)
+            if code is None:
+                continue
+            if status in (IDLE, SKIPPED):
+                if self.check(n, code, key):
+                    if key != "_while":
+                        return {"_failureIf": FAILURE, "_successIf": SUCCESS, "_skipIf": SKIPPED}[key]
+                elif key == "_while":
+                    return SKIPPED
+            elif status is RUNNING and key == "_while":
+                if not self.check(n, code, key):
+                    self.halt_node(n)
+                    return SKIPPED
+        return None
+
+    def halt_node(self, n: PNode) -> None:
+        """haltNode (src/tree_node.cpp): the rule's halt, then the `_onHalted` script."""
+        rule = self.program.rules[n.rule]
+        (rule.halt or _halt_children)(self, n)
+        code = n.node.attr("_onHalted")
+        if code is not None:
+            self.script(n, code, "_onHalted")
+
+    def halt_child(self, n: PNode, i: int) -> None:
+        """ControlNode::haltChild (src/control_node.cpp): halt it if RUNNING, then reset it."""
+        child = n.kids[i]
+        if self.status(child) is RUNNING:
+            self.halt_node(child)
+        self.set_status(child, IDLE)
+
+    def reset_children(self, n: PNode, first: int = 0) -> None:
+        """ControlNode::resetChildren / haltChildren(first) (src/control_node.cpp)."""
+        for i in range(first, len(n.kids)):
+            self.halt_child(n, i)
+
+
+def _halt_children(run: _Run, n: PNode) -> None:
+    """ControlNode::halt / DecoratorNode::halt: reset every child, then this node."""
+    run.reset_children(n)
+    run.set_status(n, IDLE)
+
+
+# ---------------------------------------------------------------------------------------------
+# Port values
+
+def _is_ref(value: str | None) -> bool:
+    """A blackboard reference `{key}` (TreeNode::isBlackboardPointer), or `=`."""
+    if value is None:
+        return False
+    v = value.strip()
+    return (len(v) >= 3 and v[0] == "{" and v[-1] == "}") or v in ("=", "{=}")
+
+
+def _int(n: PNode, port: str, default: int) -> int:
+    """A literal integer port (its default when absent)."""
+    value = n.node.attr(port)
+    if value is None:
+        return default
+    try:
+        return int(value.strip())
+    except ValueError:
+        raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} is not an integer") from None
+
+
+def _bool(n: PNode, port: str, default: bool) -> bool:
+    value = n.node.attr(port)
+    if value is None:
+        return default
+    v = value.strip().lower()
+    if v in ("true", "1"):
+        return True
+    if v in ("false", "0"):
+        return False
+    raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} is not a boolean")
+
+
+def _status_port(n: PNode, port: str, default: Status) -> Status:
+    value = n.node.attr(port)
+    if value is None:
+        return default
+    try:
+        return Status(value.strip().upper())
+    except ValueError:
+        raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} is not a status") from None
+
+
+# ---------------------------------------------------------------------------------------------
+# Leaves
+
+def _leaf(outcomes: tuple[Status, ...]) -> Callable[[_Run, PNode], Status]:
+    """An Action or Condition the robot implements: the environment picks its status."""
+    def tick(run: _Run, n: PNode) -> Status:
+        return run.event("tick", n, outcomes)
+    return tick
+
+
+def _leaf_halt(run: _Run, n: PNode) -> None:
+    """A RUNNING leaf halted (ActionNodeBase::halt via haltNode): an event."""
+    run.event("halt", n, (None,))
+    run.set_status(n, IDLE)
+
+
+def _always(status: Status) -> Callable[[_Run, PNode], Status]:
+    # AlwaysSuccessNode / AlwaysFailureNode (include/behaviortree_cpp/actions/always_*_node.h)
+    return lambda run, n: status
+
+
+def _script(run: _Run, n: PNode) -> Status:
+    # ScriptNode::tick (include/behaviortree_cpp/actions/script_node.h): run `code`, SUCCESS
+    run.event("script", n, (None,))
+    return SUCCESS
+
+
+def _script_condition(run: _Run, n: PNode) -> Status:
+    # ScriptCondition::tick (include/behaviortree_cpp/actions/script_condition.h)
+    return SUCCESS if run.event("check", n, (True, False)) else FAILURE
+
+
+def _sleep(run: _Run, n: PNode) -> Status:
+    # SleepNode::onStart/onRunning (src/actions/sleep_node.cpp): msec<=0 succeeds at once; else
+    # RUNNING until the timer fires (the environment's choice of when)
+    msec = n.node.attr("msec")
+    if run.status(n) is not RUNNING:
+        if msec is not None and not _is_ref(msec) and _int(n, "msec", 0) <= 0:
+            return SUCCESS
+        run.event("time", n, (None,))              # the timer starts
+        return RUNNING
+    return SUCCESS if run.event("time", n, (True, False)) else RUNNING
+
+
+# ---------------------------------------------------------------------------------------------
+# Controls
+
+def _sequence_like(*, fallback: bool, asynch: bool = False) -> Rule:
+    """SequenceNode::tick (src/controls/sequence_node.cpp) and FallbackNode::tick
+    (src/controls/fallback_node.cpp): resume at the current child; Async* return RUNNING after
+    each child that completed synchronously (the tree's wake-up signal is always set)."""
+    go_on, stop = (FAILURE, SUCCESS) if fallback else (SUCCESS, FAILURE)
+
+    def tick(run: _Run, n: PNode) -> Status:
+        count = len(n.kids)
+        if run.status(n) not in (RUNNING,):                   # !isStatusActive(status())
+            run.put(n, "skipped", 0)
+        run.set_status(n, RUNNING)
+        idx = run.get(n, "idx")
+        while idx < count:
+            child = n.kids[idx]
+            prev = run.status(child)
+            s = run.tick(child)
+            if s is RUNNING:
+                run.put(n, "idx", idx)
+                return RUNNING
+            if s is stop:
+                run.reset_children(n)
+                run.put(n, "idx", 0)
+                return s
+            if s is go_on:
+                idx += 1
+                if asynch and prev is IDLE and idx < count:
+                    run.put(n, "idx", idx)
+                    return RUNNING
+            elif s is SKIPPED:
+                idx += 1
+                run.put(n, "skipped", run.get(n, "skipped") + 1)
+        all_skipped = run.get(n, "skipped") == count
+        run.reset_children(n)
+        run.put(n, "idx", 0)
+        run.put(n, "skipped", 0)
+        return SKIPPED if all_skipped else go_on
+
+    def halt(run: _Run, n: PNode) -> None:
+        run.put(n, "idx", 0)
+        run.put(n, "skipped", 0)
+        _halt_children(run, n)
+
+    return Rule(tick, halt)
+
+
+def _sequence_with_memory(run: _Run, n: PNode) -> Status:
+    # SequenceWithMemory::tick (src/controls/sequence_with_memory_node.cpp): a failure keeps the
+    # index; a child that succeeds from IDLE yields RUNNING (requiresWakeUp() is true in a Tree)
+    count = len(n.kids)
+    if run.status(n) is not RUNNING:
+        run.put(n, "skipped", 0)
+    run.set_status(n, RUNNING)
+    idx = run.get(n, "idx")
+    while idx < count:
+        child = n.kids[idx]
+        prev = run.status(child)
+        s = run.tick(child)
+        if s is RUNNING:
+            run.put(n, "idx", idx)
+            return RUNNING
+        if s is FAILURE:
+            run.put(n, "idx", idx)
+            run.reset_children(n, idx)
+            return FAILURE
+        idx += 1
+        if s is SUCCESS:
+            if prev is IDLE and idx < count:
+                run.put(n, "idx", idx)
+                return RUNNING
+        else:
+            run.put(n, "skipped", run.get(n, "skipped") + 1)
+    all_skipped = run.get(n, "skipped") == count
+    run.reset_children(n)
+    run.put(n, "idx", 0)
+    run.put(n, "skipped", 0)
+    return SKIPPED if all_skipped else SUCCESS
+
+
+def _reactive(*, fallback: bool) -> Rule:
+    """ReactiveSequence::tick (src/controls/reactive_sequence.cpp) and ReactiveFallback::tick
+    (src/controls/reactive_fallback.cpp): every tick from the first child; a RUNNING child halts
+    all the others."""
+    go_on, stop = (FAILURE, SUCCESS) if fallback else (SUCCESS, FAILURE)
+
+    def tick(run: _Run, n: PNode) -> Status:
+        all_skipped = True
+        run.set_status(n, RUNNING)
+        for i, child in enumerate(n.kids):
+            s = run.tick(child)
+            all_skipped &= s is SKIPPED
+            if s is RUNNING:
+                for j in range(len(n.kids)):
+                    if j != i:
+                        run.halt_child(n, j)
+                return RUNNING
+            if s is stop:
+                run.reset_children(n)
+                return s
+            if s is SKIPPED:
+                run.halt_child(n, i)
+        run.reset_children(n)
+        return SKIPPED if all_skipped else go_on
+
+    return Rule(tick)
+
+
+def _threshold(value: int, count: int) -> int:
+    return max(count + value + 1, 0) if value < 0 else value
+
+
+def _parallel(run: _Run, n: PNode) -> Status:
+    # ParallelNode::tick (src/controls/parallel_node.cpp): success_count (default -1),
+    # failure_count (default 1); completed children are not ticked again
+    count = len(n.kids)
+    s_raw = _int(n, "success_count", -1)
+    s_req, f_req = _threshold(s_raw, count), _threshold(_int(n, "failure_count", 1), count)
+    if count < s_req or count < f_req:
+        raise TreeError(f"Parallel {n.node.name!r}: number of children is less than threshold")
+    run.set_status(n, RUNNING)
+    skipped = 0
+    done = set(run.get(n, "completed", ()))
+    succ, fail = run.get(n, "succ"), run.get(n, "fail")
+    for i, child in enumerate(n.kids):
+        if i not in done:
+            s = run.tick(child)
+            if s is SKIPPED:
+                skipped += 1
+            elif s is SUCCESS:
+                done.add(i)
+                succ += 1
+            elif s is FAILURE:
+                done.add(i)
+                fail += 1
+        if succ >= s_req or (s_raw < 0 and succ + skipped >= s_req):
+            _parallel_clear(run, n)
+            run.reset_children(n)
+            return SUCCESS
+        if count - fail < s_req or fail == f_req:
+            _parallel_clear(run, n)
+            run.reset_children(n)
+            return FAILURE
+    run.put(n, "completed", tuple(sorted(done)))
+    run.put(n, "succ", succ)
+    run.put(n, "fail", fail)
+    return SKIPPED if skipped == count else RUNNING
+
+
+def _parallel_clear(run: _Run, n: PNode) -> None:
+    for key in ("completed", "succ", "fail"):
+        run.put(n, key, 0)
+
+
+def _parallel_halt(run: _Run, n: PNode) -> None:
+    # ParallelNode::halt / ParallelAllNode::halt: clear the counts, then ControlNode::halt
+    _parallel_clear(run, n)
+    _halt_children(run, n)
+
+
+def _parallel_all(run: _Run, n: PNode) -> Status:
+    # ParallelAllNode::tick (src/controls/parallel_all_node.cpp): tick until every child is done,
+    # FAILURE when at least max_failures (default 1) failed
+    count = len(n.kids)
+    f_req = _threshold(_int(n, "max_failures", 1), count)
+    if count < f_req:
+        raise TreeError(f"ParallelAll {n.node.name!r}: number of children is less than threshold")
+    run.set_status(n, RUNNING)
+    skipped = 0
+    done = set(run.get(n, "completed", ()))
+    fail = run.get(n, "fail")
+    for i, child in enumerate(n.kids):
+        if i in done:
+            continue
+        s = run.tick(child)
+        if s in COMPLETED:
+            done.add(i)
+            fail += s is FAILURE
+        elif s is SKIPPED:
+            skipped += 1
+    if skipped == count:
+        run.put(n, "completed", tuple(sorted(done)))
+        run.put(n, "fail", fail)
+        return SKIPPED
+    if skipped + len(done) >= count:
+        run.reset_children(n)
+        _parallel_clear(run, n)
+        return FAILURE if fail >= f_req else SUCCESS
+    run.put(n, "completed", tuple(sorted(done)))
+    run.put(n, "fail", fail)
+    return RUNNING
+
+
+def _if_then_else(run: _Run, n: PNode) -> Status:
+    # IfThenElseNode::tick (src/controls/if_then_else_node.cpp): the condition is ticked until it
+    # completes, then the chosen branch until it completes
+    count = len(n.kids)
+    if count not in (2, 3):
+        raise TreeError("IfThenElseNode must have either 2 or 3 children")
+    run.set_status(n, RUNNING)
+    idx = run.get(n, "idx")
+    if idx == 0:
+        c = run.tick(n.kids[0])
+        if c is RUNNING:
+            return RUNNING
+        if c is SUCCESS:
+            idx = 1
+        elif c is FAILURE:
+            if count == 3:
+                idx = 2
+            else:
+                return FAILURE
+    if idx > 0:
+        s = run.tick(n.kids[idx])
+        if s is RUNNING:
+            run.put(n, "idx", idx)
+            return RUNNING
+        run.reset_children(n)
+        run.put(n, "idx", 0)
+        return s
+    raise TreeError("Something unexpected happened in IfThenElseNode (its condition was SKIPPED)")
+
+
+def _if_then_else_halt(run: _Run, n: PNode) -> None:
+    run.put(n, "idx", 0)
+    _halt_children(run, n)
+
+
+def _while_do_else(run: _Run, n: PNode) -> Status:
+    # WhileDoElseNode::tick (src/controls/while_do_else_node.cpp): the condition every tick; the
+    # branch not taken is halted
+    count = len(n.kids)
+    if count not in (2, 3):
+        raise TreeError("WhileDoElseNode must have either 2 or 3 children")
+    run.set_status(n, RUNNING)
+    c = run.tick(n.kids[0])
+    if c is RUNNING:
+        return RUNNING
+    status = IDLE
+    if c is SUCCESS:
+        if count == 3:
+            run.halt_child(n, 2)
+        status = run.tick(n.kids[1])
+    elif c is FAILURE:
+        if count == 3:
+            run.halt_child(n, 1)
+            status = run.tick(n.kids[2])
+        else:
+            status = FAILURE
+    if status is RUNNING:
+        return RUNNING
+    run.reset_children(n)
+    if status is IDLE:
+        raise TreeError("WhileDoElse: its condition was SKIPPED (BT.CPP returns IDLE to its parent)")
+    return status
+
+
+def _numeric_equal(a: str, b: str) -> bool:
+    """details::CheckStringEquality (src/controls/switch_node.cpp), without scripting enums."""
+    if a == b:
+        return True
+    for conv in (int, float):
+        try:
+            if abs(conv(a) - conv(b)) <= 1.2e-7:
+                return True
+        except ValueError:
+            pass
+    return False
+
+
+def _switch(cases: int) -> Rule:
+    """SwitchNode<N>::tick (include/behaviortree_cpp/controls/switch_node.h): the child of the
+    first case equal to `variable`, else the last (default); the one running before is halted.
+    A blackboard variable's value is the environment's choice (a "check" event)."""
+    def tick(run: _Run, n: PNode) -> Status:
+        if len(n.kids) != cases + 1:
+            raise TreeError(f"Wrong number of children in Switch{cases}; must be (num_cases + default)")
+        variable = n.node.attr("variable")
+        keys = [f"case_{i}" for i in range(1, cases + 1)]
+        match = cases
+        if variable is not None and not _is_ref(variable):
+            for i, k in enumerate(keys):
+                v = n.node.attr(k)
+                if v is not None and not _is_ref(v) and _numeric_equal(variable, v):
+                    match = i
+                    break
+        elif variable is not None:
+            seen: list[str] = []
+            options: list[int] = []
+            for i, k in enumerate(keys):
+                v = n.node.attr(k)
+                if v is None:
+                    continue
+                if not _is_ref(v) and any(_numeric_equal(v, w) for w in seen):
+                    continue                                # an earlier equal case always wins
+                if not _is_ref(v):
+                    seen.append(v)
+                options.append(i)
+            options.append(cases)
+            match = run.event("check", n, tuple(options))
+        running = run.get(n, "running", None)
+        if running is not None and running != match:
+            run.halt_child(n, running)
+        s = run.tick(n.kids[match])
+        if s is SKIPPED:
+            run.put(n, "running", None)
+            return SKIPPED
+        if s is RUNNING:
+            run.put(n, "running", match)
+        else:
+            run.reset_children(n)
+            run.put(n, "running", None)
+        return s
+
+    def halt(run: _Run, n: PNode) -> None:
+        run.put(n, "running", None)
+        _halt_children(run, n)
+
+    return Rule(tick, halt)
+
+
+# Nav2 (ros-navigation/navigation2, nav2_behavior_tree/plugins/control/)
+
+def _pipeline_sequence(run: _Run, n: PNode) -> Status:
+    # PipelineSequence::tick (pipeline_sequence.cpp): every tick re-ticks the children before
+    # the furthest one that ran; a RUNNING child at or past it stops the tick
+    skipped = 0
+    last = run.get(n, "last")
+    for i, child in enumerate(n.kids):
+        s = run.tick(child)
+        if s is FAILURE:
+            run.reset_children(n)
+            run.put(n, "last", 0)
+            return FAILURE
+        if s is SKIPPED:
+            skipped += 1
+        elif s is RUNNING and i >= last:
+            run.put(n, "last", i)
+            return RUNNING
+    run.reset_children(n)
+    run.put(n, "last", 0)
+    return SKIPPED if skipped == len(n.kids) else SUCCESS
+
+
+def _pipeline_halt(run: _Run, n: PNode) -> None:
+    _halt_children(run, n)
+    run.put(n, "last", 0)
+
+
+def _recovery(run: _Run, n: PNode) -> Status:
+    # RecoveryNode::tick (recovery_node.cpp): tick the first child; on its failure tick the
+    # second (the recovery) and, if that succeeds, the first again, number_of_retries (default 1)
+    # times; a failed recovery fails the node
+    if len(n.kids) != 2:
+        raise TreeError(f"Recovery Node {n.node.name!r} must only have 2 children.")
+    retries = _int(n, "number_of_retries", 1)
+    run.set_status(n, RUNNING)
+    idx, count = run.get(n, "idx"), run.get(n, "retries")
+    while idx < 2 and count <= retries:
+        s = run.tick(n.kids[idx])
+        if s not in (SUCCESS, FAILURE, RUNNING):
+            raise TreeError("A child node must never return IDLE")   # SKIPPED too, in this version
+        if s is RUNNING:
+            run.put(n, "idx", idx)
+            run.put(n, "retries", count)
+            return RUNNING
+        if idx == 0:
+            if s is SUCCESS:
+                _recovery_halt(run, n)
+                return SUCCESS
+            if count < retries:
+                run.halt_child(n, 0)
+                idx = 1
+            else:
+                _recovery_halt(run, n)
+                return FAILURE
+        else:
+            if s is SUCCESS:
+                run.halt_child(n, 1)
+                count += 1
+                idx = 0
+            else:
+                _recovery_halt(run, n)
+                return FAILURE
+    _recovery_halt(run, n)
+    return FAILURE
+
+
+def _recovery_halt(run: _Run, n: PNode) -> None:
+    _halt_children(run, n)
+    run.put(n, "idx", 0)
+    run.put(n, "retries", 0)
+
+
+def _round_robin(run: _Run, n: PNode) -> Status:
+    # RoundRobinNode::tick (round_robin_node.cpp): tick from where the last success left off;
+    # SUCCESS at the first success, FAILURE when every child failed in turn
+    count = len(n.kids)
+    run.set_status(n, RUNNING)
+    idx, failed = run.get(n, "idx"), run.get(n, "failed")
+    while failed < count:
+        s = run.tick(n.kids[idx])
+        if s is SUCCESS:
+            idx = (idx + 1) % count
+            run.reset_children(n)
+            run.put(n, "idx", idx)
+            run.put(n, "failed", 0)
+            return SUCCESS
+        if s is FAILURE:
+            idx = (idx + 1) % count
+            failed += 1
+        elif s is RUNNING:
+            run.put(n, "idx", idx)
+            run.put(n, "failed", failed)
+            return RUNNING
+        else:
+            raise TreeError("Invalid status return from BT node")
+    _round_robin_halt(run, n)
+    return FAILURE
+
+
+def _round_robin_halt(run: _Run, n: PNode) -> None:
+    _halt_children(run, n)
+    run.put(n, "idx", 0)
+    run.put(n, "failed", 0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Decorators (include/behaviortree_cpp/decorators/*.h, src/decorators/*.cpp)
+
+def _reset_child(run: _Run, n: PNode) -> None:
+    """DecoratorNode::resetChild: halt the child if RUNNING, then reset it."""
+    run.halt_child(n, 0)
+
+
+def _inverter(run: _Run, n: PNode) -> Status:
+    # InverterNode::tick (src/decorators/inverter_node.cpp): SUCCESS <-> FAILURE, RUNNING and
+    # SKIPPED as they are
+    run.set_status(n, RUNNING)
+    s = run.tick(n.kids[0])
+    if s in COMPLETED:
+        _reset_child(run, n)
+        return FAILURE if s is SUCCESS else SUCCESS
+    return s
+
+
+def _force(status: Status) -> Callable[[_Run, PNode], Status]:
+    # ForceSuccessNode / ForceFailureNode::tick (force_success_node.h, force_failure_node.h)
+    def tick(run: _Run, n: PNode) -> Status:
+        run.set_status(n, RUNNING)
+        s = run.tick(n.kids[0])
+        if s in COMPLETED:
+            _reset_child(run, n)
+            return status
+        return s
+    return tick
+
+
+def _keep_running_until_failure(run: _Run, n: PNode) -> Status:
+    # KeepRunningUntilFailureNode::tick (keep_running_until_failure_node.h): SUCCESS becomes
+    # RUNNING, FAILURE stays; SKIPPED returns status(), which tick() just set to RUNNING
+    run.set_status(n, RUNNING)
+    s = run.tick(n.kids[0])
+    if s in COMPLETED:
+        _reset_child(run, n)
+        return FAILURE if s is FAILURE else RUNNING
+    return RUNNING
+
+
+def _retry(run: _Run, n: PNode) -> Status:
+    # RetryNode::tick (src/decorators/retry_node.cpp): re-tick a failed child up to num_attempts
+    # times (-1: forever); a failure from IDLE with attempts left returns RUNNING (wake-up)
+    attempts = _int(n, "num_attempts", 0)
+    tries = run.get(n, "tries")
+    loop = tries < attempts or attempts == -1
+    run.set_status(n, RUNNING)
+    while loop:
+        child = n.kids[0]
+        prev = run.status(child)
+        s = run.tick(child)
+        if s is SUCCESS:
+            run.put(n, "tries", 0)
+            _reset_child(run, n)
+            return SUCCESS
+        if s is FAILURE:
+            tries += 1
+            run.put(n, "tries", tries)
+            loop = tries < attempts or attempts == -1
+            _reset_child(run, n)
+            if prev is IDLE and loop:
+                return RUNNING
+        elif s is RUNNING:
+            return RUNNING
+        else:
+            _reset_child(run, n)
+            return SKIPPED
+    run.put(n, "tries", 0)
+    return FAILURE
+
+
+def _repeat(run: _Run, n: PNode) -> Status:
+    # RepeatNode::tick (src/decorators/repeat_node.cpp): re-tick a successful child num_cycles
+    # times (-1: forever); a success from IDLE with cycles left returns RUNNING (wake-up)
+    cycles = _int(n, "num_cycles", 0)
+    count = run.get(n, "count")
+    loop = count < cycles or cycles == -1
+    run.set_status(n, RUNNING)
+    while loop:
+        child = n.kids[0]
+        prev = run.status(child)
+        s = run.tick(child)
+        if s is SUCCESS:
+            count += 1
+            run.put(n, "count", count)
+            loop = count < cycles or cycles == -1
+            _reset_child(run, n)
+            if prev is IDLE and loop:
+                return RUNNING
+        elif s is FAILURE:
+            run.put(n, "count", 0)
+            _reset_child(run, n)
+            return FAILURE
+        elif s is RUNNING:
+            return RUNNING
+        else:
+            _reset_child(run, n)
+            return SKIPPED
+    run.put(n, "count", 0)
+    return SUCCESS
+
+
+def _counter_halt(key: str) -> Callable[[_Run, PNode], None]:
+    # RetryNode::halt / RepeatNode::halt: reset the count, then DecoratorNode::halt
+    def halt(run: _Run, n: PNode) -> None:
+        run.put(n, key, 0)
+        _halt_children(run, n)
+    return halt
+
+
+def _run_once(run: _Run, n: PNode) -> Status:
+    # RunOnceNode::tick (run_once_node.h): the child until it completes, once; then SKIPPED
+    # (then_skip=true, default) or the same status forever. halt() keeps the memory.
+    skip = _bool(n, "then_skip", True)
+    if run.get(n, "done"):
+        return SKIPPED if skip else run.get(n, "returned")
+    run.set_status(n, RUNNING)
+    s = run.tick(n.kids[0])
+    if s in COMPLETED:
+        run.put(n, "done", True)
+        run.put(n, "returned", s)
+        _reset_child(run, n)
+    return s
+
+
+def _timeout(run: _Run, n: PNode) -> Status:
+    # TimeoutNode::tick (src/decorators/timeout_node.cpp): the timer starts at the first tick;
+    # if it fires while the child is RUNNING the child is halted and the node fails. When it
+    # fires is the environment's choice, asked before each later tick while the child runs.
+    msec = n.node.attr("msec")
+    armed = msec is None or _is_ref(msec) or _int(n, "msec", 0) > 0
+    child = n.kids[0]
+    if not run.get(n, "started"):
+        run.put(n, "started", True)
+        run.set_status(n, RUNNING)
+    elif armed and run.status(child) is RUNNING and run.event("time", n, (True, False)):
+        _reset_child(run, n)
+        run.put(n, "started", False)
+        return FAILURE
+    s = run.tick(child)
+    if s in COMPLETED:
+        run.put(n, "started", False)
+        _reset_child(run, n)
+    return s
+
+
+def _delay(run: _Run, n: PNode) -> Status:
+    # DelayNode::tick (src/decorators/delay_node.cpp): the first tick starts the timer and
+    # returns RUNNING; later ticks return RUNNING until it fired (the environment's choice),
+    # then tick the child until it completes
+    if not run.get(n, "started"):
+        run.put(n, "started", True)
+        run.put(n, "complete", False)
+        run.set_status(n, RUNNING)
+        run.event("time", n, (None,))
+        return RUNNING
+    if not run.get(n, "complete"):
+        if not run.event("time", n, (True, False)):
+            return RUNNING
+        run.put(n, "complete", True)
+    s = run.tick(n.kids[0])
+    if s in COMPLETED:
+        run.put(n, "started", False)
+        run.put(n, "complete", False)
+        _reset_child(run, n)
+    return s
+
+
+def _timer_halt(run: _Run, n: PNode) -> None:
+    # TimeoutNode::halt / DelayNode::halt: stop the timer, then DecoratorNode::halt
+    run.put(n, "started", False)
+    run.put(n, "complete", False)
+    _halt_children(run, n)
+
+
+def _precondition(run: _Run, n: PNode) -> Status:
+    # PreconditionNode::tick (script_precondition.h): `if` is evaluated only while the child is
+    # not running; false returns `else` (default FAILURE). halt() does not clear the flag.
+    otherwise = _status_port(n, "else", FAILURE)
+    if not run.get(n, "running"):
+        if not run.check(n, n.node.attr("if") or "", "if"):
+            return otherwise
+        run.put(n, "running", True)
+    s = run.tick(n.kids[0])
+    if s in COMPLETED:
+        _reset_child(run, n)
+        run.put(n, "running", False)
+    return s
+
+
+def _subtree(run: _Run, n: PNode) -> Status:
+    # SubTreeNode::tick (src/decorators/subtree_node.cpp): tick the called tree's root
+    if run.status(n) is IDLE:
+        run.set_status(n, RUNNING)
+    s = run.tick(n.kids[0])
+    if s in COMPLETED:
+        _reset_child(run, n)
+    return s
+
+
+# Opaque: a type whose semantics the table does not know
+
+def _opaque(run: _Run, n: PNode) -> Status:
+    """A leaf returns any status; a node with children picks, as events, children to tick and
+    then the status it returns (it may tick several before returning)."""
+    if not n.kids:
+        return run.event("tick", n, ACTION_OUTCOMES)
+    options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING)
+    while True:
+        choice = run.event("choose", n, options)
+        if isinstance(choice, Status):
+            return choice
+        run.tick(n.kids[choice])
+
+
+def _opaque_halt(run: _Run, n: PNode) -> None:
+    if not n.kids:
+        _leaf_halt(run, n)
+    else:
+        _halt_children(run, n)
+
+
+OPAQUE = Rule(_opaque, _opaque_halt)
+ACTION = Rule(_leaf(ACTION_OUTCOMES), _leaf_halt)
+CONDITION = Rule(_leaf(CONDITION_OUTCOMES), _leaf_halt)
+_SEQ, _FALLBACK = _sequence_like(fallback=False), _sequence_like(fallback=True)
+_MEMORY_HALT = _halt_children              # SequenceWithMemory::halt keeps the index
+
+# The node table (src/bt_factory.cpp's builtin registrations; Nav2's BT_REGISTER_NODES)
+RULES: Mapping[str, Rule] = MappingProxyType({
+    "Sequence": _SEQ,
+    "Fallback": _FALLBACK,
+    "AsyncSequence": _sequence_like(fallback=False, asynch=True),
+    "AsyncFallback": _sequence_like(fallback=True, asynch=True),
+    "SequenceWithMemory": Rule(_sequence_with_memory, _MEMORY_HALT),
+    "ReactiveSequence": _reactive(fallback=False),
+    "ReactiveFallback": _reactive(fallback=True),
+    "Parallel": Rule(_parallel, _parallel_halt, ("success_count", "failure_count")),
+    "ParallelAll": Rule(_parallel_all, _parallel_halt, ("max_failures",)),
+    "IfThenElse": Rule(_if_then_else, _if_then_else_halt),
+    "WhileDoElse": Rule(_while_do_else),
+    **{f"Switch{k}": _switch(k) for k in range(2, 7)},
+    "Inverter": Rule(_inverter),
+    "ForceSuccess": Rule(_force(SUCCESS)),
+    "ForceFailure": Rule(_force(FAILURE)),
+    "KeepRunningUntilFailure": Rule(_keep_running_until_failure),
+    "RetryUntilSuccessful": Rule(_retry, _counter_halt("tries"), ("num_attempts",)),
+    "Repeat": Rule(_repeat, _counter_halt("count"), ("num_cycles",)),
+    "RunOnce": Rule(_run_once, None, ("then_skip",)),
+    "Timeout": Rule(_timeout, _timer_halt),
+    "Delay": Rule(_delay, _timer_halt),
+    "Precondition": Rule(_precondition, None, ("else",)),
+    "SubTree": Rule(_subtree),
+    "AlwaysSuccess": Rule(_always(SUCCESS)),
+    "AlwaysFailure": Rule(_always(FAILURE)),
+    "Script": Rule(_script),
+    "SetBlackboard": Rule(_script),
+    "ScriptCondition": Rule(_script_condition),
+    "Sleep": Rule(_sleep, _leaf_halt),
+    "PipelineSequence": Rule(_pipeline_sequence, _pipeline_halt),
+    "RecoveryNode": Rule(_recovery, _recovery_halt, ("number_of_retries",)),
+    "RoundRobin": Rule(_round_robin, _round_robin_halt),
+})
+
+
+# ---------------------------------------------------------------------------------------------
+# Programs
+
+def subtree_id(node: Node) -> str | None:
+    """The ID of the tree a SubTree node calls, or None when `node` is no SubTree call."""
+    if node.form == "SubTree":
+        return node.type
+    if node.type == "SubTree":
+        return node.attr("ID")
+    return None
+
+
+def _rule_key(node: Node, document: Document, rules: Mapping[str, Rule]) -> str:
+    """The table key of the node's rule: its type, or a leaf kind, or opaque."""
+    rule = rules.get(node.type)
+    if rule is not None:
+        return "<opaque>" if any(_is_ref(node.attr(p)) for p in rule.literal) else node.type
+    model = document.model(node.type)
+    kind = node.form or (model.kind if model else "")
+    if not node.children and kind == "Condition":
+        return "<condition>"
+    if not node.children and kind in ("Action", ""):
+        return "<action>" if kind == "Action" else "<opaque>"
+    return "<opaque>"
+
+
+def program(document: Document, rules: Mapping[str, Rule] | None = None) -> Program:
+    """The document's main tree with its SubTrees expanded, under RULES extended by `rules`."""
+    table = {**RULES, **(rules or {}), "<opaque>": OPAQUE, "<action>": ACTION, "<condition>": CONDITION}
+
+    def build(node: Node, context: tuple, path: tuple, calls: tuple) -> PNode:
+        tid = subtree_id(node)
+        if tid is not None:
+            called = document.tree(tid)
+            if called is None:
+                raise SchemalogError(f"SubTree {node.name!r} calls tree {tid!r}, which the document does not define")
+            if tid in calls:
+                raise SchemalogError(f"SubTree {tid!r} calls itself (through {' -> '.join(calls)})")
+            ports = tuple((k, v) for k, v in node.ports if k != "ID")
+            ident = ("SubTree", tid, ports, node.attr("_autoremap", "false"))
+            kid = build(called, context + (ident,), path + (0,), calls + (tid,))
+            return PNode(node, "SubTree", (kid,), context, path)
+        kids = tuple(build(c, context, path + (i,), calls) for i, c in enumerate(node.children))
+        return PNode(node, _rule_key(node, document, table), kids, context, path)
+
+    return Program(build(document.root, (), (), (document.main,)), MappingProxyType(table))
+
+
+# ---------------------------------------------------------------------------------------------
+# The small step
+
+def step(prog: Program, config: Config, *, max_node_ticks: int = 100_000) -> Await | RootTicked:
+    """Run the current root tick from `config` to its next event or its end."""
+    run = _Run(prog, config, max_node_ticks)
+    try:
+        status = run.tick(prog.root)
+    except _Stop as stop:
+        return Await(stop.event, stop.options, config)
+    except TreeError as err:
+        return RootTicked(None, err.message, run.node_ticks, Config(), tuple(run.events),
+                          isinstance(err, NodeTickLimit))
+    if status in COMPLETED:                              # Tree::tickRoot: resetStatus on completion
+        run.set_status(prog.root, IDLE)
+    return RootTicked(status, "", run.node_ticks, Config(run.freeze()), tuple(run.events))
+
+
+def advance(config: Config, outcome: object) -> Config:
+    """The configuration after the environment answered the event `config` stopped at."""
+    return Config(config.memory, config.pending + (outcome,))
+
+
+def initial() -> Config:
+    """The configuration before the first root tick: every node IDLE."""
+    return Config()
