@@ -7,7 +7,8 @@ leaf tick, halt, script and root status as it was (docs/semantics.md, "Behaviour
 The rules (each proved on real trees by bt/prove.py; compress is not trusted without it):
 
     flatten      Sequence(.., Sequence(a, b), ..)  ->  Sequence(.., a, b, ..)
-                 the same for SequenceWithMemory, ReactiveSequence, Fallback, ReactiveFallback:
+                 the same for ReactiveSequence, Fallback, ReactiveFallback (not for
+                 SequenceWithMemory, which yields after each child that started and succeeded):
                  a composite inside one of the same type resumes, restarts and skips as the
                  outer one would at the same place (BT.CPP src/controls/*_node.cpp)
     single       Sequence(a) -> a, Fallback(a) -> a (any of those five composites): the
@@ -29,6 +30,10 @@ from dataclasses import dataclass
 from .model import Document, Node
 
 COMPOSITES = frozenset({"Sequence", "SequenceWithMemory", "ReactiveSequence", "Fallback", "ReactiveFallback"})
+# SequenceWithMemory hands the tick back after a child that started this tick succeeds
+# (requiresWakeUp, src/controls/sequence_with_memory_node.cpp); nested, the inner one's last
+# success does not, so flattening it moves a RUNNING: the prover refutes it (tests/bt/test_parts.py).
+FLATTENED = COMPOSITES - {"SequenceWithMemory"}
 FORCES = frozenset({"ForceSuccess", "ForceFailure"})
 
 
@@ -68,7 +73,7 @@ def _removed(rule: str, node: Node) -> Rewrite:
 def compress_node(node: Node, log: list[Rewrite]) -> Node:
     """`node` with the rules applied bottom-up, each rewrite appended to `log`."""
     children = tuple(compress_node(c, log) for c in node.children)
-    if node.type in COMPOSITES and not node.form:
+    if node.type in FLATTENED and not node.form:
         flat: list[Node] = []
         for child in children:
             if _plain(child, frozenset({node.type})) and child.children:

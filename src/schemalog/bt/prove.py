@@ -22,9 +22,9 @@ from collections import deque
 from dataclasses import dataclass
 from collections.abc import Mapping
 
-from schemalog.bt.model import Document
+from schemalog.bt.model import Document, Node
 from schemalog.bt.semantics import (RUNNING, Await, Config, Event, Program, RootTicked, Rule,
-                                    Status, advance, initial, program, step)
+                                    Status, advance, halt_step, initial, program, step)
 
 
 @dataclass(frozen=True)
@@ -94,51 +94,112 @@ def _outcome(o: object) -> str:
 
 
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                rules: Mapping[str, Rule] | None = None) -> Verdict:
-    """Explore both trees under every environment; equal when no environment tells them apart."""
+                rules: Mapping[str, Rule] | None = None, contextual: bool = False) -> Verdict:
+    """Explore both trees under every environment; equal when no environment tells them apart.
+
+    `contextual`: the roots stand for two subtrees under any parent, which between two root
+    ticks may tick again, halt a RUNNING root (haltChild) or tick a finished or halted one
+    anew, its memory kept (RunOnce, RoundRobin). Equal so, the subtrees can replace each other
+    anywhere: a parent sees only their statuses, and their events are the same."""
     pa, pb = program(a, rules), program(b, rules)
-    start = (initial(), initial())
-    parent: dict[tuple[Config, Config], tuple | None] = {start: None}
+    start = (_TICK, initial(), initial())
+    parent: dict[tuple, tuple | None] = {start: None}
     queue = deque([start])
     explored = 0
     limit = ""
     while queue:
-        pair = queue.popleft()
+        key = queue.popleft()
+        phase, ca, cb = key
         explored += 1
-        sa, sb = step(pa, pair[0]), step(pb, pair[1])
+        move = step if phase is _TICK else halt_step
+        sa, sb = move(pa, ca), move(pb, cb)
         diff = _difference(sa, sb)
         if diff:
-            choices, ticks = _choices(parent, pair)
-            cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
+            if contextual:
+                labels = _labels(parent, key)
+                choices = tuple(x for x in labels if x not in _MOVES and x is not _NONE)
+                cex = Counterexample(choices, _trace_moves(pa, labels), _trace_moves(pb, labels), diff)
+            else:
+                choices, ticks = _choices(parent, key)
+                cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
             return Verdict(False, True, explored, diff, cex)
-        successors: list[tuple[tuple[Config, Config], object]] = []
+        successors: list[tuple[tuple, object]] = []
         if isinstance(sa, Await):
             if len(sa.config.pending) >= max_events_per_tick:
                 limit = limit or f"a root tick reached {max_events_per_tick} events (max_events_per_tick)"
                 continue
-            successors = [((advance(pair[0], o), advance(pair[1], o)),
+            successors = [((phase, advance(ca, o), advance(cb, o)),
                            _NONE if sa.options == (None,) else o) for o in sa.options]
         elif sa.limited or sb.limited:
             limit = limit or sa.error or sb.error
         elif sa.status is RUNNING:
-            successors = [((sa.config, sb.config), _ROOT)]
+            successors = [((_TICK, sa.config, sb.config), _ROOT)]
+            if contextual:
+                successors.append(((_HALT, sa.config, sb.config), _HALT))
+        elif contextual and sa.status is not None:
+            successors = [((_TICK, sa.config, sb.config), _AGAIN)]
         for nxt, label in successors:
             if nxt in parent:
                 continue
             if len(parent) >= max_states:
                 limit = limit or f"{max_states} states explored (max_states)"
                 break
-            parent[nxt] = (pair, label)
+            parent[nxt] = (key, label)
             queue.append(nxt)
     if limit:
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}")
+    where = "in every context and " if contextual else ""
     return Verdict(True, True, explored,
-                   f"equal under every environment ({explored} pairs of states, exhausted)")
+                   f"equal {where}under every environment ({explored} pairs of states, exhausted)")
+
+
+_TICK = "tick"                                        # the phases of a key: ticking the roots,
+_HALT = "halt"                                        # or halting them (contextual)
+_AGAIN = "again"                                      # the label of "a finished root is ticked anew"
 
 
 _ROOT = object()                                      # the label of "the root is ticked again"
 _NONE = object()                                      # the label of an event without a choice
+
+
+_MOVES = (_ROOT, _HALT, _AGAIN)
+
+
+def _labels(parent: dict, key: tuple) -> tuple:
+    """Every label on the breadth-first path to `key`: outcomes, moves, events without a choice."""
+    out = []
+    while parent[key] is not None:
+        key, label = parent[key]
+        out.append(label)
+    return tuple(reversed(out))
+
+
+def _trace_moves(prog: Program, labels: tuple) -> tuple[TickTrace, ...]:
+    """Run `prog` along `labels` (outcomes, and at each root tick's end the parent's move: tick
+    again, halt, tick anew) up to the last label's step; a halt shows as a tick with status IDLE."""
+    ticks: list[TickTrace] = []
+    config, phase, events = initial(), _TICK, []
+    todo = [x for x in labels if x is not _NONE]
+    while True:
+        s = (step if phase is _TICK else halt_step)(prog, config)
+        if isinstance(s, Await):
+            if s.options == (None,):
+                events.append(s.event)
+                config = advance(config, None)
+                continue
+            if not todo:
+                ticks.append(TickTrace(tuple(events) + (s.event,), None))
+                return tuple(ticks)
+            outcome = todo.pop(0)
+            events.append(Event(s.event.kind, s.event.node, outcome, s.event.label))
+            config = advance(config, outcome)
+            continue
+        ticks.append(TickTrace(s.events, s.status, s.error))
+        events = []
+        if not todo:
+            return tuple(ticks)
+        phase, config = (_HALT if todo.pop(0) is _HALT else _TICK), s.config
 
 
 def _choices(parent: dict, pair: tuple) -> tuple[tuple, int]:
@@ -259,3 +320,44 @@ def simulate(document: Document, seed: int, root_ticks: int, *,
         else:
             break
     return tuple(events), node_ticks, tuple(statuses)
+
+
+# ---------------------------------------------------------------------------------------------
+# Proofs by parts: where two documents differ only in some subtrees
+
+def differing_parts(a: Node, b: Node) -> list[tuple[Node, Node]]:
+    """The pairs of subtrees where `a` and `b` part, top-down: below two nodes alike (type,
+    form, attributes, number of children) the children are compared pairwise; elsewhere the
+    two nodes are a part. Equal trees have none."""
+    if a == b:
+        return []
+    if (a.type, a.form, a.attrs, len(a.children)) != (b.type, b.form, b.attrs, len(b.children)) or not a.children:
+        return [(a, b)]
+    return [part for ca, cb in zip(a.children, b.children) for part in differing_parts(ca, cb)]
+
+
+def _part(document: Document, node: Node) -> Document:
+    """`node` as the main tree of a document that still holds every tree it may call."""
+    key = "\0part"                                   # an ID no XML document can hold
+    return Document(document.trees + ((key, node),), key, document.models, document.includes)
+
+
+def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
+                   rules: Mapping[str, Rule] | None = None) -> Verdict:
+    """Prove two documents equal through the subtrees where they differ, each equal in every
+    context (a congruence: a parent sees a subtree only through its statuses, and the events
+    are the same), and where that fails or a document's trees differ, by exploring both whole:
+    a refutation is always one of the whole trees."""
+    ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
+    if ids_a == ids_b and a.main == b.main:
+        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in differing_parts(ra, rb)]
+        verdicts = [prove_equal(_part(a, na), _part(b, nb), max_states=max_states,
+                                max_events_per_tick=max_events_per_tick, rules=rules, contextual=True)
+                    for na, nb in parts]
+        states = sum(v.states for v in verdicts)
+        if all(v.equal and v.complete for v in verdicts):
+            what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
+                    f"context and under every environment" if parts else "the documents' trees are identical")
+            return Verdict(True, True, states, f"equal by parts: {what} ({states} pairs of states, exhausted)")
+    whole = prove_equal(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules)
+    return whole

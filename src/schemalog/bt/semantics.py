@@ -1133,3 +1133,16 @@ def advance(config: Config, outcome: object) -> Config:
 def initial() -> Config:
     """The configuration before the first root tick: every node IDLE."""
     return Config()
+
+
+def halt_step(prog: Program, config: Config) -> Await | RootTicked:
+    """Halt the RUNNING root from `config` (its parent's haltChild, src/control_node.cpp) up to
+    the next event it makes (a leaf's halt, an `_onHalted` script) or to its end: RootTicked
+    with status IDLE and the memory the next root tick starts from."""
+    run = _Run(prog, config, 100_000)
+    try:
+        run.halt_node(prog.root)
+    except _Stop as stop:
+        return Await(stop.event, stop.options, config)
+    run.set_status(prog.root, IDLE)
+    return RootTicked(IDLE, "", run.node_ticks, Config(run.freeze()), tuple(run.events))

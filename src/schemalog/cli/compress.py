@@ -24,6 +24,8 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("--verify", action="store_true",
                    help="then prove the compressed task against the original from the initial state "
                         "(as schemalog verify; exit 1 on a counterexample, 3 without a proof)")
+    from .trees import add_nodes_option
+    add_nodes_option(p, max_states=True)
     p.set_defaults(run=run)
 
 
@@ -35,6 +37,10 @@ def run(args: argparse.Namespace) -> int:
     from .common import emit, inputs_of, load_knowledge, said, task_of
     from .output import PICTURES, emit_picture, output_format, print_rich, FORMAT_WORDS
 
+    from .trees import run_compress, tree_route
+
+    if tree_route(args):               # a BT.CPP tree: BT.CPP's semantics (cli/trees.py)
+        return run_compress(args)
     fmt = output_format(args)          # a picture asked for without Graphviz: say so before any work
     knowledge = load_knowledge(args)
     inputs = inputs_of(args, knowledge.files)

@@ -48,6 +48,8 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("--seed", type=int, help="random seed of --sample (default 0)")
     p.add_argument("--json", action="store_true", help="print the report as JSON (docs/formats.md)")
     p.add_argument("-o", "--output", help="write here (atomically) instead of standard output")
+    from .trees import add_nodes_option
+    add_nodes_option(p)
     p.set_defaults(run=run, jitter=None)
     from .verify_each import add_arguments  # verify --each: many files as one sweep (cli/verify_each.py)
     add_arguments(p)
@@ -73,7 +75,10 @@ def run(args: argparse.Namespace) -> int:
         return run_each(args)
     import schemalog
     from .common import check_output, emit, inputs_of, said
+    from .trees import run_verify, tree_route
 
+    if tree_route(args):               # BT.CPP trees: BT.CPP's semantics (cli/trees.py)
+        return run_verify(args)
     check_output(args.output, inputs_of(args))   # before anything is read
     original, compressed, inputs = _verify_inputs(args)
     tty = bool(args.sample) and sys.stderr.isatty()

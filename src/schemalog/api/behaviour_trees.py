@@ -1,0 +1,118 @@
+"""Behaviour trees as BT.CPP 4 runs them, compressed and proved: what `schemalog compress
+F.xml` and `schemalog verify F.xml SMALL.xml` do with a tree that is not schemalog's own export
+(docs/behaviour_trees.md).
+
+    read_tree(path, nodes=(), max_bytes)   -> Document        the file, its <include>s, --nodes' models
+    compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved
+    prove_trees(a, b, max_states)          -> Verdict         bt/prove.py's product exploration
+    is_own_export(path)                    -> bool            schemalog's own exports (schemalog_run)
+                                                              are task knowledge: the schema route
+
+A compression is never trusted on its rewrites' word: the compressed tree is proved against the
+original, and a verdict that a limit cut short says so (`complete` False).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from .. import defaults
+from ..errors import SchemalogError, SourcePos
+
+EVENTS_PER_TICK = 10_000     # events in one root tick before the prover stops (no proof): a loop
+
+
+@dataclass(frozen=True)
+class TreeCompression:
+    """A tree compressed: the original and compressed documents, the rewrites made, and the
+    prover's verdict on the two."""
+
+    original: object
+    compressed: object
+    rewrites: tuple
+    verdict: object
+
+    @property
+    def nodes_before(self) -> int:
+        from ..bt.model import size
+        return size(self.original)
+
+    @property
+    def nodes_after(self) -> int:
+        from ..bt.model import size
+        return size(self.compressed)
+
+
+def _decoded(name: str, max_bytes: int) -> str:
+    from ..inputs import read_limited
+
+    data = read_limited(name, max_bytes)
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        line = data[:err.start].count(b"\n") + 1
+        column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+        raise SchemalogError("not UTF-8 text", SourcePos(name, line, column)) from None
+
+
+def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:
+    """The TreeNodesModel entries of nodes files (Nav2's nav2_tree_nodes.xml), in order."""
+    from ..formats.btxml import read_models as parse_models
+
+    models: list = []
+    for path in paths:
+        models.extend(parse_models(_decoded(str(path), max_bytes), str(path)))
+    return tuple(models)
+
+
+def read_tree(path: str | Path, nodes=(), max_bytes: int = defaults.MAX_BYTES):
+    """The BT.CPP 4 document in `path`, the files it includes, the models of `nodes` files."""
+    from ..formats.btxml import read_bt
+
+    name = str(path)
+    return read_bt(_decoded(name, max_bytes), name, lambda p: _decoded(p, max_bytes),
+                   models=read_models(nodes, max_bytes))
+
+
+def is_own_export(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> bool:
+    """Whether `path` is a tree schemalog exported (its main tree is schemalog_run)."""
+    from ..formats.btcpp import MAIN_TREE
+
+    try:
+        text = _decoded(str(path), max_bytes)
+    except SchemalogError:
+        return False          # the BT route reads it again and says what is wrong
+    return f'main_tree_to_execute="{MAIN_TREE}"' in text
+
+
+def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES):
+    """Prove two documents equal under BT.CPP 4 semantics, or refute them (bt/prove.py): by the
+    subtrees where they differ, each in every context, else by exploring both whole."""
+    from ..bt.prove import prove_by_parts
+
+    return prove_by_parts(original, compressed, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK)
+
+
+def compress_tree(document, max_states: int = defaults.MAX_STATES) -> TreeCompression:
+    """Apply the BT rewrites to `document` and prove the result against it."""
+    from ..bt.compress import compress
+
+    result = compress(document)
+    verdict = prove_trees(document, result.document, max_states) if result.rewrites else None
+    return TreeCompression(document, result.document, result.rewrites, verdict)
+
+
+def tree_xml(document) -> str:
+    """The document as BT.CPP 4 XML with a TreeNodesModel (formats/btxml.py)."""
+    from ..formats.btxml import write_bt
+
+    return write_bt(document)
+
+
+def verdict_text(verdict) -> str:
+    """The prover's verdict as a person reads it: a proof, a search a limit cut short, or the
+    counterexample root tick by root tick."""
+    from ..bt.prove import explain
+
+    return explain(verdict)

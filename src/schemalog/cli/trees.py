@@ -1,0 +1,136 @@
+"""`schemalog compress F.xml` and `schemalog verify F.xml [SMALL.xml]` for behaviour trees that
+are not schemalog's own exports: BT.CPP 4 semantics, the rewrites of bt/compress.py, the
+prover of bt/prove.py (docs/behaviour_trees.md)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from ..errors import SchemalogError, UsageError
+
+PROVED, REFUTED, INCONCLUSIVE = 0, 1, 3
+
+
+def tree_route(args: argparse.Namespace) -> bool:
+    """Whether the command's files are BT.CPP trees to treat as behaviour trees: every file
+    an .xml, none schemalog's own export (those are task knowledge, the schema route)."""
+    from ..api.behaviour_trees import is_own_export
+
+    files = args.files
+    return bool(files) and all(f.lower().endswith(".xml") for f in files) \
+        and not any(is_own_export(f, args.max_bytes) for f in files)
+
+
+def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> None:
+    """--nodes FILE: a TreeNodesModel file (Nav2's nav2_tree_nodes.xml) for BT.CPP trees; with
+    `max_states`, the prover's --max-states too (compress proves what it rewrote)."""
+    if max_states:
+        from .. import defaults
+        from .options import positive
+
+        p.add_argument("--max-states", type=positive, default=defaults.MAX_STATES, metavar="N",
+                       help=f"BT.CPP trees: stop proving the compressed tree after N pairs of states; the "
+                            f"result then says it is no proof and exits 3 (default {defaults.MAX_STATES:,})")
+    p.add_argument("--nodes", action="append", default=[], metavar="FILE",
+                   help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
+                        "nav2_tree_nodes.xml); repeatable")
+
+
+def _verdict_words(verdict) -> str:
+    if verdict.equal and verdict.complete:
+        return f"proved equal to the original under BT.CPP 4 semantics: {verdict.reason}"
+    if verdict.equal:
+        return f"NOT proved: {verdict.reason}"
+    return f"REFUTED: {verdict.reason}"
+
+
+def _status(verdict) -> int:
+    if verdict is None or verdict.equal and verdict.complete:
+        return PROVED
+    return INCONCLUSIVE if verdict.equal else REFUTED
+
+
+def _inputs(args: argparse.Namespace, document) -> list[str]:
+    return [*args.files, *args.nodes, *document.includes]
+
+
+def run_compress(args: argparse.Namespace) -> int:
+    """Compress one BT.CPP tree, prove the result, print or write it."""
+    from ..api.behaviour_trees import compress_tree, read_tree, tree_xml, verdict_text
+    from .common import check_output, emit
+
+    if len(args.files) != 1:
+        raise UsageError("compress takes one BT.CPP tree file (its <include>s are read with it)")
+    fmt = "json" if args.json else args.format or ("xml" if args.output and args.output.lower().endswith(".xml")
+                                                    else "text" if not args.output or args.output == "-" else None)
+    if fmt not in ("xml", "text", "json"):
+        raise UsageError("a BT.CPP tree compresses to BT.CPP XML (-o FILE.xml), text or JSON (--json); "
+                         f"not {args.format or args.output!r}")
+    check_output(args.output, [*args.files, *args.nodes])
+    document = read_tree(args.files[0], args.nodes, args.max_bytes)
+    result = compress_tree(document, args.max_states)
+    verdict, code = result.verdict, _status(result.verdict)
+    if verdict is not None and not verdict.equal:
+        # A rewrite the prover refutes is a bug of ours: say so, write nothing.
+        print(verdict_text(verdict), end="")
+        raise SchemalogError(f"the compressed tree differs from {args.files[0]}: a rewrite of "
+                             f"bt/compress.py is wrong here (nothing written); please report it with the file")
+    before, after = result.nodes_before, result.nodes_after
+    if not result.rewrites:
+        summary = (f"{args.files[0]}: nothing to compress ({before} nodes): no composite inside one of its "
+                   f"own type, no single-child Sequence or Fallback, no double Inverter or Force")
+    else:
+        summary = (f"{args.files[0]}: {after} nodes from {before} ({len(result.rewrites)} rewrites), "
+                   f"{_verdict_words(verdict)}")
+    inputs = _inputs(args, document)
+    if fmt == "xml":
+        emit(tree_xml(result.compressed), args.output, inputs, summary.split(": ", 1)[1])
+    elif fmt == "json":
+        emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
+                         "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "line": r.line,
+                                       "column": r.column} for r in result.rewrites],
+                         "proved": code == PROVED, "complete": verdict.complete if verdict else True,
+                         "states": verdict.states if verdict else 0,
+                         "reason": verdict.reason if verdict else "nothing rewritten"}, indent=2) + "\n",
+             args.output, inputs, "JSON")
+    else:
+        emit(summary + "\n" + "".join(f"  {r}\n" for r in result.rewrites), args.output, inputs, "text")
+    if code == INCONCLUSIVE and fmt != "text":
+        print(f"NOT proved: {verdict.reason}", file=sys.stderr)
+    return code
+
+
+def run_verify(args: argparse.Namespace) -> int:
+    """Prove a compressed BT.CPP tree against its original (or compress one file and prove it)."""
+    from ..api.behaviour_trees import compress_tree, prove_trees, read_tree, verdict_text
+    from .common import check_output, emit
+
+    check_output(args.output, [*args.files, *args.nodes])
+    if len(args.files) == 1:
+        document = read_tree(args.files[0], args.nodes, args.max_bytes)
+        result = compress_tree(document, args.max_states)
+        original, verdict, includes = document, result.verdict, document.includes
+        if verdict is None:
+            text = f"{args.files[0]}: nothing to compress, so nothing to prove (the tree is its own compression)\n"
+            emit(text, args.output, [*args.files, *args.nodes, *includes], "text")
+            return PROVED
+    elif len(args.files) == 2:
+        original = read_tree(args.files[0], args.nodes, args.max_bytes)
+        compressed = read_tree(args.files[1], args.nodes, args.max_bytes)
+        verdict, includes = prove_trees(original, compressed, args.max_states), (*original.includes,
+                                                                                 *compressed.includes)
+    else:
+        raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed tree")
+    inputs = [*args.files, *args.nodes, *includes]
+    if args.json:
+        cex = verdict.counterexample
+        emit(json.dumps({"files": args.files, "equal": verdict.equal, "complete": verdict.complete,
+                         "proved": verdict.equal and verdict.complete, "states": verdict.states,
+                         "reason": verdict.reason,
+                         "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]},
+                        indent=2) + "\n", args.output, inputs, "JSON")
+    else:
+        emit(verdict_text(verdict), args.output, inputs, "text")
+    return _status(verdict)

@@ -1,0 +1,118 @@
+"""Proofs in every context and by parts (bt/prove.py): a subtree equal in every context can
+replace the other under any parent; where that is not shown, the whole trees decide."""
+
+from __future__ import annotations
+
+from hypothesis import given, settings, strategies as st
+
+from schemalog.bt.compress import compress
+from schemalog.bt.model import Document, Node
+from schemalog.bt.prove import differing_parts, explain, prove_by_parts, prove_equal
+
+LIMITS = dict(max_states=20_000, max_events_per_tick=30)
+
+
+def act(name: str, **ports: str) -> Node:
+    return Node(name, tuple(ports.items()), (), "Action")
+
+
+def n(node_type: str, *children: Node, **attrs: str) -> Node:
+    return Node(node_type, tuple(attrs.items()), children)
+
+
+def doc(root: Node, **trees: Node) -> Document:
+    return Document((("Main", root), *trees.items()), "Main")
+
+
+A, B, C, D = act("A"), act("B"), act("C"), act("D")
+
+
+def test_run_once_is_told_apart_only_when_ticked_anew():
+    # Ticked until done and never again, RunOnce(A) is A. A parent that ticks it anew after it
+    # finished sees the difference: RunOnce does not tick A again.
+    once, plain = doc(n("RunOnce", A)), doc(A)
+    alone = prove_equal(once, plain, **LIMITS)
+    assert alone.equal and alone.complete
+    anywhere = prove_equal(once, plain, contextual=True, **LIMITS)
+    assert not anywhere.equal and anywhere.complete
+    text = explain(anywhere)
+    assert "root -> SUCCESS" in text and "the trees part here" in text
+
+
+def test_a_sequence_with_memory_inside_another_is_not_flattened():
+    # SequenceWithMemory hands the tick back (RUNNING) after a child that started this tick
+    # succeeds (src/controls/sequence_with_memory_node.cpp, requiresWakeUp): nested, the inner
+    # one's last success does not, so the two shapes yield at different places.
+    nested = doc(n("SequenceWithMemory", n("SequenceWithMemory", A, B), C))
+    v = prove_equal(nested, doc(n("SequenceWithMemory", A, B, C)), **LIMITS)
+    assert not v.equal and "tick C" in explain(v)
+    assert compress(nested).rewrites == ()
+
+
+def test_the_rewrites_hold_in_every_context():
+    for before, after in [(n("Sequence", n("Sequence", A, B), C), n("Sequence", A, B, C)),
+                          (n("ReactiveFallback", n("ReactiveFallback", A, B), C), n("ReactiveFallback", A, B, C)),
+                          (n("SequenceWithMemory", A), A),
+                          (n("Fallback", A), A), (n("Inverter", n("Inverter", A)), A),
+                          (n("ForceSuccess", n("ForceFailure", A)), n("ForceSuccess", A))]:
+        v = prove_equal(doc(before), doc(after), contextual=True, **LIMITS)
+        assert v.equal and v.complete, (before.type, explain(v))
+
+
+def test_differing_parts_are_the_smallest_subtrees_that_differ():
+    a = n("RecoveryNode", n("PipelineSequence", A, n("Sequence", n("Sequence", B, C), D)), B)
+    b = n("RecoveryNode", n("PipelineSequence", A, n("Sequence", B, C, D)), B)
+    assert differing_parts(a, a) == []
+    assert differing_parts(a, b) == [(a.children[0].children[1], b.children[0].children[1])]
+
+
+def test_a_proof_by_parts_explores_only_the_parts():
+    big = n("RecoveryNode", n("PipelineSequence", *[n("Fallback", act(f"Is{i}"), act(f"Do{i}")) for i in range(6)],
+                              n("Sequence", n("Sequence", B, C), D)), n("RoundRobin", A, B, C))
+    small = compress(doc(big)).document
+    by_parts = prove_by_parts(doc(big), small, **LIMITS)
+    assert by_parts.equal and by_parts.complete and "by parts" in by_parts.reason
+    whole = prove_equal(doc(big), small, **{**LIMITS, "max_states": by_parts.states * 10})
+    assert whole.equal and not whole.complete        # the whole product is far larger
+
+
+def test_a_wrong_part_is_refuted_on_the_whole_trees():
+    a = doc(n("Sequence", n("RecoveryNode", A, B, number_of_retries="1"), C))
+    b = doc(n("Sequence", n("RecoveryNode", B, A, number_of_retries="1"), C))
+    v = prove_by_parts(a, b, **LIMITS)
+    assert not v.equal and v.complete
+    assert "by parts" not in v.reason and v.counterexample is not None
+
+
+def test_subtrees_called_by_a_part_are_kept():
+    sub = n("Sequence", n("Sequence", A, B))
+    a = doc(n("Fallback", n("SubTree", ID="Sub"), C), Sub=sub)
+    small = compress(a).document
+    assert small.tree("Sub") == n("Sequence", A, B)
+    v = prove_by_parts(a, small, **LIMITS)
+    assert v.equal and v.complete
+
+
+LEAVES = st.sampled_from([A, B, C])
+KINDS = ["Sequence", "Fallback", "ReactiveSequence", "ReactiveFallback", "SequenceWithMemory", "Inverter",
+         "ForceSuccess", "ForceFailure"]
+
+
+@st.composite
+def trees(draw, depth=3):
+    if depth == 0 or draw(st.integers(0, 3)) == 0:
+        return draw(LEAVES)
+    kind = draw(st.sampled_from(KINDS))
+    count = 1 if kind.startswith(("Inverter", "Force")) else draw(st.integers(1, 3))
+    return n(kind, *(draw(trees(depth - 1)) for _ in range(count)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(trees())
+def test_compression_is_proved_by_parts_and_agrees_with_the_whole_proof(tree):
+    original = doc(tree)
+    small = compress(original).document
+    by_parts = prove_by_parts(original, small, **LIMITS)
+    assert by_parts.equal, explain(by_parts)
+    whole = prove_equal(original, small, **LIMITS)
+    assert whole.equal, explain(whole)
