@@ -66,13 +66,14 @@ def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:
     return tuple(models)
 
 
-def read_tree(path: str | Path, nodes=(), max_bytes: int = defaults.MAX_BYTES):
-    """The BT.CPP 4 document in `path`, the files it includes, the models of `nodes` files."""
+def read_tree(path: str | Path, nodes=(), max_bytes: int = defaults.MAX_BYTES, main: str | None = None):
+    """The BT.CPP 4 document in `path`, the files it includes, the models of `nodes` files;
+    `main` the tree to run (BT.CPP's createTree(main)), else the file's main_tree_to_execute."""
     from ..formats.btxml import read_bt
 
     name = str(path)
     return read_bt(_decoded(name, max_bytes), name, lambda p: _decoded(p, max_bytes),
-                   models=read_models(nodes, max_bytes))
+                   models=read_models(nodes, max_bytes), main=main)
 
 
 def is_own_export(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> bool:

@@ -14,7 +14,8 @@ def register(sub, parents: Parents) -> None:
     p = sub.add_parser("compress", parents=[parents.limits, parents.resources, parents.output],
                        help="merge sequential behaviours (Definition 1, Algorithm 1)")
     p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to compress, {TOGETHER}")
-    p.add_argument("--task", help="the task to compress (default: the first task/1)")
+    p.add_argument("--task", help="the task to compress (default: the first task/1); for a BT.CPP tree, the "
+                        "BehaviorTree ID to run (default: main_tree_to_execute)")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
                    help="what the children of a merged behaviour inherit: its pre AND not post "
                         "(full, default), its pre (pre: the paper's rule), or nothing (none)")

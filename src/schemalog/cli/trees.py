@@ -46,6 +46,10 @@ def _verdict_words(verdict) -> str:
     return f"REFUTED: {verdict.reason}"
 
 
+def _count(n: int, word: str) -> str:
+    return f"{n:,} {word}{'' if n == 1 else 's'}"
+
+
 def _status(verdict) -> int:
     if verdict is None or verdict.equal and verdict.complete:
         return PROVED
@@ -69,7 +73,7 @@ def run_compress(args: argparse.Namespace) -> int:
         raise UsageError("a BT.CPP tree compresses to BT.CPP XML (-o FILE.xml), text or JSON (--json); "
                          f"not {args.format or args.output!r}")
     check_output(args.output, [*args.files, *args.nodes])
-    document = read_tree(args.files[0], args.nodes, args.max_bytes)
+    document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
     result = compress_tree(document, args.max_states)
     verdict, code = result.verdict, _status(result.verdict)
     if verdict is not None and not verdict.equal:
@@ -79,10 +83,10 @@ def run_compress(args: argparse.Namespace) -> int:
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
     before, after = result.nodes_before, result.nodes_after
     if not result.rewrites:
-        summary = (f"{args.files[0]}: nothing to compress ({before} nodes): no composite inside one of its "
+        summary = (f"{args.files[0]}: nothing to compress ({_count(before, 'node')}): no composite inside one of its "
                    f"own type, no single-child Sequence or Fallback, no double Inverter or Force")
     else:
-        summary = (f"{args.files[0]}: {after} nodes from {before} ({len(result.rewrites)} rewrites), "
+        summary = (f"{args.files[0]}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
                    f"{_verdict_words(verdict)}")
     inputs = _inputs(args, document)
     if fmt == "xml":
@@ -109,7 +113,7 @@ def run_verify(args: argparse.Namespace) -> int:
 
     check_output(args.output, [*args.files, *args.nodes])
     if len(args.files) == 1:
-        document = read_tree(args.files[0], args.nodes, args.max_bytes)
+        document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
         result = compress_tree(document, args.max_states)
         original, verdict, includes = document, result.verdict, document.includes
         if verdict is None:
@@ -117,8 +121,8 @@ def run_verify(args: argparse.Namespace) -> int:
             emit(text, args.output, [*args.files, *args.nodes, *includes], "text")
             return PROVED
     elif len(args.files) == 2:
-        original = read_tree(args.files[0], args.nodes, args.max_bytes)
-        compressed = read_tree(args.files[1], args.nodes, args.max_bytes)
+        original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
+        compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
         verdict, includes = prove_trees(original, compressed, args.max_states), (*original.includes,
                                                                                  *compressed.includes)
     else:

@@ -19,7 +19,8 @@ def register(sub, parents: Parents) -> None:
                        help="prove a compressed task against its original, with counterexamples")
     p.add_argument("files", nargs="+", metavar="FILE",
                    help="a task file (compressed here), or an original and a compressed file")
-    p.add_argument("--task", help="the task (default: the first task/1)")
+    p.add_argument("--task", help="the task (default: the first task/1); for BT.CPP trees, the BehaviorTree "
+                        "ID to run (default: main_tree_to_execute)")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
                    help="how to compress a single task file (default full; pre is the paper's rule)")
     p.add_argument("--sympy-budget", type=budget, default=defaults.SYMPY_BUDGET, metavar="N",
