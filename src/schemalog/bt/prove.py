@@ -202,6 +202,11 @@ def describe(event: Event) -> str:
     verb = {"tick": "tick", "halt": "halt", "check": "check", "script": "run script",
             "time": "time at", "choose": "choice of"}.get(event.kind, event.kind)
     outcome = _outcome(event.outcome)
+    if isinstance(event.outcome, int) and not isinstance(event.outcome, bool):
+        if event.kind == "choose":
+            outcome = f"tick child {event.outcome + 1}"
+        elif head.startswith("Switch") and head[6:].isdigit() and event.outcome == int(head[6:]):
+            outcome = "default"
     return f"{verb} {where}{what}" + (f" -> {outcome}" if outcome else "")
 
 

@@ -375,7 +375,7 @@ def _sequence_like(*, fallback: bool, asynch: bool = False) -> Rule:
 
     def tick(run: _Run, n: PNode) -> Status:
         count = len(n.kids)
-        if run.status(n) not in (RUNNING,):                   # !isStatusActive(status())
+        if run.status(n) in (IDLE, SKIPPED):                  # !isStatusActive(status())
             run.put(n, "skipped", 0)
         run.set_status(n, RUNNING)
         idx = run.get(n, "idx")
@@ -416,7 +416,7 @@ def _sequence_with_memory(run: _Run, n: PNode) -> Status:
     # SequenceWithMemory::tick (src/controls/sequence_with_memory_node.cpp): a failure keeps the
     # index; a child that succeeds from IDLE yields RUNNING (requiresWakeUp() is true in a Tree)
     count = len(n.kids)
-    if run.status(n) is not RUNNING:
+    if run.status(n) in (IDLE, SKIPPED):                      # !isStatusActive(status())
         run.put(n, "skipped", 0)
     run.set_status(n, RUNNING)
     idx = run.get(n, "idx")
@@ -994,6 +994,19 @@ def _subtree(run: _Run, n: PNode) -> Status:
     return s
 
 
+def _rate_controller(run: _Run, n: PNode) -> Status:
+    # Nav2 RateController::tick (nav2_behavior_tree/plugins/decorator/rate_controller.cpp): the
+    # child is ticked the first time (from IDLE), while it runs, and when the period elapsed (a
+    # `time` event); else RUNNING. The child is not reset on completion; SKIPPED -> FAILURE.
+    first = run.status(n) is IDLE
+    run.set_status(n, RUNNING)
+    child = n.kids[0]
+    if first or run.status(child) is RUNNING or run.event("time", n, (True, False)):
+        s = run.tick(child)
+        return s if s in (RUNNING, SUCCESS) else FAILURE
+    return RUNNING
+
+
 # Opaque: a type whose semantics the table does not know
 
 def _opaque(run: _Run, n: PNode) -> Status:
@@ -1056,6 +1069,7 @@ RULES: Mapping[str, Rule] = MappingProxyType({
     "PipelineSequence": Rule(_pipeline_sequence, _pipeline_halt),
     "RecoveryNode": Rule(_recovery, _recovery_halt, ("number_of_retries",)),
     "RoundRobin": Rule(_round_robin, _round_robin_halt),
+    "RateController": Rule(_rate_controller),
 })
 
 
