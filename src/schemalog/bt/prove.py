@@ -8,7 +8,8 @@ counterexample (docs/semantics.md, "Behaviour trees (BT.CPP 4 semantics)").
                                              (None: the tick where the trees part, unfinished)
 
 Both trees run under one environment: the i-th event of each gets the same outcome. The product
-is explored breadth-first from the initial pair, memoised on pairs; a pair whose next events
+is explored breadth-first from the initial pair, memoised on pairs (of the interrupted ticks as
+data, semantics._continuation, where it can be frozen; else of configurations); a pair whose next events
 differ (kind, node identity, choices offered), or whose root ticks end differently, refutes.
 The root is ticked again while it returns RUNNING; after SUCCESS, FAILURE or SKIPPED the run
 ends, as Tree::tickWhileRunning does (src/bt_factory.cpp, Tree::tickRoot). `equal` with
@@ -94,23 +95,30 @@ def _outcome(o: object) -> str:
 
 
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                rules: Mapping[str, Rule] | None = None) -> Verdict:
-    """Explore both trees under every environment; equal when no environment tells them apart."""
+                rules: Mapping[str, Rule] | None = None, merge: bool = True) -> Verdict:
+    """Explore both trees under every environment; equal when no environment tells them apart
+    (merge=False: memoise on configurations only, never on interrupted ticks; for checking)."""
     pa, pb = program(a, rules), program(b, rules)
     start = (initial(), initial())
     parent: dict[tuple[Config, Config], tuple | None] = {start: None}
+    seen: set = set()
     queue = deque([start])
-    explored = 0
     limit = ""
     while queue:
         pair = queue.popleft()
-        explored += 1
         sa, sb = step(pa, pair[0]), step(pb, pair[1])
+        key = (_key(sa, pair[0]), _key(sb, pair[1])) if merge else pair
+        if key in seen:                                   # the same interrupted ticks: merged
+            continue
+        if len(seen) >= max_states:
+            limit = limit or f"{max_states} states explored (max_states)"
+            break
+        seen.add(key)
         diff = _difference(sa, sb)
         if diff:
             choices, ticks = _choices(parent, pair)
             cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
-            return Verdict(False, True, explored, diff, cex)
+            return Verdict(False, True, len(seen), diff, cex)
         successors: list[tuple[tuple[Config, Config], object]] = []
         if isinstance(sa, Await):
             if len(sa.config.pending) >= max_events_per_tick:
@@ -123,18 +131,22 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         elif sa.status is RUNNING:
             successors = [((sa.config, sb.config), _ROOT)]
         for nxt, label in successors:
-            if nxt in parent:
-                continue
-            if len(parent) >= max_states:
-                limit = limit or f"{max_states} states explored (max_states)"
-                break
-            parent[nxt] = (pair, label)
-            queue.append(nxt)
+            if nxt not in parent:
+                parent[nxt] = (pair, label)
+                queue.append(nxt)
+    explored = len(seen)
     if limit:
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}")
     return Verdict(True, True, explored,
                    f"equal under every environment ({explored} pairs of states, exhausted)")
+
+
+def _key(s: Await | RootTicked, config: Config) -> object:
+    """What identifies a side's state for memoisation: the interrupted tick, else the config."""
+    if isinstance(s, Await) and s.key is not None:
+        return s.key
+    return config
 
 
 _ROOT = object()                                      # the label of "the root is ticked again"

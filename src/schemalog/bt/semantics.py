@@ -92,6 +92,7 @@ class Await:
     event: Event
     options: tuple
     config: Config
+    key: object = field(default=None, compare=False)   # the interrupted tick as data, or None
 
 
 @dataclass(frozen=True)
@@ -1130,13 +1131,56 @@ def step(prog: Program, config: Config, *, max_node_ticks: int = 100_000) -> Awa
     try:
         status = run.tick(prog.root)
     except _Stop as stop:
-        return Await(stop.event, stop.options, config)
+        return Await(stop.event, stop.options, config, _continuation(run, stop))
     except TreeError as err:
         return RootTicked(None, err.message, run.node_ticks, Config(), tuple(run.events),
                           isinstance(err, NodeTickLimit))
     if status in COMPLETED:                              # Tree::tickRoot: resetStatus on completion
         run.set_status(prog.root, IDLE)
     return RootTicked(status, "", run.node_ticks, Config(run.freeze()), tuple(run.events))
+
+
+_UNKNOWN = object()
+
+
+def _freeze_local(value: object) -> object:
+    """A local variable of an interrupted rule as hashable data, or _UNKNOWN."""
+    if value is None or isinstance(value, (bool, int, str, float, Status, Event)):
+        return value
+    if isinstance(value, PNode):
+        return ("PNode", value.path)
+    if isinstance(value, (tuple, list)):
+        items = tuple(_freeze_local(v) for v in value)
+        return _UNKNOWN if _UNKNOWN in items else (type(value).__name__, items)
+    if isinstance(value, (set, frozenset)):
+        items = tuple(sorted((_freeze_local(v) for v in value), key=repr))
+        return _UNKNOWN if _UNKNOWN in items else ("set", items)
+    return _UNKNOWN
+
+
+def _continuation(run: _Run, stop: _Stop) -> object:
+    """The interrupted root tick as data: the memory as changed so far and, for every call on
+    the stack, its code, the instruction it stopped at and its local variables (every loop
+    variable here determines its iterator's position). Two interruptions with the same data
+    continue alike, so the prover may merge them. None (no merging) when a frame is not this
+    module's (a user's rule) or holds a value this function cannot freeze."""
+    frames = []
+    tb = stop.__traceback__.tb_next if stop.__traceback__ else None     # below step()
+    while tb is not None:
+        frame = tb.tb_frame
+        if frame.f_globals.get("__name__") != __name__:
+            return None
+        local = []
+        for name, value in frame.f_locals.items():
+            if name in ("self", "run"):
+                continue
+            frozen = _freeze_local(value)
+            if frozen is _UNKNOWN:
+                return None
+            local.append((name, frozen))
+        frames.append((frame.f_code, tb.tb_lasti, tuple(sorted(local))))
+        tb = tb.tb_next
+    return (run.freeze(), tuple(frames))
 
 
 def advance(config: Config, outcome: object) -> Config:
