@@ -1149,6 +1149,8 @@ def _freeze_local(value: object) -> object:
         return value
     if isinstance(value, PNode):
         return ("PNode", value.path)
+    if isinstance(value, Rule):
+        return ("Rule", id(value))                  # fixed for the program being explored
     if isinstance(value, (tuple, list)):
         items = tuple(_freeze_local(v) for v in value)
         return _UNKNOWN if _UNKNOWN in items else (type(value).__name__, items)
