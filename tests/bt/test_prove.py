@@ -27,9 +27,9 @@ def doc(root: Node) -> Document:
     return Document((("Main", root),), "Main")
 
 
-def prove(a: Node, b: Node, **limits):
+def prove(a: Node, b: Node, **options):
     """prove_equal over two single-tree documents."""
-    return prove_equal(doc(a), doc(b), **{**LIMITS, **limits})
+    return prove_equal(doc(a), doc(b), **{**LIMITS, **options})
 
 
 A, B, C = act("A"), act("B"), act("C")
@@ -165,6 +165,55 @@ def test_flattening_same_kind_sequences_is_sound(tree):
     flat = flatten(tree)
     v = prove(tree, flat, max_states=50_000)
     assert v.equal and v.complete, explain(v)
+
+
+MUTATIONS = st.sampled_from(["Sequence", "Fallback", "ReactiveSequence", "ReactiveFallback",
+                             "PipelineSequence", "Parallel"])
+
+
+@settings(max_examples=40, deadline=None)
+@given(TREES, MUTATIONS)
+def test_merging_interrupted_ticks_changes_no_verdict(tree, kind):
+    # the prover merges two interrupted root ticks with the same stack and memory; checked
+    # against the prover that merges only whole configurations
+    other = tree.with_children(tree.children) if not tree.children else Node(kind, (), tree.children)
+    merged = prove(tree, other, max_states=50_000)
+    plain = prove(tree, other, max_states=200_000, merge=False)
+    assert (merged.equal, merged.complete) == (plain.equal, plain.complete)
+    assert merged.states <= plain.states
+    if not merged.equal:
+        assert merged.counterexample.choices == plain.counterexample.choices
+
+
+def nav2_navigate(swap: bool = False) -> Node:
+    """Nav2's navigate_to_pose_w_replanning_and_recovery, by hand (names and ports as in Nav2)."""
+    follow = [act("FollowPath", path="{path}", controller_id="FollowPath"),
+              act("ClearEntireCostmap", service_name="local_costmap/clear_entirely_local_costmap")]
+    if swap:
+        follow.reverse()
+    plan = n("RecoveryNode", act("ComputePathToPose", goal="{goal}", path="{path}"),
+             act("ClearEntireCostmap", service_name="global_costmap/clear_entirely_global_costmap"),
+             number_of_retries="1", name="ComputePathToPose")
+    recoveries = n("RoundRobin",
+                   n("Sequence", act("ClearEntireCostmap", service_name="local"),
+                     act("ClearEntireCostmap", service_name="global")),
+                   act("Spin", spin_dist="1.57"), act("Wait", wait_duration="5.0"),
+                   act("BackUp", backup_dist="0.30", backup_speed="0.05"), name="RecoveryActions")
+    return n("RecoveryNode",
+             n("PipelineSequence", n("RateController", plan, hz="1.0"),
+               n("RecoveryNode", *follow, number_of_retries="1", name="FollowPath"),
+               name="NavigateWithReplanning"),
+             n("ReactiveFallback", Node("GoalUpdated", (), (), "Condition"), recoveries,
+               name="RecoveryFallback"),
+             number_of_retries="6", name="NavigateRecovery")
+
+
+def test_nav2_navigate_tree_is_proved_equal_to_itself_and_its_swapped_edit_refuted():
+    v = prove(nav2_navigate(), nav2_navigate(), max_states=100_000, max_events_per_tick=40)
+    assert v.equal and v.complete, v.reason
+    bad = prove(nav2_navigate(), nav2_navigate(swap=True), max_states=100_000, max_events_per_tick=40)
+    assert not bad.equal and bad.counterexample.choices == (SUCCESS,)
+    assert "<- the trees part here" in explain(bad)
 
 
 def test_flattening_a_reactive_sequence_into_a_sequence_is_not_sound():

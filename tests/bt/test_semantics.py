@@ -188,6 +188,18 @@ def test_round_robin_starts_where_it_left_off():
                                   (["tick A SUCCESS"], "SUCCESS")]
 
 
+def test_rate_controller_ticks_its_child_when_the_period_elapsed():
+    # Nav2 RateController::tick: first tick and while RUNNING tick the child; later only when
+    # the period elapsed (a time event), else RUNNING
+    tree = n("PipelineSequence", n("RateController", act("Plan"), hz="1.0"), act("Follow"))
+    assert run(tree, S, R, False, S) == [
+        (["tick Plan SUCCESS", "tick Follow RUNNING"], "RUNNING"),
+        (["time RateController false", "tick Follow SUCCESS"], "SUCCESS")]
+    assert run(tree, S, R, True, R, S) == [
+        (["tick Plan SUCCESS", "tick Follow RUNNING"], "RUNNING"),
+        (["time RateController true", "tick Plan RUNNING", "tick Follow SUCCESS", "halt Plan"], "SUCCESS")]
+
+
 # -- decorators -------------------------------------------------------------------------------
 
 def test_inverter_keeps_running_and_inverts_completion():

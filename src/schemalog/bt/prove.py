@@ -8,7 +8,8 @@ counterexample (docs/semantics.md, "Behaviour trees (BT.CPP 4 semantics)").
                                              (None: the tick where the trees part, unfinished)
 
 Both trees run under one environment: the i-th event of each gets the same outcome. The product
-is explored breadth-first from the initial pair, memoised on pairs; a pair whose next events
+is explored breadth-first from the initial pair, memoised on pairs (of the interrupted ticks as
+data, semantics._continuation, where it can be frozen; else of configurations); a pair whose next events
 differ (kind, node identity, choices offered), or whose root ticks end differently, refutes.
 The root is ticked again while it returns RUNNING; after SUCCESS, FAILURE or SKIPPED the run
 ends, as Tree::tickWhileRunning does (src/bt_factory.cpp, Tree::tickRoot). `equal` with
@@ -94,35 +95,43 @@ def _outcome(o: object) -> str:
 
 
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                rules: Mapping[str, Rule] | None = None, contextual: bool = False) -> Verdict:
+                rules: Mapping[str, Rule] | None = None, contextual: bool = False,
+                merge: bool = True) -> Verdict:
     """Explore both trees under every environment; equal when no environment tells them apart.
 
     `contextual`: the roots stand for two subtrees under any parent, which between two root
     ticks may tick again, halt a RUNNING root (haltChild) or tick a finished or halted one
     anew, its memory kept (RunOnce, RoundRobin). Equal so, the subtrees can replace each other
-    anywhere: a parent sees only their statuses, and their events are the same."""
+    anywhere: a parent sees only their statuses, and their events are the same.
+    `merge=False`: memoise on configurations only, never on interrupted ticks (for checking)."""
     pa, pb = program(a, rules), program(b, rules)
     start = (_TICK, initial(), initial())
     parent: dict[tuple, tuple | None] = {start: None}
+    seen: set = set()
     queue = deque([start])
-    explored = 0
     limit = ""
     while queue:
-        key = queue.popleft()
-        phase, ca, cb = key
-        explored += 1
+        node = queue.popleft()
+        phase, ca, cb = node
         move = step if phase is _TICK else halt_step
         sa, sb = move(pa, ca), move(pb, cb)
+        key = (phase, _key(sa, ca), _key(sb, cb)) if merge else node
+        if key in seen:                                   # the same interrupted ticks: merged
+            continue
+        if len(seen) >= max_states:
+            limit = limit or f"{max_states} states explored (max_states)"
+            break
+        seen.add(key)
         diff = _difference(sa, sb)
         if diff:
             if contextual:
-                labels = _labels(parent, key)
+                labels = _labels(parent, node)
                 choices = tuple(x for x in labels if x not in _MOVES and x is not _NONE)
                 cex = Counterexample(choices, _trace_moves(pa, labels), _trace_moves(pb, labels), diff)
             else:
-                choices, ticks = _choices(parent, key)
+                choices, ticks = _choices(parent, node)
                 cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
-            return Verdict(False, True, explored, diff, cex)
+            return Verdict(False, True, len(seen), diff, cex)
         successors: list[tuple[tuple, object]] = []
         if isinstance(sa, Await):
             if len(sa.config.pending) >= max_events_per_tick:
@@ -139,13 +148,10 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         elif contextual and sa.status is not None:
             successors = [((_TICK, sa.config, sb.config), _AGAIN)]
         for nxt, label in successors:
-            if nxt in parent:
-                continue
-            if len(parent) >= max_states:
-                limit = limit or f"{max_states} states explored (max_states)"
-                break
-            parent[nxt] = (key, label)
-            queue.append(nxt)
+            if nxt not in parent:
+                parent[nxt] = (node, label)
+                queue.append(nxt)
+    explored = len(seen)
     if limit:
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}")
@@ -157,6 +163,13 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
 _HALT = "halt"                                        # or halting them (contextual)
 _AGAIN = "again"                                      # the label of "a finished root is ticked anew"
+
+
+def _key(s: Await | RootTicked, config: Config) -> object:
+    """What identifies a side's state for memoisation: the interrupted tick, else the config."""
+    if isinstance(s, Await) and s.key is not None:
+        return s.key
+    return config
 
 
 _ROOT = object()                                      # the label of "the root is ticked again"
@@ -263,6 +276,11 @@ def describe(event: Event) -> str:
     verb = {"tick": "tick", "halt": "halt", "check": "check", "script": "run script",
             "time": "time at", "choose": "choice of"}.get(event.kind, event.kind)
     outcome = _outcome(event.outcome)
+    if isinstance(event.outcome, int) and not isinstance(event.outcome, bool):
+        if event.kind == "choose":
+            outcome = f"tick child {event.outcome + 1}"
+        elif head.startswith("Switch") and head[6:].isdigit() and event.outcome == int(head[6:]):
+            outcome = "default"
     return f"{verb} {where}{what}" + (f" -> {outcome}" if outcome else "")
 
 

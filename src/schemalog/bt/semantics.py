@@ -92,6 +92,7 @@ class Await:
     event: Event
     options: tuple
     config: Config
+    key: object = field(default=None, compare=False)   # the interrupted tick as data, or None
 
 
 @dataclass(frozen=True)
@@ -375,7 +376,7 @@ def _sequence_like(*, fallback: bool, asynch: bool = False) -> Rule:
 
     def tick(run: _Run, n: PNode) -> Status:
         count = len(n.kids)
-        if run.status(n) not in (RUNNING,):                   # !isStatusActive(status())
+        if run.status(n) in (IDLE, SKIPPED):                  # !isStatusActive(status())
             run.put(n, "skipped", 0)
         run.set_status(n, RUNNING)
         idx = run.get(n, "idx")
@@ -416,7 +417,7 @@ def _sequence_with_memory(run: _Run, n: PNode) -> Status:
     # SequenceWithMemory::tick (src/controls/sequence_with_memory_node.cpp): a failure keeps the
     # index; a child that succeeds from IDLE yields RUNNING (requiresWakeUp() is true in a Tree)
     count = len(n.kids)
-    if run.status(n) is not RUNNING:
+    if run.status(n) in (IDLE, SKIPPED):                      # !isStatusActive(status())
         run.put(n, "skipped", 0)
     run.set_status(n, RUNNING)
     idx = run.get(n, "idx")
@@ -994,6 +995,19 @@ def _subtree(run: _Run, n: PNode) -> Status:
     return s
 
 
+def _rate_controller(run: _Run, n: PNode) -> Status:
+    # Nav2 RateController::tick (nav2_behavior_tree/plugins/decorator/rate_controller.cpp): the
+    # child is ticked the first time (from IDLE), while it runs, and when the period elapsed (a
+    # `time` event); else RUNNING. The child is not reset on completion; SKIPPED -> FAILURE.
+    first = run.status(n) is IDLE
+    run.set_status(n, RUNNING)
+    child = n.kids[0]
+    if first or run.status(child) is RUNNING or run.event("time", n, (True, False)):
+        s = run.tick(child)
+        return s if s in (RUNNING, SUCCESS) else FAILURE
+    return RUNNING
+
+
 # Opaque: a type whose semantics the table does not know
 
 def _opaque(run: _Run, n: PNode) -> Status:
@@ -1056,6 +1070,7 @@ RULES: Mapping[str, Rule] = MappingProxyType({
     "PipelineSequence": Rule(_pipeline_sequence, _pipeline_halt),
     "RecoveryNode": Rule(_recovery, _recovery_halt, ("number_of_retries",)),
     "RoundRobin": Rule(_round_robin, _round_robin_halt),
+    "RateController": Rule(_rate_controller),
 })
 
 
@@ -1116,13 +1131,58 @@ def step(prog: Program, config: Config, *, max_node_ticks: int = 100_000) -> Awa
     try:
         status = run.tick(prog.root)
     except _Stop as stop:
-        return Await(stop.event, stop.options, config)
+        return Await(stop.event, stop.options, config, _continuation(run, stop))
     except TreeError as err:
         return RootTicked(None, err.message, run.node_ticks, Config(), tuple(run.events),
                           isinstance(err, NodeTickLimit))
     if status in COMPLETED:                              # Tree::tickRoot: resetStatus on completion
         run.set_status(prog.root, IDLE)
     return RootTicked(status, "", run.node_ticks, Config(run.freeze()), tuple(run.events))
+
+
+_UNKNOWN = object()
+
+
+def _freeze_local(value: object) -> object:
+    """A local variable of an interrupted rule as hashable data, or _UNKNOWN."""
+    if value is None or isinstance(value, (bool, int, str, float, Status, Event)):
+        return value
+    if isinstance(value, PNode):
+        return ("PNode", value.path)
+    if isinstance(value, Rule):
+        return ("Rule", id(value))                  # fixed for the program being explored
+    if isinstance(value, (tuple, list)):
+        items = tuple(_freeze_local(v) for v in value)
+        return _UNKNOWN if _UNKNOWN in items else (type(value).__name__, items)
+    if isinstance(value, (set, frozenset)):
+        items = tuple(sorted((_freeze_local(v) for v in value), key=repr))
+        return _UNKNOWN if _UNKNOWN in items else ("set", items)
+    return _UNKNOWN
+
+
+def _continuation(run: _Run, stop: _Stop) -> object:
+    """The interrupted root tick as data: the memory as changed so far and, for every call on
+    the stack, its code, the instruction it stopped at and its local variables (every loop
+    variable here determines its iterator's position). Two interruptions with the same data
+    continue alike, so the prover may merge them. None (no merging) when a frame is not this
+    module's (a user's rule) or holds a value this function cannot freeze."""
+    frames = []
+    tb = stop.__traceback__.tb_next if stop.__traceback__ else None     # below step()
+    while tb is not None:
+        frame = tb.tb_frame
+        if frame.f_globals.get("__name__") != __name__:
+            return None
+        local = []
+        for name, value in frame.f_locals.items():
+            if name in ("self", "run"):
+                continue
+            frozen = _freeze_local(value)
+            if frozen is _UNKNOWN:
+                return None
+            local.append((name, frozen))
+        frames.append((frame.f_code, tb.tb_lasti, tuple(sorted(local))))
+        tb = tb.tb_next
+    return (run.freeze(), tuple(frames))
 
 
 def advance(config: Config, outcome: object) -> Config:
