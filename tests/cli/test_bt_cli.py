@@ -1,0 +1,104 @@
+"""`schemalog compress F.xml` and `schemalog verify F.xml SMALL.xml` on real BT.CPP trees (the
+corpus of tests/bt/corpus), as a Nav2 user runs them."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+
+CORPUS = ROOT / "tests" / "bt" / "corpus"
+NAV2 = CORPUS / "nav2"
+NODES = NAV2 / "nav2_tree_nodes.xml"
+REPLANNING = NAV2 / "navigate_to_pose_w_replanning_and_recovery.xml"
+ROUTING = NAV2 / "navigate_w_routing_global_planning_and_control_w_recovery.xml"
+NAV2_TREES = sorted(p for p in NAV2.glob("*.xml") if p != NODES
+                    and p.name != "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml")  # v3
+
+
+def run(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "schemalog", *map(str, args)], capture_output=True, text=True,
+                          cwd=cwd, timeout=300)
+
+
+@pytest.mark.parametrize("tree", NAV2_TREES, ids=lambda p: p.stem)
+def test_every_nav2_tree_compresses_and_the_result_is_proved(tree, tmp_path):
+    out = tmp_path / "small.xml"
+    r = run("compress", tree, "--nodes", NODES, "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert ("nothing to compress" in r.stderr) or ("proved equal to the original" in r.stderr)
+    v = run("verify", tree, out, "--nodes", NODES)
+    assert v.returncode == 0 and v.stdout.startswith("proved equal"), v.stdout + v.stderr
+
+
+def test_the_compressed_nav2_tree_keeps_every_node_and_port(tmp_path):
+    out = tmp_path / "small.xml"
+    r = run("compress", ROUTING, "--nodes", NODES, "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "44 nodes from 45 (1 rewrite)" in r.stderr and "by parts" in r.stderr
+    written = out.read_text()
+    for text in ('<ComputeRoute goal="{goal}" path="{route_path}"', 'main_tree_to_execute="NavigateWRoutingGlobalPlanningAndControlWRecovery"',
+                 '<RecoveryNode number_of_retries="6" name="NavigateRecovery">', "<TreeNodesModel>"):
+        assert text in written, text
+    # Every node of the original but the one Fallback removed, with its type, form and attributes.
+    from collections import Counter
+    from schemalog.api.behaviour_trees import read_tree
+    from schemalog.bt.model import walk
+
+    def nodes(path):
+        return Counter((n.type, n.form, n.attrs) for _, root in read_tree(path, [NODES]).trees for n in walk(root))
+    assert nodes(ROUTING) - nodes(out) == Counter({("Fallback", "", ()): 1}) and not nodes(out) - nodes(ROUTING)
+
+
+def test_a_recovery_node_with_its_children_swapped_is_refuted_tick_by_tick(tmp_path):
+    text = REPLANNING.read_text()
+    follow = '<FollowPath path="{path}" controller_id="FollowPath"/>\n'
+    start = text.index('<RecoveryNode number_of_retries="1" name="FollowPath">')
+    end = text.index("</RecoveryNode>", start)
+    body = text[start:end]
+    fallback = body[body.index("<ReactiveFallback"):body.index("</ReactiveFallback>") + len("</ReactiveFallback>")]
+    swapped = body.replace(follow, "").replace(fallback, fallback + "\n          " + follow.strip())
+    edited = tmp_path / "edited.xml"
+    edited.write_text(text[:start] + swapped + text[end:])
+    r = run("verify", REPLANNING, edited, "--nodes", NODES)
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert r.stdout.startswith("refuted after")
+    assert 'a: tick FollowPath path="{path}" controller_id="FollowPath"   <- the trees part here' in r.stdout
+    assert "b: tick GoalUpdated   <- the trees part here" in r.stdout
+    j = run("verify", REPLANNING, edited, "--nodes", NODES, "--json")
+    assert j.returncode == 1 and json.loads(j.stdout)["proved"] is False
+
+
+def test_a_wrapped_tree_is_compressed_and_a_limit_is_never_a_proof(tmp_path):
+    # Wrapping a real tree's root in a Sequence inside a Sequence: the rewrite is proved by parts.
+    text = REPLANNING.read_text()
+    inner = text[text.index('<RecoveryNode number_of_retries="6"'):text.rindex("</RecoveryNode>") + len("</RecoveryNode>")]
+    wrapped = tmp_path / "wrapped.xml"
+    wrapped.write_text(text.replace(inner, f'<Sequence name="outer"><Sequence name="inner">{inner}'
+                                           f'<Wait wait_duration="1"/></Sequence></Sequence>'))
+    r = run("compress", wrapped, "--nodes", NODES)
+    assert r.returncode == 0, r.stderr
+    assert "flatten: removed Sequence 'inner'" in r.stdout and "proved equal" in r.stdout
+    limited = run("compress", wrapped, "--nodes", NODES, "--max-states", "2")
+    assert limited.returncode == 3 and "NOT proved" in limited.stdout and "max_states" in limited.stdout
+
+
+def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_path):
+    r = run("compress", CORPUS / "btcpp" / "tutorials" / "t09_scripting.xml")
+    assert r.returncode == 0 and "nothing to compress (9 nodes)" in r.stdout, r.stderr
+    several = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml")
+    assert several.returncode == 1 and "main_tree_to_execute" in several.stderr
+    chosen = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml", "--task", "BehaviorTree")
+    assert chosen.returncode == 0, chosen.stderr
+    v3 = run("compress", NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml")
+    assert v3.returncode == 1 and ":21:15: error:" in v3.stderr and "BT.CPP 3" in v3.stderr
+    bad = tmp_path / "bad.xml"
+    bad.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Inverter/></BehaviorTree></root>')
+    r = run("compress", bad)
+    assert r.returncode == 1 and "bad.xml:1:" in r.stderr and "Traceback" not in r.stderr
+    picture = run("compress", REPLANNING, "-o", tmp_path / "x.png")
+    assert picture.returncode == 2 and not (tmp_path / "x.png").exists()
