@@ -520,14 +520,18 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     root = reader.document(text, file, (os.path.normpath(file),))
     if not reader.trees:
         _fail(root, "the document defines no <BehaviorTree>")
+    ids = ", ".join(t.id for t in reader.trees)
+    asked = main
     main = main if main is not None else root.get("main_tree_to_execute")
     if main is None:
         if len(reader.trees) != 1:
             _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
-                        f"single BehaviorTree (BT.CPP); it holds {len(reader.trees)}")
+                        f"single BehaviorTree (BT.CPP); it holds {len(reader.trees)}: {ids} (name the one "
+                        f"to run: --task on the command line)")
         main = reader.trees[0].id
     elif all(t.id != main for t in reader.trees):
-        _fail(root, f"main_tree_to_execute=\"{main}\" names no BehaviorTree")
+        named = f"the tree {main!r} asked for" if asked is not None else f"main_tree_to_execute=\"{main}\""
+        _fail(root, f"{named} names no BehaviorTree; the document's trees: {ids}")
     _subtree_checks(reader, main)
     own = tuple(reader.models)
     merged = own + tuple(m for m in reader.extra if all(m.type != k.type for k in own))
