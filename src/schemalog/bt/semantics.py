@@ -1030,8 +1030,22 @@ def _opaque_halt(run: _Run, n: PNode) -> None:
         _halt_children(run, n)
 
 
+def _stateful_action(run: _Run, n: PNode) -> Status:
+    # StatefulActionNode::tick (src/action_node.cpp): onStart() from IDLE, onRunning() while
+    # RUNNING, and otherwise `return prev_status;`: a completed action its parent did not reset
+    # (WhileDoElse's condition child) returns its last status without running the callbacks
+    prev = run.status(n)
+    if prev in COMPLETED:
+        return prev
+    return run.event("tick", n, ACTION_OUTCOMES)
+
+
 OPAQUE = Rule(_opaque, _opaque_halt)
 ACTION = Rule(_leaf(ACTION_OUTCOMES), _leaf_halt)
+STATEFUL_ACTION = Rule(_stateful_action, _leaf_halt)
+"""An Action implemented as a BT.CPP StatefulActionNode (onStart/onRunning/onHalted): not the
+default for Actions, which re-tick every time (SyncActionNode, SimpleActionNode, Nav2's
+BtActionNode); pass `rules={"MyAction": STATEFUL_ACTION}` to program() for such leaves."""
 CONDITION = Rule(_leaf(CONDITION_OUTCOMES), _leaf_halt)
 _SEQ, _FALLBACK = _sequence_like(fallback=False), _sequence_like(fallback=True)
 _MEMORY_HALT = _halt_children              # SequenceWithMemory::halt keeps the index
