@@ -359,3 +359,41 @@ def test_regressions(root, listed):
         assert m[1][-1].startswith("ERROR") and (b[0], b[1][:-1]) == (m[0], m[1][:-1]), (b, m)
     else:
         assert b == m, (b, m)
+
+
+# -- compressed trees in the real runtime -----------------------------------------------------
+
+@st.composite
+def compressible(draw) -> Node:
+    """A generated tree wrapped the way hand-merged trees look, so each rewrite has work: a
+    Sequence grouped inside a Sequence, a single-child Fallback, a double Inverter, nested Forces."""
+    root = draw(trees())
+    other = draw(st.sampled_from(ACTIONS + CONDITIONS))
+    shape = draw(st.sampled_from(["flatten", "single", "inverters", "forced", "all"]))
+    if shape in ("flatten", "all"):
+        kind = draw(st.sampled_from(["Sequence", "Fallback", "ReactiveSequence", "ReactiveFallback"]))
+        root = n(kind, n(kind, root, Node(other)), Node(draw(st.sampled_from(ACTIONS))))
+    if shape in ("single", "all"):
+        root = n(draw(st.sampled_from(["Sequence", "Fallback", "SequenceWithMemory"])), root)
+    if shape in ("inverters", "all"):
+        root = n("Inverter", n("Inverter", root))
+    if shape in ("forced", "all"):
+        root = n(draw(st.sampled_from(["ForceSuccess", "ForceFailure"])),
+                 n(draw(st.sampled_from(["ForceSuccess", "ForceFailure"])), root))
+    return root
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(root=compressible(), listed=st.lists(st.integers(0, 5), max_size=20), seed=st.integers(0, 2**32 - 1))
+def test_a_compressed_tree_runs_as_its_original_in_btcpp(root, listed, seed):
+    # Issue 33: the compressed document, written as BT.CPP XML with the original node types,
+    # ticked in BT.CPP under the same leaf outcomes as the original, makes the same leaf ticks,
+    # halts and root statuses.
+    from schemalog.bt.compress import compress
+
+    original = document(root)
+    small = compress(original)
+    assert small.rewrites
+    draws = Draws(listed, seed)
+    note(write_bt(small.document))
+    assert run_btcpp(write_bt(small.document), draws) == run_btcpp(write_bt(original), draws)
