@@ -102,3 +102,28 @@ def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_
     assert r.returncode == 1 and "bad.xml:1:" in r.stderr and "Traceback" not in r.stderr
     picture = run("compress", REPLANNING, "-o", tmp_path / "x.png")
     assert picture.returncode == 2 and not (tmp_path / "x.png").exists()
+
+
+def test_custom_nodes_get_the_semantics_a_user_gives_them(tmp_path):
+    tree = tmp_path / "custom.xml"
+    tree.write_text('<root BTCPP_format="4"><BehaviorTree ID="Main"><MyRecovery number_of_retries="1">'
+                    '<Sequence><Sequence><IsBatteryOk/><Go/></Sequence></Sequence><Clear/>'
+                    '</MyRecovery></BehaviorTree></root>')
+    semantics = tmp_path / "semantics.yaml"
+    semantics.write_text("MyRecovery: RecoveryNode\nIsBatteryOk: Condition\n")
+    r = run("verify", tree, "--semantics", semantics)
+    assert r.returncode == 0 and "proved equal" in r.stdout, r.stdout + r.stderr
+    # Opaque, MyRecovery chooses what to tick first (an event); as a RecoveryNode it ticks its
+    # first child, and IsBatteryOk as a Condition offers SUCCESS or FAILURE only.
+    swapped = tmp_path / "swapped.xml"
+    swapped.write_text(tree.read_text().replace("<Sequence><Sequence><IsBatteryOk/><Go/></Sequence></Sequence><Clear/>",
+                                                "<Clear/><Sequence><Sequence><IsBatteryOk/><Go/></Sequence></Sequence>"))
+    known = run("verify", tree, swapped, "--semantics", semantics)
+    assert known.returncode == 1 and "environment's choices: none" in known.stdout
+    opaque = run("verify", tree, swapped)
+    assert opaque.returncode == 1 and "choice of MyRecovery" in opaque.stdout
+    semantics.write_text("MyRecovery: Recovery\n")
+    bad = run("verify", tree, "--semantics", semantics)
+    assert bad.returncode == 1 and "semantics.yaml:1:13: error: 'Recovery' is not a node type" in bad.stderr
+    out = run("compress", tree, "--semantics", semantics, "-o", semantics)
+    assert out.returncode == 2 and semantics.read_text() == "MyRecovery: Recovery\n"

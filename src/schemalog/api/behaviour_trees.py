@@ -3,6 +3,7 @@ F.xml` and `schemalog verify F.xml SMALL.xml` do with a tree that is not schemal
 (docs/behaviour_trees.md).
 
     read_tree(path, nodes=(), max_bytes)   -> Document        the file, its <include>s, --nodes' models
+    read_semantics(path)                   -> rules           --semantics: custom node types as known ones
     compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved
     prove_trees(a, b, max_states)          -> Verdict         bt/prove.py's product exploration
     is_own_export(path)                    -> bool            schemalog's own exports (schemalog_run)
@@ -87,20 +88,50 @@ def is_own_export(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> bool
     return f'main_tree_to_execute="{MAIN_TREE}"' in text
 
 
-def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES):
+def read_semantics(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> dict:
+    """A user's node semantics: a YAML mapping from a custom node type to the type whose rule it
+    follows, a node of the table (`RecoveryNode`, `Sequence`) or a leaf kind (`Action`,
+    `StatefulAction`, `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`."""
+    from ..bt.semantics import ACTION, CONDITION, RULES, STATEFUL_ACTION
+    from ..inputs import compose_yaml
+
+    name = str(path)
+    root, fail = compose_yaml(_decoded(name, max_bytes), name)
+    leaves = {"Action": ACTION, "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
+    if root is None or root.tag != "tag:yaml.org,2002:map":
+        raise fail("a node semantics file is a mapping, `MyType: KnownType` per line", root) if root is not None \
+            else SchemalogError("an empty node semantics file: write `MyType: KnownType` per line", SourcePos(name, 1, 1))
+    rules: dict = {}
+    for key, value in root.value:
+        if key.tag != "tag:yaml.org,2002:str" or value.tag != "tag:yaml.org,2002:str":
+            raise fail("each entry is `MyType: KnownType`, two names", key)
+        if key.value in rules:
+            raise fail(f"{key.value} is given twice", key)
+        rule = leaves.get(value.value) or RULES.get(value.value)
+        if rule is None:
+            known = ", ".join(sorted({*leaves, *RULES}))
+            raise fail(f"{value.value!r} is not a node type whose semantics schemalog knows; one of: {known}", value)
+        rules[key.value] = rule
+    return rules
+
+
+def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rules=None):
     """Prove two documents equal under BT.CPP 4 semantics, or refute them (bt/prove.py): by the
-    subtrees where they differ, each in every context, else by exploring both whole."""
+    subtrees where they differ, each in every context, else by exploring both whole. `rules`:
+    node semantics for custom types (read_semantics)."""
     from ..bt.prove import prove_by_parts
 
-    return prove_by_parts(original, compressed, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK)
+    return prove_by_parts(original, compressed, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
+                          rules=rules)
 
 
-def compress_tree(document, max_states: int = defaults.MAX_STATES) -> TreeCompression:
-    """Apply the BT rewrites to `document` and prove the result against it."""
+def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None) -> TreeCompression:
+    """Apply the BT rewrites to `document` and prove the result against it (`rules`: node
+    semantics for custom types, read_semantics)."""
     from ..bt.compress import compress
 
     result = compress(document)
-    verdict = prove_trees(document, result.document, max_states) if result.rewrites else None
+    verdict = prove_trees(document, result.document, max_states, rules) if result.rewrites else None
     return TreeCompression(document, result.document, result.rewrites, verdict)
 
 

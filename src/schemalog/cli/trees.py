@@ -33,6 +33,10 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
         p.add_argument("--max-states", type=positive, default=defaults.MAX_STATES, metavar="N",
                        help=f"BT.CPP trees: stop proving the compressed tree after N pairs of states; the "
                             f"result then says it is no proof and exits 3 (default {defaults.MAX_STATES:,})")
+    p.add_argument("--semantics", metavar="FILE",
+                   help="BT.CPP trees: a YAML file giving custom node types the semantics of known ones, "
+                        "`MyRecovery: RecoveryNode`, `IsBatteryOk: Condition` (docs/behaviour_trees.md); "
+                        "other custom types are opaque")
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
@@ -57,7 +61,18 @@ def _status(verdict) -> int:
 
 
 def _inputs(args: argparse.Namespace, document) -> list[str]:
-    return [*args.files, *args.nodes, *document.includes]
+    return [*_given(args), *document.includes]
+
+
+def _given(args: argparse.Namespace) -> list[str]:
+    """The files named on the command line: trees, --nodes, --semantics."""
+    return [*args.files, *args.nodes, *([args.semantics] if args.semantics else [])]
+
+
+def _rules(args: argparse.Namespace):
+    from ..api.behaviour_trees import read_semantics
+
+    return read_semantics(args.semantics, args.max_bytes) if args.semantics else None
 
 
 def run_compress(args: argparse.Namespace) -> int:
@@ -72,9 +87,10 @@ def run_compress(args: argparse.Namespace) -> int:
     if fmt not in ("xml", "text", "json"):
         raise UsageError("a BT.CPP tree compresses to BT.CPP XML (-o FILE.xml), text or JSON (--json); "
                          f"not {args.format or args.output!r}")
-    check_output(args.output, [*args.files, *args.nodes])
+    check_output(args.output, _given(args))
+    rules = _rules(args)
     document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-    result = compress_tree(document, args.max_states)
+    result = compress_tree(document, args.max_states, rules)
     verdict, code = result.verdict, _status(result.verdict)
     if verdict is not None and not verdict.equal:
         # A rewrite the prover refutes is a bug of ours: say so, write nothing.
@@ -111,23 +127,25 @@ def run_verify(args: argparse.Namespace) -> int:
     from ..api.behaviour_trees import compress_tree, prove_trees, read_tree, verdict_text
     from .common import check_output, emit
 
-    check_output(args.output, [*args.files, *args.nodes])
+    check_output(args.output, _given(args))
+    rules = _rules(args)
     if len(args.files) == 1:
         document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        result = compress_tree(document, args.max_states)
+        result = compress_tree(document, args.max_states, rules)
         original, verdict, includes = document, result.verdict, document.includes
         if verdict is None:
-            text = f"{args.files[0]}: nothing to compress, so nothing to prove (the tree is its own compression)\n"
-            emit(text, args.output, [*args.files, *args.nodes, *includes], "text")
+            text = (f"{args.files[0]}: nothing to compress: the compressed tree is the original, equal to it "
+                    f"trivially (no rewrite to prove)\n")
+            emit(text, args.output, [*_given(args), *includes], "text")
             return PROVED
     elif len(args.files) == 2:
         original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
         compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
-        verdict, includes = prove_trees(original, compressed, args.max_states), (*original.includes,
-                                                                                 *compressed.includes)
+        verdict = prove_trees(original, compressed, args.max_states, rules)
+        includes = (*original.includes, *compressed.includes)
     else:
         raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed tree")
-    inputs = [*args.files, *args.nodes, *includes]
+    inputs = [*_given(args), *includes]
     if args.json:
         cex = verdict.counterexample
         emit(json.dumps({"files": args.files, "equal": verdict.equal, "complete": verdict.complete,
