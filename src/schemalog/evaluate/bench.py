@@ -135,6 +135,14 @@ def judge(low: float, high: float, target: float) -> str:
     return "too noisy to judge"
 
 
+def reduction_spread(a: Spread, b: Spread) -> Spread:
+    """How much less `b` is than `a` (0.27 = 27% less), from the medians, and its range from the
+    quartiles: the least (b's q3 against a's q1) and the most (b's q1 against a's q3)."""
+    if not a.q1 or math.isnan(a.median) or math.isnan(b.median):
+        return Spread(math.nan, math.nan, math.nan)
+    return Spread(1 - b.median / a.median, 1 - b.q3 / a.q1, 1 - b.q1 / a.q3)
+
+
 @dataclass
 class Timing:
     """One tree under one selector, over a cell's runs."""
@@ -197,9 +205,7 @@ class Cell:
         (compressed q3 against original q1) and the most (q1 against q3)."""
         o, c = self.timing("original", selector), self.timing("compressed", selector)
         a, b = (o.run_ms, c.run_ms) if per == "run" else (o.decision_us, c.decision_us)
-        if not a.q1 or math.isnan(a.median) or math.isnan(b.median):
-            return Spread(math.nan, math.nan, math.nan)
-        return Spread(1 - b.median / a.median, 1 - b.q3 / a.q1, 1 - b.q1 / a.q3)
+        return reduction_spread(a, b)
 
 
 @dataclass
@@ -823,6 +829,6 @@ def write_results(results: Results, out: Path, command: str) -> list[Path]:
 
 
 __all__ = ["BenchPlan", "PAPER_PLAN", "QUICK_PLAN", "Cell", "Timing", "SizeRow", "Results", "run_bench",
-           "Spread", "judge", "cpu_budget", "thread_budget", "verify_cell", "measure_cell", "measure_coffee",
+           "Spread", "reduction_spread", "judge", "cpu_budget", "thread_budget", "verify_cell", "measure_cell", "measure_coffee",
            "measure_size", "trace_digest",
            "steps", "to_csv", "to_markdown", "headlines", "write_results", "py_trees_tree", "py_trees_ticker"]

@@ -117,7 +117,7 @@ def runtime_data(row) -> dict:
 def runtime_from_data(data: dict):
     from .runtimes import RuntimeRow, Timed
 
-    times = {(t["runtime"], t["tree"]): Timed(t["ticks"], t["seconds"], t["median_tick"]) for t in data["times"]}
+    times = {(t["runtime"], t["tree"]): Timed.from_data(t) for t in data["times"]}
     return RuntimeRow(**{k: v for k, v in data.items() if k != "times"}, times=times)
 
 
