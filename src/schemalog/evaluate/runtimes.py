@@ -6,7 +6,9 @@
 
 A row is one generated task of the paper's grid (Sec. IV-B), original against compressed, each
 exported (formats/btcpp.py, formats/pytrees.py) and run to completion REPEAT (5) times in each
-runtime, its actions performed in the emulated world of the original task. Per run is a whole
+runtime (after one untimed warm-up run each, original and compressed runs alternated so that a
+shared machine's drift falls on both), its actions performed in the emulated world of the
+original task. Per run is a whole
 run timed, from its first tick to the task accomplished: the runtime's own time
 (BtRun.control_seconds), the median over the REPEAT runs with its IQR. Per tick is the median
 over every tick of those runs (one tick, one decision), with its IQR. Both leave out the time
@@ -121,23 +123,32 @@ def measure_row(depth: int, children: int, rd: float, seed: int = 1, repeat: int
     tree = generate(depth, children, rd, seed)
     result = compress(tree)
     initial = sorted(World(tree, ()).atoms, key=str)
+    trees = (("original", tree), ("compressed", result.tree))
     times = {}
-    for which, t in (("original", tree), ("compressed", result.tree)):
-        for runtime, export, run in (("btcpp", export_btcpp, run_btcpp), ("py_trees", export_pytrees, run_pytrees)):
-            text = export(t, initial)
-            runs, ticks = [], []
-            for _ in range(repeat):
-                outcome = run(text, tree, initial)
-                if outcome.status != "completed":
-                    raise SchemalogError(f"the {which} tree of depth {depth}, {children} children, RD {rd:g} did "
-                                         f"not complete in {runtime} ({outcome.status} after {outcome.ticks} ticks)")
-                if runs and outcome.ticks != runs[0].ticks:
+    for runtime, export, run in (("btcpp", export_btcpp, run_btcpp), ("py_trees", export_pytrees, run_pytrees)):
+        texts = {which: export(t, initial) for which, t in trees}
+        runs: dict[str, list] = {which: [] for which, _ in trees}
+
+        def timed(which: str):
+            outcome = run(texts[which], tree, initial)
+            if outcome.status != "completed":
+                raise SchemalogError(f"the {which} tree of depth {depth}, {children} children, RD {rd:g} did "
+                                     f"not complete in {runtime} ({outcome.status} after {outcome.ticks} ticks)")
+            return outcome
+
+        for which, _ in trees:
+            timed(which)                 # a warm-up run each, not kept: first imports and caches
+        for _ in range(repeat):
+            for which, _ in trees:       # alternated, so that drift on a shared machine falls on both
+                outcome = timed(which)
+                done = runs[which]
+                if done and outcome.ticks != done[0].ticks:
                     raise SchemalogError(f"the {which} tree of depth {depth}, {children} children, RD {rd:g} took "
-                                         f"{runs[0].ticks} then {outcome.ticks} ticks in {runtime}")
-                runs.append(outcome)
-                ticks += outcome.tick_seconds
-            tick = Spread.of(ticks)
-            times[(runtime, which)] = Timed(runs[0].ticks, tuple(r.control_seconds for r in runs),
+                                         f"{done[0].ticks} then {outcome.ticks} ticks in {runtime}")
+                done.append(outcome)
+        for which, done in runs.items():
+            tick = Spread.of([s for r in done for s in r.tick_seconds])
+            times[(runtime, which)] = Timed(done[0].ticks, tuple(r.control_seconds for r in done),
                                             tick.median, tick.q1, tick.q3)
     return RuntimeRow(depth, children, rd, result.reduction_degree, count_nodes(tree), result.nodes_after, times)
 
