@@ -835,66 +835,49 @@ def _keep_running_until_failure(run: _Run, n: PNode) -> Status:
     return RUNNING
 
 
-def _retry(run: _Run, n: PNode) -> Status:
-    # RetryNode::tick (src/decorators/retry_node.cpp): re-tick a failed child up to num_attempts
-    # times (-1: forever); a failure from IDLE with attempts left returns RUNNING (wake-up)
-    attempts = _int(n, "num_attempts", 0)
-    tries = run.get(n, "tries")
-    loop = tries < attempts or attempts == -1
-    run.set_status(n, RUNNING)
-    while loop:
-        child = n.kids[0]
-        prev = run.status(child)
-        s = run.tick(child)
-        if s is SUCCESS:
-            run.put(n, "tries", 0)
-            _reset_child(run, n)
-            return SUCCESS
-        if s is FAILURE:
-            tries += 1
-            run.put(n, "tries", tries)
-            loop = tries < attempts or attempts == -1
-            _reset_child(run, n)
-            if prev is IDLE and loop:
+def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Status]:
+    """A decorator that ticks its child anew while it returns `again`, `port` times (-1: for
+    ever), counting in `key`: RetryUntilSuccessful (again FAILURE) and Repeat (again SUCCESS),
+    whose sources mirror each other. The other completion ends the loop with it; an `again` from
+    IDLE with turns left returns RUNNING (the wake-up signal); when the turns run out the node
+    returns `again`."""
+    done = SUCCESS if again is FAILURE else FAILURE
+
+    def tick(run: _Run, n: PNode) -> Status:
+        turns = _int(n, port, 0)
+        count = run.get(n, key)
+        loop = count < turns or turns == -1
+        run.set_status(n, RUNNING)
+        while loop:
+            child = n.kids[0]
+            prev = run.status(child)
+            s = run.tick(child)
+            if s is again:
+                count += 1
+                run.put(n, key, count)
+                loop = count < turns or turns == -1
+                _reset_child(run, n)
+                if prev is IDLE and loop:
+                    return RUNNING
+            elif s is done:
+                run.put(n, key, 0)
+                _reset_child(run, n)
+                return done
+            elif s is RUNNING:
                 return RUNNING
-        elif s is RUNNING:
-            return RUNNING
-        else:
-            _reset_child(run, n)
-            return SKIPPED
-    run.put(n, "tries", 0)
-    return FAILURE
+            else:
+                _reset_child(run, n)
+                return SKIPPED
+        run.put(n, key, 0)
+        return again
+    return tick
 
 
-def _repeat(run: _Run, n: PNode) -> Status:
-    # RepeatNode::tick (src/decorators/repeat_node.cpp): re-tick a successful child num_cycles
-    # times (-1: forever); a success from IDLE with cycles left returns RUNNING (wake-up)
-    cycles = _int(n, "num_cycles", 0)
-    count = run.get(n, "count")
-    loop = count < cycles or cycles == -1
-    run.set_status(n, RUNNING)
-    while loop:
-        child = n.kids[0]
-        prev = run.status(child)
-        s = run.tick(child)
-        if s is SUCCESS:
-            count += 1
-            run.put(n, "count", count)
-            loop = count < cycles or cycles == -1
-            _reset_child(run, n)
-            if prev is IDLE and loop:
-                return RUNNING
-        elif s is FAILURE:
-            run.put(n, "count", 0)
-            _reset_child(run, n)
-            return FAILURE
-        elif s is RUNNING:
-            return RUNNING
-        else:
-            _reset_child(run, n)
-            return SKIPPED
-    run.put(n, "count", 0)
-    return SUCCESS
+# RetryNode::tick (src/decorators/retry_node.cpp): re-tick a failed child up to num_attempts
+# times (-1: forever); RepeatNode::tick (src/decorators/repeat_node.cpp): a successful one up to
+# num_cycles times
+_retry = _looping("num_attempts", "tries", FAILURE)
+_repeat = _looping("num_cycles", "count", SUCCESS)
 
 
 def _counter_halt(key: str) -> Callable[[_Run, PNode], None]:
