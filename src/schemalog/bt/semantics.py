@@ -368,11 +368,15 @@ def _sleep(run: _Run, n: PNode) -> Status:
 # ---------------------------------------------------------------------------------------------
 # Controls
 
-def _sequence_like(*, fallback: bool, asynch: bool = False) -> Rule:
+def _sequence_like(*, fallback: bool, asynch: bool = False, memory: bool = False) -> Rule:
     """SequenceNode::tick (src/controls/sequence_node.cpp) and FallbackNode::tick
     (src/controls/fallback_node.cpp): resume at the current child; Async* return RUNNING after
-    each child that completed synchronously (the tree's wake-up signal is always set)."""
+    each child that completed synchronously (the tree's wake-up signal is always set).
+    SequenceWithMemory::tick (src/controls/sequence_with_memory_node.cpp) is the asynchronous
+    Sequence whose failure keeps the index (halting the children from it on), and whose halt
+    keeps it too (`memory`)."""
     go_on, stop = (FAILURE, SUCCESS) if fallback else (SUCCESS, FAILURE)
+    yields = asynch or memory
 
     def tick(run: _Run, n: PNode) -> Status:
         count = len(n.kids)
@@ -388,12 +392,12 @@ def _sequence_like(*, fallback: bool, asynch: bool = False) -> Rule:
                 run.put(n, "idx", idx)
                 return RUNNING
             if s is stop:
-                run.reset_children(n)
-                run.put(n, "idx", 0)
+                run.put(n, "idx", idx if memory else 0)
+                run.reset_children(n, idx if memory else 0)
                 return s
             if s is go_on:
                 idx += 1
-                if asynch and prev is IDLE and idx < count:
+                if yields and prev is IDLE and idx < count:
                     run.put(n, "idx", idx)
                     return RUNNING
             elif s is SKIPPED:
@@ -410,40 +414,8 @@ def _sequence_like(*, fallback: bool, asynch: bool = False) -> Rule:
         run.put(n, "skipped", 0)
         _halt_children(run, n)
 
-    return Rule(tick, halt)
-
-
-def _sequence_with_memory(run: _Run, n: PNode) -> Status:
-    # SequenceWithMemory::tick (src/controls/sequence_with_memory_node.cpp): a failure keeps the
-    # index; a child that succeeds from IDLE yields RUNNING (requiresWakeUp() is true in a Tree)
-    count = len(n.kids)
-    if run.status(n) in (IDLE, SKIPPED):                      # !isStatusActive(status())
-        run.put(n, "skipped", 0)
-    run.set_status(n, RUNNING)
-    idx = run.get(n, "idx")
-    while idx < count:
-        child = n.kids[idx]
-        prev = run.status(child)
-        s = run.tick(child)
-        if s is RUNNING:
-            run.put(n, "idx", idx)
-            return RUNNING
-        if s is FAILURE:
-            run.put(n, "idx", idx)
-            run.reset_children(n, idx)
-            return FAILURE
-        idx += 1
-        if s is SUCCESS:
-            if prev is IDLE and idx < count:
-                run.put(n, "idx", idx)
-                return RUNNING
-        else:
-            run.put(n, "skipped", run.get(n, "skipped") + 1)
-    all_skipped = run.get(n, "skipped") == count
-    run.reset_children(n)
-    run.put(n, "idx", 0)
-    run.put(n, "skipped", 0)
-    return SKIPPED if all_skipped else SUCCESS
+    # SequenceWithMemory::halt keeps the index: ControlNode::halt only
+    return Rule(tick, _halt_children if memory else halt)
 
 
 def _reactive(*, fallback: bool) -> Rule:
@@ -1031,7 +1003,6 @@ default for Actions, which re-tick every time (SyncActionNode, SimpleActionNode,
 BtActionNode); pass `rules={"MyAction": STATEFUL_ACTION}` to program() for such leaves."""
 CONDITION = Rule(_leaf(CONDITION_OUTCOMES), _leaf_halt)
 _SEQ, _FALLBACK = _sequence_like(fallback=False), _sequence_like(fallback=True)
-_MEMORY_HALT = _halt_children              # SequenceWithMemory::halt keeps the index
 
 # The node table (src/bt_factory.cpp's builtin registrations; Nav2's BT_REGISTER_NODES)
 RULES: Mapping[str, Rule] = MappingProxyType({
@@ -1039,7 +1010,7 @@ RULES: Mapping[str, Rule] = MappingProxyType({
     "Fallback": _FALLBACK,
     "AsyncSequence": _sequence_like(fallback=False, asynch=True),
     "AsyncFallback": _sequence_like(fallback=True, asynch=True),
-    "SequenceWithMemory": Rule(_sequence_with_memory, _MEMORY_HALT),
+    "SequenceWithMemory": _sequence_like(fallback=False, memory=True),
     "ReactiveSequence": _reactive(fallback=False),
     "ReactiveFallback": _reactive(fallback=True),
     "Parallel": Rule(_parallel, _parallel_halt, ("success_count", "failure_count")),
