@@ -69,6 +69,18 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
     return data
 
 
+def read_utf8(path: str | Path, max_bytes: int) -> str:
+    """The text of a file (a BOM dropped), at most `max_bytes` of it; bytes that are not UTF-8
+    are an error at the line and column where they stand."""
+    data = read_limited(path, max_bytes)
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        line = data[:err.start].count(b"\n") + 1
+        column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
+        raise SchemalogError("not UTF-8 text", SourcePos(str(path), line, column)) from None
+
+
 def missing(path: str | Path) -> bool:
     """Whether no file has this name. A name the system refuses for another reason (longer than
     NAME_MAX, a directory that cannot be searched) is not missing: reading it says why, where

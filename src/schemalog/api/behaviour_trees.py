@@ -46,15 +46,9 @@ class TreeCompression:
 
 
 def _decoded(name: str, max_bytes: int) -> str:
-    from ..inputs import read_limited
+    from ..inputs import read_utf8
 
-    data = read_limited(name, max_bytes)
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        line = data[:err.start].count(b"\n") + 1
-        column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
-        raise SchemalogError("not UTF-8 text", SourcePos(name, line, column)) from None
+    return read_utf8(name, max_bytes)
 
 
 def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:

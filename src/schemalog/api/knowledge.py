@@ -209,22 +209,15 @@ def _read(sources, max_bytes: int, max_steps: int, reading) -> tuple[KnowledgeBa
 def xml_document(path: str, max_bytes: int = defaults.MAX_BYTES):
     """A BehaviorTree.CPP v4 document (and the files it includes) as schema knowledge:
     (Document, Imported)."""
-    from ..errors import SourcePos
     from ..formats.btcpp import import_btcpp
     from ..formats.render import tree_document
-    from ..inputs import read_limited
+    from ..inputs import read_utf8
     from ..logic.parse import Clause
     from ..logic.terms import TRUE
     from ..task.schema import check_schemas
 
     def decoded(name: str) -> str:
-        data = read_limited(name, max_bytes)
-        try:
-            return data.decode("utf-8-sig")
-        except UnicodeDecodeError as err:
-            line = data[:err.start].count(b"\n") + 1
-            column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
-            raise SchemalogError("not UTF-8 text", SourcePos(name, line, column)) from None
+        return read_utf8(name, max_bytes)
 
     imported = import_btcpp(decoded(path), path, decoded)
     initial = [Clause(Struct("initial", (atom,)), TRUE, None) for atom in imported.initial]
