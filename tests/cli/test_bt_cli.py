@@ -127,3 +127,40 @@ def test_custom_nodes_get_the_semantics_a_user_gives_them(tmp_path):
     assert bad.returncode == 1 and "semantics.yaml:1:13: error: 'Recovery' is not a node type" in bad.stderr
     out = run("compress", tree, "--semantics", semantics, "-o", semantics)
     assert out.returncode == 2 and semantics.read_text() == "MyRecovery: Recovery\n"
+
+
+def test_verify_of_a_tree_with_nothing_to_compress_is_no_proof_in_text_and_json(tmp_path):
+    # A check that covers nothing is not a proof: exit 3, and --json gives JSON (review of issue 33)
+    tree = tmp_path / "tight.xml"
+    tree.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><A/><B/></Sequence>'
+                    '</BehaviorTree></root>\n')
+    r = run("verify", tree)
+    assert r.returncode == 3 and "nothing was proved" in r.stdout, r.stdout + r.stderr
+    j = run("verify", tree, "--json")
+    assert j.returncode == 3, j.stderr
+    data = json.loads(j.stdout)
+    assert data["proved"] is False and data["states"] == 0
+
+
+def test_verify_tells_apart_identical_trees_whose_models_differ(tmp_path):
+    # X a Condition in one file, an Action in the other: X may return RUNNING in one only
+    body = '<BehaviorTree ID="M"><Sequence><X/><Y/></Sequence></BehaviorTree></root>\n'
+    a, b = tmp_path / "a.xml", tmp_path / "b.xml"
+    a.write_text('<root BTCPP_format="4"><TreeNodesModel><Condition ID="X"/></TreeNodesModel>' + body)
+    b.write_text('<root BTCPP_format="4"><TreeNodesModel><Action ID="X"/></TreeNodesModel>' + body)
+    r = run("verify", a, b)
+    assert r.returncode == 1 and r.stdout.startswith("refuted"), r.stdout + r.stderr
+
+
+def test_compress_does_not_remove_the_sequence_that_resets_a_guarded_condition(tmp_path):
+    # WhileDoElse ticks its condition again without a reset; Sequence(X _skipIf) resets X, X does not
+    tree = tmp_path / "w.xml"
+    tree.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><WhileDoElse><Sequence>'
+                    '<IsX _skipIf="c"/></Sequence><A/><B/></WhileDoElse></BehaviorTree></root>\n')
+    r = run("compress", tree)
+    assert r.returncode == 0 and "nothing to compress" in r.stdout, r.stdout + r.stderr
+    small = tmp_path / "small.xml"
+    small.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><WhileDoElse>'
+                     '<IsX _skipIf="c"/><A/><B/></WhileDoElse></BehaviorTree></root>\n')
+    v = run("verify", tree, small)
+    assert v.returncode == 1 and "check _skipIf `c`" in v.stdout, v.stdout + v.stderr

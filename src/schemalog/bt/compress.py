@@ -18,7 +18,14 @@ The rules (each proved on real trees by bt/prove.py; compress is not trusted wit
                  of ForceSuccess/ForceFailure: the outer one decides every status but RUNNING
 
 A node is rewritten only when its type is one of those above and it carries no `_`-attribute
-(a pre- or post-condition belongs to that node: `_skipIf`, `_onSuccess`, ...). Its `name` goes
+(a pre- or post-condition belongs to that node: `_skipIf`, `_onSuccess`, ...). Two contexts
+the rules cannot see make two more exceptions, both refuted by the prover otherwise
+(tests/bt/test_review_soundness.py): `single` and `inverters` keep the node when the child
+that would take its place has a pre-condition (BT.CPP checks it only from IDLE, and a parent
+such as WhileDoElse or PipelineSequence ticks a finished child again without resetting it:
+the removed node's reset made the check run); `flatten` keeps an inner Sequence or Fallback
+when a child of it may return SKIPPED (their skipped_count_ is reset only on completion or
+from IDLE, so flattened under such a parent it would count skips across ticks). Its `name` goes
 with it: BT.CPP's traces and Groot2 show it, but it does nothing. Custom nodes, opaque ones
 and everything else are kept as they are, ports and remapping included.
 """
@@ -32,7 +39,7 @@ from .model import Document, Node
 COMPOSITES = frozenset({"Sequence", "SequenceWithMemory", "ReactiveSequence", "Fallback", "ReactiveFallback"})
 # SequenceWithMemory hands the tick back after a child that started this tick succeeds
 # (requiresWakeUp, src/controls/sequence_with_memory_node.cpp); nested, the inner one's last
-# success does not, so flattening it moves a RUNNING: the prover refutes it (tests/bt/test_parts.py).
+# success does not, so flattening it moves a RUNNING: the prover refutes it (tests/bt/test_prove_by_parts.py).
 FLATTENED = COMPOSITES - {"SequenceWithMemory"}
 FORCES = frozenset({"ForceSuccess", "ForceFailure"})
 
@@ -66,6 +73,25 @@ def _plain(node: Node, types: frozenset[str]) -> bool:
     return node.type in types and not node.form and not any(k.startswith("_") for k, _ in node.attrs)
 
 
+PRECONDITIONS = frozenset({"_skipIf", "_successIf", "_failureIf", "_while"})
+SKIPPING = frozenset({"_skipIf", "_while"})
+
+
+def _guarded(node: Node) -> bool:
+    """Whether `node` has a pre-condition. BT.CPP checks those only when the node is IDLE or
+    SKIPPED (TreeNode::checkPreConditions): moved up to a parent that does not reset it between
+    ticks (WhileDoElse's condition, PipelineSequence's finished children), it would be ticked
+    with its last status kept and skip the check its removed parent's reset made it run."""
+    return any(k in PRECONDITIONS for k, _ in node.attrs)
+
+
+def _may_skip(node: Node) -> bool:
+    """Whether `node` may return SKIPPED: a `_skipIf`/`_while`, or anything below it that may
+    (a SubTree or an opaque node passes it up as far as we know)."""
+    return any(k in SKIPPING for k, _ in node.attrs) or any(_may_skip(c) for c in node.children) \
+        or node.type == "SubTree" or node.form == "SubTree"
+
+
 def _removed(rule: str, node: Node) -> Rewrite:
     return Rewrite(rule, node.type, node.name, node.line, node.column)
 
@@ -76,18 +102,22 @@ def compress_node(node: Node, log: list[Rewrite]) -> Node:
     if node.type in FLATTENED and not node.form:
         flat: list[Node] = []
         for child in children:
-            if _plain(child, frozenset({node.type})) and child.children:
+            # Sequence and Fallback count their SKIPPED children in a member reset only when they
+            # complete or start IDLE (skipped_count_, src/controls/sequence_node.cpp): flattened
+            # under a parent that keeps their FAILURE status, the count would run across ticks
+            if _plain(child, frozenset({node.type})) and child.children \
+                    and not (node.type in ("Sequence", "Fallback") and any(_may_skip(c) for c in child.children)):
                 log.append(_removed("flatten", child))
                 flat.extend(child.children)
             else:
                 flat.append(child)
         children = tuple(flat)
     node = node.with_children(children)
-    if _plain(node, COMPOSITES) and len(children) == 1:
+    if _plain(node, COMPOSITES) and len(children) == 1 and not _guarded(children[0]):
         log.append(_removed("single", node))
         return children[0]
     if _plain(node, frozenset({"Inverter"})) and len(children) == 1 and _plain(children[0], frozenset({"Inverter"})) \
-            and len(children[0].children) == 1:
+            and len(children[0].children) == 1 and not _guarded(children[0].children[0]):
         log.append(_removed("inverters", node))
         log.append(_removed("inverters", children[0]))
         return children[0].children[0]

@@ -23,9 +23,9 @@ from collections import deque
 from dataclasses import dataclass
 from collections.abc import Mapping
 
-from schemalog.bt.model import Document, Node
-from schemalog.bt.semantics import (RUNNING, Await, Config, Event, Program, RootTicked, Rule,
-                                    Status, advance, halt_step, initial, program, step)
+from schemalog.bt.model import Document, Node, walk
+from schemalog.bt.semantics import (RULES, RUNNING, Await, Config, Event, Program, RootTicked, Rule,
+                                    Status, _rule_key, advance, halt_step, initial, program, step)
 
 
 @dataclass(frozen=True)
@@ -147,6 +147,8 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
                 successors.append(((_HALT, sa.config, sb.config), _HALT))
         elif contextual and sa.status is not None:
             successors = [((_TICK, sa.config, sb.config), _AGAIN)]
+            if sa.kept is not None and sb.kept is not None:
+                successors.append(((_TICK, sa.kept, sb.kept), _KEEP))
         for nxt, label in successors:
             if nxt not in parent:
                 parent[nxt] = (node, label)
@@ -163,6 +165,8 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
 _HALT = "halt"                                        # or halting them (contextual)
 _AGAIN = "again"                                      # the label of "a finished root is ticked anew"
+_KEEP = "keep"                                        # "a finished root is ticked again, its status
+                                                      # not reset" (WhileDoElse's condition child)
 
 
 def _key(s: Await | RootTicked, config: Config) -> object:
@@ -176,7 +180,7 @@ _ROOT = object()                                      # the label of "the root i
 _NONE = object()                                      # the label of an event without a choice
 
 
-_MOVES = (_ROOT, _HALT, _AGAIN)
+_MOVES = (_ROOT, _HALT, _AGAIN, _KEEP)
 
 
 def _labels(parent: dict, key: tuple) -> tuple:
@@ -212,7 +216,9 @@ def _trace_moves(prog: Program, labels: tuple) -> tuple[TickTrace, ...]:
         events = []
         if not todo:
             return tuple(ticks)
-        phase, config = (_HALT if todo.pop(0) is _HALT else _TICK), s.config
+        move = todo.pop(0)
+        phase = _HALT if move is _HALT else _TICK
+        config = s.kept if move is _KEEP and s.kept is not None else s.config
 
 
 def _choices(parent: dict, pair: tuple) -> tuple[tuple, int]:
@@ -360,6 +366,19 @@ def _part(document: Document, node: Node) -> Document:
     return Document(document.trees + ((key, node),), key, document.models, document.includes)
 
 
+def _same_kinds(a: Document, b: Document, rules: Mapping[str, Rule] | None) -> bool:
+    """Whether every node of either document gets the same rule in both: a node type may be a
+    Condition in one document's TreeNodesModel and an Action in the other's, and then two
+    identical subtrees do not run alike (a part compared in one document is not in the other)."""
+    table = {**RULES, **(rules or {})}
+
+    def key(n: Node, d: Document) -> str:
+        k = _rule_key(n, d, table)
+        return "<action>" if k == "<opaque>" and not n.children else k   # the same rule for a leaf
+
+    return all(key(n, a) == key(n, b) for d in (a, b) for _, root in d.trees for n in walk(root))
+
+
 def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                    rules: Mapping[str, Rule] | None = None) -> Verdict:
     """Prove two documents equal through the subtrees where they differ, each equal in every
@@ -367,15 +386,26 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     are the same), and where that fails or a document's trees differ, by exploring both whole:
     a refutation is always one of the whole trees."""
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
-    if ids_a == ids_b and a.main == b.main:
+    spent = 0                                 # max_states is one budget: the parts' and the whole's
+    if ids_a == ids_b and a.main == b.main and _same_kinds(a, b, rules):
         parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in differing_parts(ra, rb)]
-        verdicts = [prove_equal(_part(a, na), _part(b, nb), max_states=max_states,
-                                max_events_per_tick=max_events_per_tick, rules=rules, contextual=True)
-                    for na, nb in parts]
-        states = sum(v.states for v in verdicts)
-        if all(v.equal and v.complete for v in verdicts):
+        proved = True
+        for na, nb in parts:
+            v = prove_equal(_part(a, na), _part(b, nb), max_states=max_states - spent,
+                            max_events_per_tick=max_events_per_tick, rules=rules, contextual=True)
+            spent += v.states
+            if not (v.equal and v.complete):
+                proved = False
+                break
+        if proved:
             what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
                     f"context and under every environment" if parts else "the documents' trees are identical")
-            return Verdict(True, True, states, f"equal by parts: {what} ({states} pairs of states, exhausted)")
-    whole = prove_equal(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules)
-    return whole
+            return Verdict(True, True, spent, f"equal by parts: {what} ({spent} pairs of states, exhausted)")
+    whole = prove_equal(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
+    if not spent:
+        return whole
+    reason = whole.reason
+    if whole.equal and not whole.complete and "(max_states)" in reason:
+        reason = (f"no difference found, but not a proof: {max_states} states explored (max_states; "
+                  f"{spent} on the differing parts in every context, {whole.states} on the whole trees)")
+    return Verdict(whole.equal, whole.complete, spent + whole.states, reason, whole.counterexample)

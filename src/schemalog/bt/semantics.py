@@ -105,6 +105,9 @@ class RootTicked:
     config: Config
     events: tuple = ()
     limited: bool = False                      # error is max_node_ticks, a limit, not BT.CPP's
+    kept: Config | None = None                 # completed: the memory with the root's status kept
+                                               # (a parent that does not reset it: WhileDoElse's
+                                               # condition, PipelineSequence's finished children)
 
 
 @dataclass(frozen=True)
@@ -1103,9 +1106,11 @@ def step(prog: Program, config: Config, *, max_node_ticks: int = 100_000) -> Awa
     except TreeError as err:
         return RootTicked(None, err.message, run.node_ticks, Config(), tuple(run.events),
                           isinstance(err, NodeTickLimit))
+    kept = None
     if status in COMPLETED:                              # Tree::tickRoot: resetStatus on completion
+        kept = Config(run.freeze())
         run.set_status(prog.root, IDLE)
-    return RootTicked(status, "", run.node_ticks, Config(run.freeze()), tuple(run.events))
+    return RootTicked(status, "", run.node_ticks, Config(run.freeze()), tuple(run.events), kept=kept)
 
 
 _UNKNOWN = object()

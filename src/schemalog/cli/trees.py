@@ -99,8 +99,9 @@ def run_compress(args: argparse.Namespace) -> int:
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
     before, after = result.nodes_before, result.nodes_after
     if not result.rewrites:
-        summary = (f"{args.files[0]}: nothing to compress ({_count(before, 'node')}): no composite inside one of its "
-                   f"own type, no single-child Sequence or Fallback, no double Inverter or Force")
+        summary = (f"{args.files[0]}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
+                   f"(a composite inside one of its own type, a single-child Sequence or Fallback, a double "
+                   f"Inverter or Force, each without a pre-condition that its removal would change)")
     else:
         summary = (f"{args.files[0]}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
                    f"{_verdict_words(verdict)}")
@@ -134,10 +135,16 @@ def run_verify(args: argparse.Namespace) -> int:
         result = compress_tree(document, args.max_states, rules)
         original, verdict, includes = document, result.verdict, document.includes
         if verdict is None:
-            text = (f"{args.files[0]}: nothing to compress: the compressed tree is the original, equal to it "
-                    f"trivially (no rewrite to prove)\n")
-            emit(text, args.output, [*_given(args), *includes], "text")
-            return PROVED
+            # Nothing rewritten: nothing was checked, and a check that covers nothing is no
+            # proof (exit 3, as a limit's), in text and in JSON alike.
+            reason = "nothing to compress, so nothing was proved (the tree is its own compression)"
+            if args.json:
+                text = json.dumps({"files": args.files, "equal": True, "complete": True, "proved": False,
+                                   "states": 0, "reason": reason, "counterexample": None}, indent=2) + "\n"
+            else:
+                text = f"{args.files[0]}: {reason}\n"
+            emit(text, args.output, [*_given(args), *includes], "JSON" if args.json else "text")
+            return INCONCLUSIVE
     elif len(args.files) == 2:
         original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
         compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
