@@ -85,6 +85,11 @@ def test_a_wrapped_tree_is_compressed_and_a_limit_is_never_a_proof(tmp_path):
     assert "flatten: removed Sequence 'inner'" in r.stdout and "proved equal" in r.stdout
     limited = run("compress", wrapped, "--nodes", NODES, "--max-states", "2")
     assert limited.returncode == 3 and "NOT proved" in limited.stdout and "max_states" in limited.stdout
+    out = tmp_path / "small.xml"
+    unproved = run("compress", wrapped, "--nodes", NODES, "--max-states", "2", "-o", out)
+    assert unproved.returncode == 3 and "nothing written" in unproved.stderr and not out.exists()
+    empty = run("compress", wrapped, "--nodes", wrapped)           # a tree, not a nodes file
+    assert empty.returncode == 1 and "wrapped.xml:1:1: error: declares no node" in empty.stderr
 
 
 def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_path):

@@ -57,7 +57,11 @@ def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:
 
     models: list = []
     for path in paths:
-        models.extend(parse_models(_decoded(str(path), max_bytes), str(path)))
+        found = parse_models(_decoded(str(path), max_bytes), str(path))
+        if not found:
+            raise SchemalogError("declares no node: a nodes file holds a <TreeNodesModel> with an <Action ID=..>, "
+                                 "<Condition ID=..>, ... per custom node type", SourcePos(str(path), 1, 1))
+        models.extend(found)
     return tuple(models)
 
 

@@ -53,9 +53,11 @@ class Rewrite:
     name: str
     line: int
     column: int
+    file: str = ""
 
     def __str__(self) -> str:
-        where = f"{self.line}:{self.column}: " if self.line else ""
+        place = f"{self.file}:" if self.file else ""
+        where = f"{place}{self.line}:{self.column}: " if self.line else ""
         named = f" {self.name!r}" if self.name != self.type else ""
         return f"{where}{self.rule}: removed {self.type}{named}"
 
@@ -93,7 +95,7 @@ def _may_skip(node: Node) -> bool:
 
 
 def _removed(rule: str, node: Node) -> Rewrite:
-    return Rewrite(rule, node.type, node.name, node.line, node.column)
+    return Rewrite(rule, node.type, node.name, node.line, node.column, node.file)
 
 
 def compress_node(node: Node, log: list[Rewrite]) -> Node:

@@ -35,6 +35,7 @@ class Node:
     form: str = ""                                   # "Action" etc. for <Action ID=..>, else ""
     line: int = field(default=0, compare=False)
     column: int = field(default=0, compare=False)
+    file: str = field(default="", compare=False)      # the file it was read from (an <include>d one)
 
     def attr(self, key: str, default: str | None = None) -> str | None:
         """The value of attribute `key`, or `default`."""
@@ -60,7 +61,7 @@ class Node:
 
     def with_children(self, children: tuple["Node", ...]) -> "Node":
         """This node over other children."""
-        return Node(self.type, self.attrs, tuple(children), self.form, self.line, self.column)
+        return Node(self.type, self.attrs, tuple(children), self.form, self.line, self.column, self.file)
 
 
 @dataclass(frozen=True)

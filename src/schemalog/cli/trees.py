@@ -106,6 +106,11 @@ def run_compress(args: argparse.Namespace) -> int:
         summary = (f"{args.files[0]}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
                    f"{_verdict_words(verdict)}")
     inputs = _inputs(args, document)
+    if fmt == "xml" and code == INCONCLUSIVE:
+        # An unproved tree is not written where a proved one would be: a script that does not
+        # read the exit status must not pick it up.
+        print(f"{summary}\nnothing written to {args.output}: raise --max-states to prove it", file=sys.stderr)
+        return code
     if fmt == "xml":
         emit(tree_xml(result.compressed), args.output, inputs, summary.split(": ", 1)[1])
     elif fmt == "json":

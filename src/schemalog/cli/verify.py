@@ -32,7 +32,8 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("--max-states", type=positive, default=defaults.MAX_STATES, metavar="N",
                    help=f"stop exploring after N states per tree, or {defaults.WORK_PER_STATE:,} units of "
                         f"work (condition tests, state atoms) per state; the result then says it is no proof "
-                        f"(default {defaults.MAX_STATES:,})")
+                        f"(default {defaults.MAX_STATES:,}); for BT.CPP trees, pairs of states in all, one budget for "
+                        f"the whole proof")
     p.add_argument("--method", choices=["auto", "symbolic", "explicit"], default="auto",
                    help="explore states as sets (symbolic: decision diagrams, every covered initial state "
                         "at once), one by one (explicit: the reference, which also counts traces), or "

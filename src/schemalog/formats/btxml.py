@@ -466,7 +466,7 @@ class _Reader:
             if node_id in BUILTIN:
                 _fail(element, "The attribute [ID] of tag <SubTree> must not use the name of a registered "
                                f"Node ({node_id})")
-            return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column)
+            return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column, element.pos.file)
         generic = tag in GENERIC
         node_type = node_id if generic else tag
         kind = self.kind(node_type, tag if generic else "")
@@ -478,7 +478,8 @@ class _Reader:
         if kind in ("Action", "Condition") and count:
             _fail(element, f"The node '{node_type}' must not have any child (an {kind.lower()})")
         attrs = tuple((k, v) for k, v in element.attrs if not (generic and k == "ID"))
-        return Node(node_type, attrs, children, tag if generic else "", element.pos.line, element.pos.column)
+        return Node(node_type, attrs, children, tag if generic else "", element.pos.line, element.pos.column,
+                    element.pos.file)
 
 
 def _subtree_checks(reader: _Reader, main: str) -> None:
