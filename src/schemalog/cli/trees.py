@@ -8,7 +8,7 @@ import argparse
 import json
 import sys
 
-from ..errors import SchemalogError, UsageError
+from ..errors import SchemalogError, UsageError, readable_name
 
 PROVED, REFUTED, INCONCLUSIVE = 0, 1, 3
 
@@ -95,28 +95,29 @@ def run_compress(args: argparse.Namespace) -> int:
     if verdict is not None and not verdict.equal:
         # A rewrite the prover refutes is a bug of ours: say so, write nothing.
         print(verdict_text(verdict), end="")
-        raise SchemalogError(f"the compressed tree differs from {args.files[0]}: a rewrite of "
+        raise SchemalogError(f"the compressed tree differs from {readable_name(args.files[0])}: a rewrite of "
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
-    before, after = result.nodes_before, result.nodes_after
+    before, after, shown = result.nodes_before, result.nodes_after, readable_name(args.files[0])
     if not result.rewrites:
-        summary = (f"{args.files[0]}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
+        summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
                    f"(a composite inside one of its own type, a single-child Sequence or Fallback, a double "
                    f"Inverter or Force, each without a pre-condition that its removal would change)")
     else:
-        summary = (f"{args.files[0]}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
+        summary = (f"{shown}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
                    f"{_verdict_words(verdict)}")
     inputs = _inputs(args, document)
     if fmt == "xml" and code == INCONCLUSIVE:
         # An unproved tree is not written where a proved one would be: a script that does not
         # read the exit status must not pick it up.
-        print(f"{summary}\nnothing written to {args.output}: raise --max-states to prove it", file=sys.stderr)
+        print(f"{summary}\nnothing written to {readable_name(args.output)}: raise --max-states to prove it",
+              file=sys.stderr)
         return code
     if fmt == "xml":
         emit(tree_xml(result.compressed), args.output, inputs, summary.split(": ", 1)[1])
     elif fmt == "json":
         emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
-                         "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "line": r.line,
-                                       "column": r.column} for r in result.rewrites],
+                         "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "file": r.file,
+                                       "line": r.line, "column": r.column} for r in result.rewrites],
                          "proved": code == PROVED, "complete": verdict.complete if verdict else True,
                          "states": verdict.states if verdict else 0,
                          "reason": verdict.reason if verdict else "nothing rewritten"}, indent=2) + "\n",
@@ -147,7 +148,7 @@ def run_verify(args: argparse.Namespace) -> int:
                 text = json.dumps({"files": args.files, "equal": True, "complete": True, "proved": False,
                                    "states": 0, "reason": reason, "counterexample": None}, indent=2) + "\n"
             else:
-                text = f"{args.files[0]}: {reason}\n"
+                text = f"{readable_name(args.files[0])}: {reason}\n"
             emit(text, args.output, [*_given(args), *includes], "JSON" if args.json else "text")
             return INCONCLUSIVE
     elif len(args.files) == 2:
