@@ -685,9 +685,18 @@ def _pipeline_sequence(run: _Run, n: PNode) -> Status:
     return SKIPPED if skipped == len(n.kids) else SUCCESS
 
 
-def _pipeline_halt(run: _Run, n: PNode) -> None:
-    _halt_children(run, n)
-    run.put(n, "last", 0)
+def _forgetting(*keys: str) -> Callable[[_Run, PNode], None]:
+    """A halt that halts the children and puts `keys` back to their first values (the index or
+    count a control node or decorator keeps: ControlNode::halt / DecoratorNode::halt, then the
+    node's own resets). A halt's events are its children's; the order of the resets is not seen."""
+    def halt(run: _Run, n: PNode) -> None:
+        _halt_children(run, n)
+        for key in keys:
+            run.put(n, key, 0)
+    return halt
+
+
+_pipeline_halt = _forgetting("last")
 
 
 def _recovery(run: _Run, n: PNode) -> Status:
@@ -729,10 +738,7 @@ def _recovery(run: _Run, n: PNode) -> Status:
     return FAILURE
 
 
-def _recovery_halt(run: _Run, n: PNode) -> None:
-    _halt_children(run, n)
-    run.put(n, "idx", 0)
-    run.put(n, "retries", 0)
+_recovery_halt = _forgetting("idx", "retries")
 
 
 def _round_robin(run: _Run, n: PNode) -> Status:
@@ -762,10 +768,7 @@ def _round_robin(run: _Run, n: PNode) -> Status:
     return FAILURE
 
 
-def _round_robin_halt(run: _Run, n: PNode) -> None:
-    _halt_children(run, n)
-    run.put(n, "idx", 0)
-    run.put(n, "failed", 0)
+_round_robin_halt = _forgetting("idx", "failed")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -855,14 +858,6 @@ _retry = _looping("num_attempts", "tries", FAILURE)
 _repeat = _looping("num_cycles", "count", SUCCESS)
 
 
-def _counter_halt(key: str) -> Callable[[_Run, PNode], None]:
-    # RetryNode::halt / RepeatNode::halt: reset the count, then DecoratorNode::halt
-    def halt(run: _Run, n: PNode) -> None:
-        run.put(n, key, 0)
-        _halt_children(run, n)
-    return halt
-
-
 def _run_once(run: _Run, n: PNode) -> Status:
     # RunOnceNode::tick (run_once_node.h): the child until it completes, once; then SKIPPED
     # (then_skip=true, default) or the same status forever. halt() keeps the memory.
@@ -921,11 +916,7 @@ def _delay(run: _Run, n: PNode) -> Status:
     return s
 
 
-def _timer_halt(run: _Run, n: PNode) -> None:
-    # TimeoutNode::halt / DelayNode::halt: stop the timer, then DecoratorNode::halt
-    run.put(n, "started", False)
-    run.put(n, "complete", False)
-    _halt_children(run, n)
+_timer_halt = _forgetting("started", "complete")    # TimeoutNode::halt / DelayNode::halt: the timer stops
 
 
 def _precondition(run: _Run, n: PNode) -> Status:
@@ -1025,8 +1016,8 @@ RULES: Mapping[str, Rule] = MappingProxyType({
     "ForceSuccess": Rule(_force(SUCCESS)),
     "ForceFailure": Rule(_force(FAILURE)),
     "KeepRunningUntilFailure": Rule(_keep_running_until_failure),
-    "RetryUntilSuccessful": Rule(_retry, _counter_halt("tries"), ("num_attempts",)),
-    "Repeat": Rule(_repeat, _counter_halt("count"), ("num_cycles",)),
+    "RetryUntilSuccessful": Rule(_retry, _forgetting("tries"), ("num_attempts",)),    # RetryNode::halt
+    "Repeat": Rule(_repeat, _forgetting("count"), ("num_cycles",)),                  # RepeatNode::halt
     "RunOnce": Rule(_run_once, None, ("then_skip",)),
     "Timeout": Rule(_timeout, _timer_halt),
     "Delay": Rule(_delay, _timer_halt),
