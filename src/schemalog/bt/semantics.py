@@ -779,38 +779,29 @@ def _reset_child(run: _Run, n: PNode) -> None:
     run.halt_child(n, 0)
 
 
-def _inverter(run: _Run, n: PNode) -> Status:
-    # InverterNode::tick (src/decorators/inverter_node.cpp): SUCCESS <-> FAILURE, RUNNING and
-    # SKIPPED as they are
-    run.set_status(n, RUNNING)
-    s = run.tick(n.kids[0])
-    if s in COMPLETED:
-        _reset_child(run, n)
-        return FAILURE if s is SUCCESS else SUCCESS
-    return s
-
-
-def _force(status: Status) -> Callable[[_Run, PNode], Status]:
-    # ForceSuccessNode / ForceFailureNode::tick (force_success_node.h, force_failure_node.h)
+def _completing(on_success: Status, on_failure: Status, otherwise: Status | None = None):
+    """A decorator that ticks its child and, when it completes, resets it and returns
+    `on_success` or `on_failure`; RUNNING and SKIPPED pass through, or become `otherwise`."""
     def tick(run: _Run, n: PNode) -> Status:
         run.set_status(n, RUNNING)
         s = run.tick(n.kids[0])
         if s in COMPLETED:
             _reset_child(run, n)
-            return status
-        return s
+            return on_success if s is SUCCESS else on_failure
+        return s if otherwise is None else otherwise
     return tick
 
 
-def _keep_running_until_failure(run: _Run, n: PNode) -> Status:
-    # KeepRunningUntilFailureNode::tick (keep_running_until_failure_node.h): SUCCESS becomes
-    # RUNNING, FAILURE stays; SKIPPED returns status(), which tick() just set to RUNNING
-    run.set_status(n, RUNNING)
-    s = run.tick(n.kids[0])
-    if s in COMPLETED:
-        _reset_child(run, n)
-        return FAILURE if s is FAILURE else RUNNING
-    return RUNNING
+# InverterNode::tick (src/decorators/inverter_node.cpp): SUCCESS <-> FAILURE, RUNNING and
+# SKIPPED as they are; ForceSuccessNode / ForceFailureNode::tick (force_success_node.h,
+# force_failure_node.h); KeepRunningUntilFailureNode::tick (keep_running_until_failure_node.h):
+# SUCCESS becomes RUNNING, FAILURE stays, SKIPPED returns status(), which tick() just set to RUNNING
+_inverter = _completing(FAILURE, SUCCESS)
+_keep_running_until_failure = _completing(RUNNING, FAILURE, RUNNING)
+
+
+def _force(status: Status) -> Callable[[_Run, PNode], Status]:
+    return _completing(status, status)
 
 
 def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Status]:
