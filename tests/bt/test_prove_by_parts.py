@@ -116,3 +116,25 @@ def test_compression_is_proved_by_parts_and_agrees_with_the_whole_proof(tree):
     assert by_parts.equal, explain(by_parts)
     whole = prove_equal(original, small, **LIMITS)
     assert whole.equal, explain(whole)
+
+
+def test_a_rewrite_is_kept_only_where_its_parent_makes_it_sound():
+    # A single-child Sequence resets its child when it finishes; Nav2's RateController ticks its
+    # child at once only from IDLE. Under a Sequence (which resets a finished child itself) the
+    # wrapper can go; under a PipelineSequence (which ticks finished children again, unreset) it
+    # cannot, and compress_proved keeps it there while it removes the other.
+    from schemalog.bt.prove import compress_proved
+
+    def rated():
+        return n("Sequence", n("RateController", n("Fallback", act("IsPathValid"), act("Plan")), hz="1.0"))
+
+    tree = doc(n("Sequence", n("PipelineSequence", rated(), act("Follow")), rated()))
+    small, verdict = compress_proved(tree, **LIMITS)
+    assert verdict.equal and verdict.complete, explain(verdict)
+    pipeline, second = small.document.root.children
+    assert pipeline.children[0].type == "Sequence"           # kept under the PipelineSequence
+    assert second.type == "RateController"                   # removed under the Sequence
+    assert [r.rule for r in small.rewrites] == ["single"]
+    unsound = compress(tree)                                 # the rules alone remove both
+    assert len(unsound.rewrites) == 2
+    assert not prove_by_parts(tree, unsound.document, **LIMITS).equal

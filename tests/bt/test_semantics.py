@@ -7,7 +7,7 @@ import pytest
 
 from schemalog.bt.model import Document, Node, NodeModel
 from schemalog.bt.prove import replay, simulate
-from schemalog.bt.semantics import (RULES, Await, Config, FAILURE, RUNNING, SKIPPED, SUCCESS, Rule,
+from schemalog.bt.semantics import (RULES, Await, Config, FAILURE, RUNNING, SUCCESS, Rule,
                                     RootTicked, Status, advance, initial, program, step)
 from schemalog.errors import SchemalogError
 

@@ -124,12 +124,13 @@ def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rul
 
 
 def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None) -> TreeCompression:
-    """Apply the BT rewrites to `document` and prove the result against it (`rules`: node
-    semantics for custom types, read_semantics)."""
-    from ..bt.compress import compress
+    """Apply the BT rewrites to `document`, each kept only where the prover does not refute it
+    in its parent's context, and prove the result against it (`rules`: node semantics for custom
+    types, read_semantics)."""
+    from ..bt.prove import compress_proved
 
-    result = compress(document)
-    verdict = prove_trees(document, result.document, max_states, rules) if result.rewrites else None
+    result, verdict = compress_proved(document, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
+                                      rules=rules)
     return TreeCompression(document, result.document, result.rewrites, verdict)
 
 

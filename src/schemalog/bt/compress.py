@@ -98,40 +98,54 @@ def _removed(rule: str, node: Node) -> Rewrite:
     return Rewrite(rule, node.type, node.name, node.line, node.column, node.file)
 
 
-def compress_node(node: Node, log: list[Rewrite]) -> Node:
-    """`node` with the rules applied bottom-up, each rewrite appended to `log`."""
-    children = tuple(compress_node(c, log) for c in node.children)
+def compress_node(node: Node, log: list[Rewrite], keep: frozenset[int] = frozenset(),
+                  origin: dict[int, tuple[Node, Node]] | None = None) -> Node:
+    """`node` with the rules applied bottom-up, each rewrite appended to `log`; a node of the
+    original whose id() is in `keep` is never removed (a rewrite the prover refuted there)."""
+    # id(a node made here) -> (that node, kept alive so that its id is not reused; the original)
+    origin = {} if origin is None else origin
+
+    def removable(n: Node) -> bool:
+        return id(origin[id(n)][1] if id(n) in origin else n) not in keep
+
+    children = tuple(compress_node(c, log, keep, origin) for c in node.children)
     if node.type in FLATTENED and not node.form:
         flat: list[Node] = []
         for child in children:
             # Sequence and Fallback count their SKIPPED children in a member reset only when they
             # complete or start IDLE (skipped_count_, src/controls/sequence_node.cpp): flattened
             # under a parent that keeps their FAILURE status, the count would run across ticks
-            if _plain(child, frozenset({node.type})) and child.children \
+            if _plain(child, frozenset({node.type})) and child.children and removable(child) \
                     and not (node.type in ("Sequence", "Fallback") and any(_may_skip(c) for c in child.children)):
                 log.append(_removed("flatten", child))
                 flat.extend(child.children)
             else:
                 flat.append(child)
         children = tuple(flat)
-    node = node.with_children(children)
-    if _plain(node, COMPOSITES) and len(children) == 1 and not _guarded(children[0]):
-        log.append(_removed("single", node))
+    made = node.with_children(children)
+    origin[id(made)] = (made, node)
+    if id(node) in keep:
+        return made
+    if _plain(made, COMPOSITES) and len(children) == 1 and not _guarded(children[0]):
+        log.append(_removed("single", made))
         return children[0]
-    if _plain(node, frozenset({"Inverter"})) and len(children) == 1 and _plain(children[0], frozenset({"Inverter"})) \
-            and len(children[0].children) == 1 and not _guarded(children[0].children[0]):
-        log.append(_removed("inverters", node))
+    if _plain(made, frozenset({"Inverter"})) and len(children) == 1 and _plain(children[0], frozenset({"Inverter"})) \
+            and len(children[0].children) == 1 and removable(children[0]) and not _guarded(children[0].children[0]):
+        log.append(_removed("inverters", made))
         log.append(_removed("inverters", children[0]))
         return children[0].children[0]
-    if node.type in FORCES and not node.form and len(children) == 1 and _plain(children[0], FORCES) \
-            and len(children[0].children) == 1:
+    if made.type in FORCES and not made.form and len(children) == 1 and _plain(children[0], FORCES) \
+            and len(children[0].children) == 1 and removable(children[0]):
         log.append(_removed("forced", children[0]))
-        return node.with_children(children[0].children)
-    return node
+        forced = made.with_children(children[0].children)
+        origin[id(forced)] = (forced, node)
+        return forced
+    return made
 
 
-def compress(document: Document) -> Compressed:
-    """Apply the rules to every behaviour tree of `document`."""
+def compress(document: Document, keep: frozenset[int] = frozenset()) -> Compressed:
+    """Apply the rules to every behaviour tree of `document`, removing no node whose id() is in
+    `keep` (bt/prove.py's compress_proved keeps there the nodes of a part it refuted)."""
     log: list[Rewrite] = []
-    trees = tuple((tree_id, compress_node(root, log)) for tree_id, root in document.trees)
+    trees = tuple((tree_id, compress_node(root, log, keep)) for tree_id, root in document.trees)
     return Compressed(document.with_trees(trees), tuple(log))

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from collections.abc import Mapping
 
 from schemalog.bt.model import Document, Node, walk
-from schemalog.bt.semantics import (RULES, RUNNING, Await, Config, Event, Program, RootTicked, Rule,
+from schemalog.bt.semantics import (RESETTING_PARENTS, RULES, RUNNING, Await, Config, Event, Program, RootTicked, Rule,
                                     Status, _rule_key, advance, halt_step, initial, program, step)
 
 
@@ -96,13 +96,15 @@ def _outcome(o: object) -> str:
 
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                 rules: Mapping[str, Rule] | None = None, contextual: bool = False,
-                merge: bool = True) -> Verdict:
+                merge: bool = True, unreset: bool = True) -> Verdict:
     """Explore both trees under every environment; equal when no environment tells them apart.
 
     `contextual`: the roots stand for two subtrees under any parent, which between two root
     ticks may tick again, halt a RUNNING root (haltChild) or tick a finished or halted one
     anew, its memory kept (RunOnce, RoundRobin). Equal so, the subtrees can replace each other
     anywhere: a parent sees only their statuses, and their events are the same.
+    `unreset=False`: the parent resets a finished subtree before it ticks it again (one of
+    semantics.RESETTING_PARENTS), so that move is left out.
     `merge=False`: memoise on configurations only, never on interrupted ticks (for checking)."""
     pa, pb = program(a, rules), program(b, rules)
     start = (_TICK, initial(), initial())
@@ -147,7 +149,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
                 successors.append(((_HALT, sa.config, sb.config), _HALT))
         elif contextual and sa.status is not None:
             successors = [((_TICK, sa.config, sb.config), _AGAIN)]
-            if sa.kept is not None and sb.kept is not None:
+            if unreset and sa.kept is not None and sb.kept is not None:
                 successors.append(((_TICK, sa.kept, sb.kept), _KEEP))
         for nxt, label in successors:
             if nxt not in parent:
@@ -353,11 +355,23 @@ def differing_parts(a: Node, b: Node) -> list[tuple[Node, Node]]:
     """The pairs of subtrees where `a` and `b` part, top-down: below two nodes alike (type,
     form, attributes, number of children) the children are compared pairwise; elsewhere the
     two nodes are a part. Equal trees have none."""
+    return [(na, nb) for na, nb, _ in _parts(a, b, None)]
+
+
+def _parts(a: Node, b: Node, parent: str | None) -> list[tuple[Node, Node, str | None]]:
+    """differing_parts, each with the type of the parent it stands under (None: a tree's root)."""
     if a == b:
         return []
     if (a.type, a.form, a.attrs, len(a.children)) != (b.type, b.form, b.attrs, len(b.children)) or not a.children:
-        return [(a, b)]
-    return [part for ca, cb in zip(a.children, b.children) for part in differing_parts(ca, cb)]
+        return [(a, b, parent)]
+    under = a.type if not a.form else None            # a generic-form node is a custom one: opaque
+    return [part for ca, cb in zip(a.children, b.children) for part in _parts(ca, cb, under or "\0custom")]
+
+
+def _unreset(parent: str | None, rules: Mapping[str, Rule] | None) -> bool:
+    """Whether a parent of this type may tick a finished child again without resetting it (a
+    type the user's rules define may)."""
+    return parent is not None and (parent not in RESETTING_PARENTS or parent in (rules or {}))
 
 
 def _part(document: Document, node: Node) -> Document:
@@ -388,11 +402,12 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     if ids_a == ids_b and a.main == b.main and _same_kinds(a, b, rules):
-        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in differing_parts(ra, rb)]
+        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None)]
         proved = True
-        for na, nb in parts:
+        for na, nb, parent in parts:
             v = prove_equal(_part(a, na), _part(b, nb), max_states=max_states - spent,
-                            max_events_per_tick=max_events_per_tick, rules=rules, contextual=True)
+                            max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
+                            unreset=_unreset(parent, rules))
             spent += v.states
             if not (v.equal and v.complete):
                 proved = False
@@ -409,3 +424,32 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
         reason = (f"no difference found, but not a proof: {max_states} states explored (max_states; "
                   f"{spent} on the differing parts in every context, {whole.states} on the whole trees)")
     return Verdict(whole.equal, whole.complete, spent + whole.states, reason, whole.counterexample)
+
+
+def compress_proved(document: Document, *, max_states: int, max_events_per_tick: int,
+                    rules: Mapping[str, Rule] | None = None):
+    """Compress `document` (bt/compress.py) keeping only rewrites proved where they stand: each
+    part the rewrites changed is proved in its parent's context, a refuted one is restored as it
+    was (its nodes kept) and the rest compressed again. Return the Compressed document and
+    prove_by_parts' verdict on it (None when nothing was rewritten)."""
+    from schemalog.bt.compress import compress
+
+    keep: set[int] = set()
+    while True:
+        result = compress(document, frozenset(keep))
+        if not result.rewrites:
+            return result, None
+        refuted = []
+        for (_, ra), (_, rb) in zip(document.trees, result.document.trees):
+            for na, nb, parent in _parts(ra, rb, None):
+                v = prove_equal(_part(document, na), _part(result.document, nb), max_states=max_states,
+                                max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
+                                unreset=_unreset(parent, rules))
+                if v.complete and not v.equal:
+                    refuted.append(na)
+        grown = keep | {id(n) for na in refuted for n in walk(na)}
+        if grown == keep:
+            break
+        keep = grown
+    return result, prove_by_parts(document, result.document, max_states=max_states,
+                                  max_events_per_tick=max_events_per_tick, rules=rules)

@@ -990,6 +990,13 @@ CONDITION = Rule(_leaf(CONDITION_OUTCOMES), _leaf_halt)
 _SEQ, _FALLBACK = _sequence_like(fallback=False), _sequence_like(fallback=True)
 
 # The node table (src/bt_factory.cpp's builtin registrations; Nav2's BT_REGISTER_NODES)
+# Parents that reset a child's status once it completes, before they tick it again (their rules
+# above: resetChildren / resetChild on completion, and no completed child ticked again before):
+# under one of these (or as a tree's root) a subtree is never ticked in a completed state.
+RESETTING_PARENTS = frozenset({"Sequence", "Fallback", "SequenceWithMemory", "AsyncSequence", "AsyncFallback",
+                               "Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure",
+                               "RetryUntilSuccessful", "Repeat", "SubTree"})
+
 RULES: Mapping[str, Rule] = MappingProxyType({
     "Sequence": _SEQ,
     "Fallback": _FALLBACK,
