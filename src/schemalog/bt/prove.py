@@ -396,7 +396,7 @@ def _same_kinds(a: Document, b: Document, rules: Mapping[str, Rule] | None) -> b
 def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                    rules: Mapping[str, Rule] | None = None) -> Verdict:
     """Prove two documents equal through the subtrees where they differ, each equal in every
-    context (a congruence: a parent sees a subtree only through its statuses, and the events
+    context its parent can make (a congruence: a parent sees a subtree only through its statuses, and the events
     are the same), and where that fails or a document's trees differ, by exploring both whole:
     a refutation is always one of the whole trees."""
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
@@ -414,7 +414,8 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
                 break
         if proved:
             what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
-                    f"context and under every environment" if parts else "the documents' trees are identical")
+                    f"context its parent can make and under every environment" if parts
+                    else "the documents' trees are identical")
             return Verdict(True, True, spent, f"equal by parts: {what} ({spent} pairs of states, exhausted)")
     whole = prove_equal(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
     if not spent:
