@@ -5,6 +5,7 @@ from __future__ import annotations
 import resource
 import signal
 import threading
+import time
 
 import pytest
 
@@ -104,3 +105,19 @@ def test_bad_limits_are_usage_errors():
     worker.join()
     assert errors and "main thread" in errors[0]
     task.compress()                     # without a timeout, any thread may call (no signal)
+
+
+def test_a_ceiling_under_what_the_process_already_holds_stops_the_call_at_once():
+    """RLIMIT_DATA is the process's: a long-lived process (a notebook, this test run) may hold
+    more than the ceiling a call asks for. Then every allocation would fail, and CPython can
+    spin in failing mallocs instead of raising (seen: minutes in mmap); the call does not start."""
+    from schemalog.memory import data_in_use
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    ballast = [bytearray(2**20) for _ in range(160)]        # 160 MiB held, over a 100 MiB ceiling
+    assert data_in_use() > 160 * 2**20
+    kb = schemalog.loads("fact.\n")
+    started = time.monotonic()
+    with pytest.raises(schemalog.LimitExceeded, match="the 100 MiB ceiling is below what this process already holds"):
+        list(kb.query("numlist(1, 10000000, L), length(L, N)", max_memory="100M", max_steps=10**9))
+    assert time.monotonic() - started < 5 and resource.getrlimit(resource.RLIMIT_DATA) == before
+    del ballast

@@ -251,6 +251,15 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
     if ceiling is not None and hard is not None and ceiling > hard:
         raise UsageError(f"max_memory= {size_text(ceiling)} is above this process's hard limit of "
                          f"{size_text(hard)} (ulimit -d)")
+    if ceiling is not None:
+        from ..memory import data_in_use, headroom
+        used = data_in_use()
+        if used is not None and used > ceiling - headroom(ceiling):
+            # RLIMIT_DATA is the process's: a ceiling under what it already holds would fail
+            # every allocation of the call (memory.py), so the call does not start.
+            raise LimitExceeded(f"out of memory: the {size_text(ceiling)} ceiling is below what this process "
+                                f"already holds ({size_text(used)} of data, and {size_text(headroom(ceiling))} "
+                                f"are kept free); raise max_memory=", "memory")
     _inside.depth = getattr(_inside, "depth", 0) + 1
     _enter_ceiling(ceiling)
     try:

@@ -37,6 +37,7 @@ from .eclipse import ECLIPSE
 from .collect import LIVE_FACTOR, MIN_GROWTH, collect
 from .library import EXTRA, EXTRA_NONDET
 from .terms import Atom, Struct, Term, Var
+from ..memory import CeilingReached, near_ceiling
 from .unify import Bindings, rename
 
 DEFAULT_MAX_STEPS = defaults.MAX_STEPS
@@ -134,6 +135,7 @@ _CONTROL_FIELDS = {Or: ("left", "right"), IfThenElse: ("cond", "then", "otherwis
                    SoftIfThenElse: ("cond", "then", "otherwise"), IfThen: ("cond", "then"), Not: ("goal",)}
 
 _POLL = 256   # steps between two looks at `interrupted` (a few hundred microseconds)
+_MEMORY_MASK = 2048 - 1   # and at the memory ceiling, about every 2,048 steps (memory.py)
 
 # Choicepoint kinds (_DEAD: an else-branch a soft cut disabled, popped on backtracking)
 _CLAUSES, _ALT, _NONDET, _CATCH, _DEAD, _RECATCH = range(6)
@@ -277,6 +279,10 @@ class Engine:
                     if self.interrupted:
                         self.interrupted = False
                         raise SchemalogError("interrupted")
+                    if steps & _MEMORY_MASK < _POLL and near_ceiling():
+                        # stop while there is room to say so (memory.py: at the ceiling itself
+                        # CPython can spin in failing allocations instead of raising)
+                        raise CeilingReached("near the memory ceiling")
                     if len(b.trail) > collect_at and b.machines[-1] is state:
                         # the newest machine: the others wait in a built-in (findall) or are
                         # suspended; every mark they hold is at most `base`
@@ -492,6 +498,8 @@ class Engine:
                         return
             except PrologError as err:
                 goals = self._handle_throw(err, cps, b)
+            except CeilingReached:
+                raise
             except MemoryError:
                 # A built-in ran out of memory; what it had built is garbage now, so the
                 # query can go on: as in SWI-Prolog, a catchable resource error.
