@@ -432,9 +432,29 @@ def test_main_in_process_leaves_the_memory_limit_as_it_found_it():
 
     from schemalog.cli.main import main
 
+    from schemalog.memory import data_in_use
+
     before = resource.getrlimit(resource.RLIMIT_DATA)
-    assert main(["query", "--max-memory", "256M", "X = 1"]) == 0
+    room = (data_in_use() + 256 * 2**20) // 2**20        # this test process already holds a lot
+    assert main(["query", "--max-memory", f"{room}M", "X = 1"]) == 0
     assert resource.getrlimit(resource.RLIMIT_DATA) == before
+
+
+def test_main_in_process_under_a_ceiling_below_what_the_process_holds_stops_with_the_ceiling(capfd):
+    """The engine stops near the ceiling (memory.py): in a process already over it, at once,
+    with the ceiling's message, rather than spinning in failing allocations."""
+    import resource
+
+    from schemalog.cli.main import main
+    from schemalog.memory import data_in_use
+
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    ballast = [bytearray(2**20) for _ in range(100)]
+    low = max(64, (data_in_use() - 32 * 2**20) // 2**20)
+    assert main(["query", "--max-memory", f"{low}M", "numlist(1, 1000000, L), length(L, N)"]) == 1
+    assert f"the {low} MiB ceiling was reached" in capfd.readouterr().err
+    assert resource.getrlimit(resource.RLIMIT_DATA) == before
+    del ballast
 
 
 # --- wide nodes (issue 32, item 7) --------------------------------------------------------------
