@@ -21,7 +21,7 @@ def run(*args):
 def test_export_then_convert_back_gives_the_same_tree(tmp_path, compressed):
     xml, back, reference = tmp_path / "tree.xml", tmp_path / "back.pl", tmp_path / "reference.pl"
     flag = ["--compressed"] if compressed else []
-    r = run("export", COFFEE, "--task", "prepareboth", *flag, "-o", xml)
+    r = run("export", COFFEE, "--task", "prepareboth", *flag, "--initial", "-o", xml)
     assert r.returncode == 0, r.stderr
     assert xml.read_text().count('<root BTCPP_format="4"') == 1
     assert run("convert", xml, "-o", back).returncode == 0
@@ -33,6 +33,25 @@ def test_export_then_convert_back_gives_the_same_tree(tmp_path, compressed):
     assert shown[0] == shown[1]
     assert shown[0]["nodes"] == (33 if compressed else 63)
     assert "initial(kukahand.free)." in back.read_text()
+
+
+def test_the_state_comes_from_the_robot_unless_asked(tmp_path):
+    """By default no fact is written into the tree: the robot writes the entries the second
+    comment lists before the first tick; --initial and --state write one for the first tick."""
+    plain = run("export", MIX, "--to", "btcpp").stdout
+    script = next(line for line in plain.splitlines() if 'name="initial state"' in line)
+    assert "hand__free" not in script and "acted := false" in script
+    assert "the robot writes these boolean blackboard entries" in plain and "hand__free = hand.free" in plain
+    asked = run("export", MIX, "--to", "btcpp", "--initial").stdout
+    assert "hand__free := true" in asked and "spoon__taken := false" in asked
+    other = run("export", MIX, "--to", "btcpp", "--state", "spoon.taken").stdout
+    assert "spoon__taken := true" in other and "hand__free := false" in other
+    both = run("export", MIX, "--to", "btcpp", "--state", "hand.free", "--initial")
+    assert both.returncode == 2 and "not allowed with" in both.stderr
+    back = tmp_path / "back.pl"
+    (tmp_path / "t.xml").write_text(plain)
+    assert run("convert", tmp_path / "t.xml", "-o", back).returncode == 0
+    assert "initial(" not in back.read_text()
 
 
 def test_export_to_py_trees_writes_a_module_that_runs(tmp_path):
@@ -99,6 +118,35 @@ def test_the_written_xml_runs_in_bt_cpp(tmp_path):
     initial = World(original, initial_state(kb)).atoms
     outcome = run_btcpp(xml.read_text(), original, initial)
     assert outcome.status == "completed" and replay(original, initial, outcome.trace).valid
+
+
+@pytest.mark.parametrize("to, suffix", [("btcpp", "xml"), ("py_trees", "py")])
+def test_a_failed_action_is_retried_then_stuck_as_run_does(tmp_path, to, suffix):
+    """`run --fail 'a5(cup)' --fail-times N`: retried and completed for N <= --retries, stuck
+    after --retries + 1 failures; the exported compressed tree does the same in its runtime."""
+    from schemalog.formats.btcpp import run_btcpp
+    from schemalog.formats.documents import read_document
+    from schemalog.formats.pytrees import run_pytrees
+    from schemalog.logic.parse import parse_term
+    from schemalog.run.world import World, initial_state
+    from schemalog.task.tree import instantiate
+
+    kb = read_document(MIX).to_kb()
+    original = instantiate(kb, parse_term("use(spoon)"))
+    initial = World(original, initial_state(kb)).atoms
+    runner = run_btcpp if to == "btcpp" else run_pytrees
+    for retries, times in ((2, 2), (2, 3), (0, 1), (4, 4)):
+        out = tmp_path / f"tree{retries}.{suffix}"
+        assert run("export", MIX, "--compressed", "--retries", retries, "-o", out).returncode == 0
+        ran = run("run", MIX, "--compressed", "--fail", "a5(cup)", "--fail-times", times,
+                  "--retries", retries, "--json")
+        expected = json.loads(ran.stdout)
+        got = runner(out.read_text(), original, initial, failures={parse_term("a5(cup)"): times})
+        assert (got.status == "completed") == expected["completed"] == (times <= retries)
+        assert ran.returncode == (0 if times <= retries else 1)
+        assert list(map(str, got.trace)) == expected["trace"]
+        assert got.failed == [parse_term("a5(cup)")] * min(times, retries + 1)
+        assert "a6(cup)" in expected["trace"] if times <= retries else "a6(cup)" not in list(map(str, got.trace))
 
 
 # Issue 32: names that reach the exported files, and files that must not be written over.
@@ -183,3 +231,66 @@ def test_convert_never_writes_over_a_file_the_document_includes(tmp_path):
                            capture_output=True, text=True, timeout=120)
         assert r.returncode == 2 and "would overwrite an input file" in r.stderr
         assert (tmp_path / "sub" / "inc.xml").read_text() == included
+
+
+def test_node_types_from_a_yaml_file_and_their_errors_with_positions(tmp_path):
+    types = tmp_path / "types.yaml"
+    types.write_text("a1: PickUp(object)\ngripper: GripperCommand(command)\n")
+    r = run("export", MIX, "--compressed", "--to", "btcpp", "--node-types", types)
+    assert r.returncode == 0, r.stderr
+    assert '<PickUp name="a1(spoon)" object="spoon"' in r.stdout
+    assert '<input_port name="command" type="std::string">' in r.stdout
+    for text, where in (("a1: Sequence(x)\n", ":1:5: error: a1: 'Sequence' cannot be a node type"),
+                        ("a1: [x]\n", ":1:1: error: each entry is"),
+                        ("a1: P(_x)\n", ":1:5: error: a1: '_x' cannot be a port name"),
+                        ("a1: P\na1: Q\n", ":2:1: error: a1 is given twice")):
+        types.write_text(text)
+        out = tmp_path / "t.xml"
+        r = run("export", MIX, "--to", "btcpp", "--node-types", types, "-o", out)
+        assert r.returncode == 1 and where in r.stderr and "Traceback" not in r.stderr and not out.exists()
+    types.write_text("a1: PickUp\n")
+    r = run("export", MIX, "--to", "btcpp", "--node-types", types)
+    assert r.returncode == 1 and "PickUp 0 port(s), and a1(spoon) has 1 argument(s)" in r.stderr
+    r = run("export", MIX, "--to", "py_trees", "--node-types", types)
+    assert r.returncode == 2 and "node types are for BehaviorTree.CPP exports" in r.stderr
+
+
+def test_a_converted_bt_cpp_tree_exports_back_with_its_own_nodes_and_ports(tmp_path):
+    """convert keeps each action's node type and ports (bt_node/3); compress merges the chains
+    Algorithm 1 finds; export gives every action back its own node, so the robot's plugins
+    load it: no node type or port the original document does not declare."""
+    import xml.etree.ElementTree as ET
+    from schemalog.formats.btcpp import run_btcpp
+    from schemalog.formats.documents import read_document
+    from schemalog.run.execute import replay
+    from schemalog.task.tree import instantiate
+    from schemalog.logic.parse import parse_term
+
+    source = FIXTURES / "long_sequence.xml"
+    model = {a.get("ID"): {p.get("name") for p in a} for a in ET.parse(source).getroot().find("TreeNodesModel")}
+    knowledge = tmp_path / "clear.pl"
+    assert run("convert", source, "-o", knowledge).returncode == 0
+    assert "bt_node(approach_object(cup),'ApproachObject',[object=cup])." in knowledge.read_text()
+    out = tmp_path / "small.xml"
+    r = run("export", knowledge, "--compressed", "--to", "btcpp", "-o", out)
+    assert r.returncode == 0, r.stderr
+    root = ET.fromstring(out.read_text().split("?>", 1)[1])
+    declared = {a.get("ID"): {p.get("name") for p in a} for a in root.find("TreeNodesModel")}
+    assert set(declared) == set(model) and all(declared[t] <= model[t] for t in declared)
+    actions = [e for t in root.findall("BehaviorTree") for e in t.iter() if e.tag in declared]
+    assert len(actions) == 16 and all({k for k in e.attrib if not k.startswith("_")} - {"name"} <= model[e.tag]
+                                      for e in actions)
+    assert any(e.tag == "Sequence" and e.get("name") == "approach_object_grasp_object_place_in_bin(cup)"
+               for t in root.findall("BehaviorTree") for e in t.iter())           # a merged chain
+    kb = read_document(str(knowledge)).to_kb()
+    original = instantiate(kb, parse_term("clear_table"))
+    ran = run_btcpp(out.read_text(), original, ())
+    assert ran.status == "completed" and replay(original, (), ran.trace).valid and len(ran.trace) == 16
+
+
+def test_a_malformed_bt_node_fact_is_an_error_at_its_clause(tmp_path):
+    knowledge = tmp_path / "k.pl"
+    knowledge.write_text(MIX.read_text() + "\nbt_node(a1(spoon), 'PickUp', object).\n")
+    r = run("export", knowledge, "--to", "btcpp")
+    line = len(MIX.read_text().splitlines()) + 2
+    assert r.returncode == 1 and f"k.pl:{line}:1: error: bt_node/3 reads" in r.stderr, r.stderr

@@ -254,3 +254,97 @@ def test_a_parallel_that_succeeds_on_one_child_is_refused():
     with pytest.raises(SchemalogError) as err:
         import_btcpp(text, "p.xml")
     assert (err.value.pos.line, err.value.pos.column) == (2, 3) and "success_count" in err.value.message
+
+
+# ---------------------------------------------------------------------------
+# Issue 33: a robot's own nodes plug in: arguments are ports, node types can be mapped
+
+def _declared_ports(xml):
+    """{node type: its declared input ports} from the document's TreeNodesModel, and every
+    action element's (type, ports written) pairs."""
+    import xml.etree.ElementTree as ET
+    root = ET.fromstring(xml.split("?>", 1)[1])
+    declared = {a.get("ID"): {p.get("name") for p in a.findall("input_port")}
+                for a in root.find("TreeNodesModel").findall("Action")}
+    used = [(e.tag, {k for k in e.attrib if not k.startswith("_") and k != "name"})
+            for tree in root.findall("BehaviorTree") for e in tree.iter() if e.tag in declared]
+    return declared, used
+
+
+def test_arguments_are_ports_the_tree_nodes_model_declares():
+    original, initial = shipped(MIX, "use(spoon)")
+    for tree in (original, compress(original).tree):
+        xml = export_btcpp(tree)
+        assert '<a1 name="a1(spoon)" arg1="spoon"' in xml and '<gripper name="gripper(close)" arg1="close"' in xml
+        declared, used = _declared_ports(xml)
+        assert declared["a1"] == {"arg1"} and used
+        assert all(ports <= declared[tag] for tag, ports in used)        # BT.CPP refuses an undeclared port
+        assert import_btcpp(xml, "t.xml").tree == tree
+
+
+def test_node_types_map_functors_to_a_robots_own_nodes_and_ports():
+    from schemalog.formats.btcpp import NodeType, action_ids
+    original, initial = shipped(MIX, "use(spoon)")
+    types = {"a1": NodeType("PickUp", ("object",)), "gripper": NodeType("GripperCommand", ("command",))}
+    tree = compress(original).tree
+    xml = export_btcpp(tree, None, node_types=types)
+    assert '<PickUp name="a1(spoon)" object="spoon"' in xml and '<GripperCommand name="gripper(open)" command="open"' in xml
+    assert {"PickUp", "GripperCommand", "a2"} <= set(action_ids(xml)) and "a1" not in action_ids(xml)
+    declared, used = _declared_ports(xml)
+    assert declared["PickUp"] == {"object"} and all(ports <= declared[tag] for tag, ports in used)
+    assert import_btcpp(xml, "t.xml").tree == tree                   # the label is the name: nothing lost
+    run = run_btcpp(xml, original, initial)                           # behaviortreepy: ports taken out
+    assert run.status == "completed" and replay(original, initial, run.trace).valid
+    with pytest.raises(Exception, match="PickUp 0 port"):
+        export_btcpp(tree, None, node_types={"a1": NodeType("PickUp", ())})
+    for bad in (NodeType("Fallback", ()), NodeType("Pick Up", ()), NodeType("P", ("_x",)), NodeType("P", ("name",))):
+        with pytest.raises(ValueError):
+            export_btcpp(tree, None, node_types={"a1": bad})
+
+
+def test_an_argument_bt_cpp_would_read_as_a_blackboard_entry_is_no_port():
+    from schemalog.task.tree import Behaviour
+    leaf = Behaviour(label=parse_term("put({x}, '=')"), post=cond.Lit(parse_term("put.done")))
+    root = Behaviour(label=parse_term("t"), children=(leaf,), post=cond.Lit(parse_term("put.done")))
+    xml = export_btcpp(root)
+    element = next(line for line in xml.splitlines() if "name=\"put(" in line)
+    assert " arg1=" not in element and " arg2=" not in element
+    assert import_btcpp(xml, "t.xml").tree == root
+
+
+def test_a_condition_first_fallback_is_the_post_condition_pattern():
+    """Fallback(IsDoorOpen, OpenDoor): OpenDoor runs only while the door is not open, which is
+    a schema behaviour whose post-condition is is_door_open; ReactiveFallback the same."""
+    imported = import_btcpp((FIXTURES / "post_condition_pattern.xml").read_text(), "p.xml")
+    open_door, through, close_door = imported.tree.children
+    assert (str(open_door.label), open_door.post) == ("open_door", cond.Lit(parse_term("is_door_open")))
+    assert (str(close_door.label), close_door.post) == ("close_door", cond.Lit(parse_term("is_door_closed")))
+    assert through.releaser == cond.Lit(parse_term("is_door_open"))       # the Sequence: released by the goal
+    assert imported.nodes[(open_door.label, open_door.post)] == ("OpenDoor", ())
+
+
+@pytest.mark.parametrize("body, post", [
+    ("<IsDoorOpen/><IsDoorBroken/><OpenDoor/>", "is_door_open or is_door_broken"),
+    ('<ScriptCondition code="door__open"/><OpenDoor/>', "door.open"),
+    ('<IsDoorOpen _skipIf="alarm"/><OpenDoor/>', None),
+])
+def test_the_post_condition_pattern_takes_any_of_its_conditions(body, post):
+    text = ('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence name="m"><Fallback>' + body +
+            '</Fallback></Sequence></BehaviorTree><TreeNodesModel><Condition ID="IsDoorOpen"/>'
+            '<Condition ID="IsDoorBroken"/></TreeNodesModel></root>')
+    (leaf,) = import_btcpp(text, "f.xml").tree.children
+    assert str(leaf.label) == "open_door"
+    if post is not None:
+        assert leaf.post == cond.from_term(parse_term(post))
+    else:
+        assert leaf.post == cond.conjoin([cond.Lit(parse_term("is_door_open")), cond.Lit(parse_term("alarm"), False)])
+
+
+@pytest.mark.parametrize("body", ["<OpenDoor/><UnlockDoor/>", "<IsDoorOpen/>", "<IsDoorOpen/><OpenDoor/><UnlockDoor/>",
+                                  "<OpenDoor/><IsDoorOpen/>"])
+def test_a_fallback_of_alternatives_is_still_refused_at_its_element(body):
+    text = ('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence name="m">\n  <Fallback>' + body +
+            '</Fallback></Sequence></BehaviorTree><TreeNodesModel><Condition ID="IsDoorOpen"/></TreeNodesModel></root>')
+    with pytest.raises(SchemalogError, match="only as the post-condition pattern") as err:
+        import_btcpp(text, "f.xml")
+    assert (err.value.pos.line, err.value.pos.column) == (2, 3)

@@ -113,6 +113,39 @@ def read_semantics(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> dic
     return rules
 
 
+def read_node_types(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> dict:
+    """The node types an export gives a task's actions: a YAML mapping from a functor to
+    `NodeType(port, ...)`, one port per argument in order, e.g. `a1: PickUp(object)`."""
+    import re
+
+    from ..formats.btcpp import NodeType, check_node_types
+    from ..inputs import compose_yaml
+
+    name = str(path)
+    root, fail = compose_yaml(_decoded(name, max_bytes), name)
+    if root is None or root.tag != "tag:yaml.org,2002:map":
+        raise fail("a node types file is a mapping, `functor: NodeType(port, ...)` per line", root) \
+            if root is not None else SchemalogError("an empty node types file: write `functor: NodeType(port, ...)` "
+                                                    "per line", SourcePos(name, 1, 1))
+    types: dict = {}
+    for key, value in root.value:
+        if key.tag != "tag:yaml.org,2002:str" or value.tag != "tag:yaml.org,2002:str":
+            raise fail("each entry is `functor: NodeType(port, ...)`", key)
+        if key.value in types:
+            raise fail(f"{key.value} is given twice", key)
+        m = re.fullmatch(r"\s*([^\s(]+)\s*(?:\((.*)\))?\s*", value.value)
+        if m is None:
+            raise fail(f"{value.value!r}: write NodeType or NodeType(port, ...)", value)
+        ports = tuple(q.strip() for q in m.group(2).split(",")) if m.group(2) and m.group(2).strip() else ()
+        entry = NodeType(m.group(1), ports)
+        try:
+            check_node_types({key.value: entry})
+        except ValueError as err:
+            raise fail(str(err), value) from None
+        types[key.value] = entry
+    return types
+
+
 def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rules=None):
     """Prove two documents equal under BT.CPP 4 semantics, or refute them (bt/prove.py): by the
     subtrees where they differ, each in every context, else by exploring both whole. `rules`:

@@ -206,11 +206,37 @@ def _read(sources, max_bytes: int, max_steps: int, reading) -> tuple[KnowledgeBa
     return kb, tuple(dict.fromkeys([*(n for n, t in sources if t is None), *kb.files]))
 
 
+def node_clauses(imported, tree) -> list:
+    """`bt_node(Label, 'NodeType', [port = 'value', ...])` for each action of `tree` (the
+    imported tree, its labels made distinct) that the document wrote otherwise than an export
+    would by default: what gives the robot its own nodes back when the knowledge is exported."""
+    from ..formats.btcpp import default_node
+    from ..logic.parse import Clause
+    from ..logic.terms import TRUE, make_list
+    from ..task.tree import walk
+
+    out, seen = [], set()
+    for before, after in zip(walk(imported.tree), walk(tree)):
+        if before.children:
+            continue
+        pairs = [(o.label, o.label, o.post) for o in before.origins] if len(before.origins) > 1 else \
+            [(after.label, before.origins[0].label if len(before.origins) == 1 else before.label, before.post)]
+        for label, key, post in pairs:
+            written = imported.nodes.get((key, post))
+            if written is None or label in seen or written == default_node(label):
+                continue
+            seen.add(label)
+            ident, ports = written
+            out.append(Clause(Struct("bt_node", (label, Atom(ident), make_list(
+                [Struct("=", (Atom(k), Atom(v))) for k, v in ports]))), TRUE, None))
+    return out
+
+
 def xml_document(path: str, max_bytes: int = defaults.MAX_BYTES):
     """A BehaviorTree.CPP v4 document (and the files it includes) as schema knowledge:
     (Document, Imported)."""
     from ..formats.btcpp import import_btcpp
-    from ..formats.render import tree_document
+    from ..formats.render import distinct_labels, tree_document
     from ..inputs import read_utf8
     from ..logic.parse import Clause
     from ..logic.terms import TRUE
@@ -221,7 +247,8 @@ def xml_document(path: str, max_bytes: int = defaults.MAX_BYTES):
 
     imported = import_btcpp(decoded(path), path, decoded)
     initial = [Clause(Struct("initial", (atom,)), TRUE, None) for atom in imported.initial]
-    doc = tree_document(imported.tree, path, initial)
+    tree = distinct_labels(imported.tree)
+    doc = tree_document(tree, path, initial + node_clauses(imported, tree))
     check_schemas(doc.to_kb())     # what is written must load again
     return doc, imported
 

@@ -210,15 +210,20 @@ class Task:
         """The tree as a Graphviz graph, coloured in the initial state."""
         return self.text("dot")
 
-    def to_btcpp(self, state: str | Iterable[str] | None = None) -> str:
-        """BehaviorTree.CPP v4 XML that runs this tree, from `state` (default: initial/1)."""
-        return self.text("btcpp", state)
+    def to_btcpp(self, state: str | Iterable[str] | bool | None = None, *, retries: int = defaults.RETRIES,
+                 node_types: dict | None = None) -> str:
+        """BehaviorTree.CPP v4 XML that runs this tree, each failed action retried `retries`
+        times; the robot writes the state (default), or the first tick writes `state` (True:
+        initial/1). `node_types`: functor -> NodeType (or a YAML file, read_node_types)."""
+        return self.text("btcpp", state, retries=retries, node_types=node_types)
 
-    def to_py_trees(self, state: str | Iterable[str] | None = None) -> str:
-        """A Python module that builds and runs this tree in py_trees."""
-        return self.text("py_trees", state)
+    def to_py_trees(self, state: str | Iterable[str] | bool | None = None, *, retries: int = defaults.RETRIES) -> str:
+        """A Python module that builds and runs this tree in py_trees (INITIAL: `state`, printed by
+        `python module.py`; True: initial/1)."""
+        return self.text("py_trees", state, retries=retries)
 
-    def text(self, fmt: str, state: str | Iterable[str] | None = None, *, header: str | None = None) -> str:
+    def text(self, fmt: str, state: str | Iterable[str] | bool | None = None, *, header: str | None = None,
+             retries: int = defaults.RETRIES, node_types: dict | str | os.PathLike | None = None) -> str:
         """This task written in one format: pl, yaml, seed, json, dot, btcpp, py_trees
         (header: the comment pl and seed start with, default header())."""
         from ..formats.render import carried_clauses, show_json, to_dot, tree_document
@@ -233,7 +238,7 @@ class Task:
         if fmt == "dot":
             return to_dot(self.tree, self.name, self.initial_atoms())
         if fmt in ("btcpp", "py_trees"):
-            return self._exported(fmt, state)
+            return self._exported(fmt, state, retries, node_types)
         raise UsageError(f"no text format {fmt!r}: choose pl, yaml, seed, json, dot, btcpp or py_trees")
 
     def save(self, path: Path, format: str | None = None) -> str:
@@ -269,22 +274,35 @@ class Task:
 
         return World(self.tree, initial_state(self.knowledge._kb)).atoms
 
-    def _exported(self, target: str, state) -> str:
+    def _exported(self, target: str, state, retries: int, node_types) -> str:
         from ..formats.quoting import Unquotable
         from ..run.world import World, initial_state
 
-        initial = state_atoms(state, "state") if state is not None else initial_state(self.knowledge._kb)
-        # The world settles the initial state (a composite whose parts hold is accomplished),
-        # and the runtime starts from what the world starts from.
-        atoms = sorted(World(self.original.tree, initial).atoms, key=term_to_text)
+        if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
+            raise UsageError(f"retries must be 0 or more, not {retries!r}")
+        if node_types is not None and target != "btcpp":
+            raise UsageError("node types are for BehaviorTree.CPP exports (a py_trees action is called by its label)")
+        if isinstance(node_types, (str, os.PathLike)):
+            from .behaviour_trees import read_node_types
+            node_types = read_node_types(node_types)
+        atoms = None                  # the robot writes the state before the first tick
+        if state is not None and state is not False:
+            initial = initial_state(self.knowledge._kb) if state is True else state_atoms(state, "state")
+            # The world settles the initial state (a composite whose parts hold is accomplished),
+            # and the runtime starts from what the world starts from.
+            atoms = sorted(World(self.original.tree, initial).atoms, key=term_to_text)
         files = ", ".join(map(readable_name, self.knowledge.files)) or "text"
         title = f"{self.name} from {files}: {self.kind} tree of {len(self)} behaviours, exported by schemalog"
         try:
             if target == "btcpp":
                 from ..formats.btcpp import export_btcpp
-                return export_btcpp(self.tree, atoms, title)
+                nodes = bt_nodes(self.knowledge._kb)
+                try:
+                    return export_btcpp(self.tree, atoms, title, retries, node_types, nodes)
+                except ValueError as err:
+                    raise UsageError(f"node types: {err}") from None
             from ..formats.pytrees import export_pytrees
-            return export_pytrees(self.tree, atoms, title)
+            return export_pytrees(self.tree, atoms, title, retries)
         except Unquotable as err:
             raise Unquotable(f"cannot export {self.name} to {target}: {err.message}") from None
 
@@ -335,3 +353,29 @@ def written(doc, fmt: str, header: str) -> str:
     return to_pl(doc, header=header) if fmt == "pl" else to_yaml(doc)
 
 
+def bt_nodes(kb) -> dict:
+    """The knowledge's bt_node(Label, 'NodeType', [port = value, ...]) facts (written by `convert
+    tree.xml`): label -> (node type, ((port, value text), ...)); a malformed one is an error at its clause."""
+    from ..logic.terms import NIL, Atom, Struct, indicator, list_items
+
+    out: dict = {}
+    for clause in kb.user_clauses():
+        if indicator(clause.head) != ("bt_node", 3):
+            continue
+        label, ident, ports = clause.head.args
+        try:
+            items, tail = list_items(ports)
+            if not isinstance(ident, Atom) or tail != NIL:
+                raise ValueError
+            pairs = []
+            for item in items:
+                if not (isinstance(item, Struct) and item.name == "=" and len(item.args) == 2
+                        and isinstance(item.args[0], Atom)):
+                    raise ValueError
+                value = item.args[1]
+                pairs.append((item.args[0].name, value.name if isinstance(value, Atom) else term_to_text(value)))
+        except ValueError:
+            raise SchemalogError("bt_node/3 reads bt_node(Label, 'NodeType', [port = value, ...])",
+                                 clause.pos) from None
+        out.setdefault(label, (ident.name, tuple(pairs)))
+    return out

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .. import defaults
-from .options import TOGETHER, Parents, budget
+from .options import TOGETHER, Parents, budget, count
 
 TARGETS = ("btcpp", "py_trees")
 
@@ -21,8 +21,16 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("--compressed", action="store_true", help="compress first (Algorithm 1), then export")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",
                    help="with --compressed: what merged behaviours pass to their children (default full)")
-    p.add_argument("--state", metavar="ATOMS", help="the initial state the tree starts from "
-                                                    "(default: the files' initial/1)")
+    state = p.add_mutually_exclusive_group()
+    state.add_argument("--state", metavar="ATOMS", help="write this initial state into the tree, for its first "
+                                                        "tick to set (default: the robot writes the state)")
+    state.add_argument("--initial", action="store_true",
+                       help="write the files' initial/1 into the tree, for its first tick to set")
+    p.add_argument("--node-types", metavar="YAML",
+                   help="BT.CPP node types and port names for the actions: `a1: PickUp(object)` per line "
+                        "(default: the functor, ports arg1, arg2 ...)")
+    p.add_argument("--retries", type=count, default=defaults.RETRIES, metavar="N",
+                   help=f"a failed action is retried N times, then inhibited, as `run` does (default {defaults.RETRIES})")
     p.add_argument("--sympy-budget", type=budget, default=defaults.SYMPY_BUDGET, metavar="N",
                    help=argparse.SUPPRESS)
     p.set_defaults(run=run)
@@ -41,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError("name the runtime with --to btcpp or --to py_trees (or give -o a .xml or .py name)")
     knowledge = load_knowledge(args)
     task = task_to_use(knowledge, args)
-    text = task.text(target, args.state)
+    text = task.text(target, True if args.initial else args.state, retries=args.retries, node_types=args.node_types)
     what = "BehaviorTree.CPP v4 XML" if target == "btcpp" else "a py_trees module"
     emit(text, args.output, inputs_of(args, knowledge.files),
          f"{task.name}, {task.kind} tree of {len(task)} behaviours ({what})")

@@ -2,20 +2,26 @@
 
     export_btcpp(tree, initial) -> str            a <root BTCPP_format="4"> document
     import_btcpp(text, file)    -> Imported       (tree, initial state) from such a document
-    run_btcpp(xml, original, initial) -> BtRun    ticked in BT.CPP (behaviortreepy) against the World
+    run_btcpp(xml, original, initial, failures) -> BtRun   ticked in BT.CPP (behaviortreepy) against
+                                                  the World, the robot failing `failures`
 
 The exported document (docs/formats.md, BehaviorTree.CPP):
 
-    schemalog_run            the main tree: the initial state as a Script of boolean assignments,
-                             then KeepRunningUntilFailure over one *decision* per tick, then a
-                             ScriptCondition on the task's post-condition (SUCCESS: completed)
+    schemalog_run            the main tree: a Script of `acted`, the failure counters and (when
+                             asked) the initial state; else the robot writes the state before the
+                             first tick. Then KeepRunningUntilFailure over one *decision* per
+                             tick, the task under ForceSuccess (a failed action is a decision
+                             too), then a ScriptCondition on the task's post-condition
     a composite behaviour    <SubTree ID=.. name="label" _while="PRE" _skipIf="acted || (POST)"
                              importance=".." agent=".."/> over a BehaviorTree holding a Sequence
-                             of its children (identical sub-tasks share one BehaviorTree)
-    a leaf                   <functor name="label" _while="PRE" _skipIf="acted || (POST)"
-                             _onSuccess="acted := true"/>, an action the runtime registers
-    a merged leaf            <Sequence name="label" ... _onSuccess="acted := true"> of its
-                             constituents, each an original action <a name=".." _skipIf="POST"/>
+                             of its children
+    a leaf                   <functor name="label" _while="PRE" _skipIf="acted || (POST) ||
+                             failures__N > R" _onSuccess="acted := true; failures__N := 0"
+                             _onFailure="acted := true; failures__N += 1"/>, an action the
+                             runtime registers: retried R times, then inhibited (the executive's rule)
+    a merged leaf            <Sequence name="label" ...> of its constituents, each an original
+                             action <a name=".." _while="PREVIOUS POST" _skipIf="POST"/> with its
+                             own failure counter
     a literal obj.prop       the boolean blackboard entry obj__prop (others: q__ + hex of the text)
 
 `acted` is set by the leaf that acts and reset before each decision, so every tick takes
@@ -26,8 +32,10 @@ order is sound). Metadata BT.CPP has no use for is kept in `_`-attributes it ign
 
 Import reads that form back exactly, and besides it the part of BT.CPP with a schema meaning
 (Sequence, SequenceWithMemory, ReactiveSequence, Parallel, conditions, Precondition, `_while`,
-SubTree with literal ports, Script boolean assignments); everything else is refused with the
-element's line and column. XML is parsed with defusedxml (no entities, no external references).
+SubTree with literal ports, Script boolean assignments, the post-condition pattern
+Fallback(conditions..., behaviour)); everything else is refused with the element's line and
+column. Either way each action's node type and ports are kept (Imported.nodes), for an export
+to give them back. XML is parsed with defusedxml (no entities, no external references).
 """
 
 from __future__ import annotations
@@ -93,6 +101,8 @@ REFUSED = {
 _PIECE = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _RESERVED_KEYS = {ACTED, "true", "false"}
+FAILURES = "failures__"          # failures__N: how often action element N failed in a row (an int)
+_RESERVED_PREFIXES = ("q__", FAILURES)
 
 
 def _pieces(atom: Term) -> list[str] | None:
@@ -119,7 +129,7 @@ def literal_key(atom: Term) -> str:
     pieces = _pieces(atom)
     if pieces is not None:
         key = "__".join(pieces)
-        if key not in _RESERVED_KEYS and not key.startswith("q__"):
+        if key not in _RESERVED_KEYS and not key.startswith(_RESERVED_PREFIXES):
             return key
     return "q__" + term_to_text(atom).encode().hex()
 
@@ -242,6 +252,8 @@ def parse_script_condition(text: str, acted: bool = False) -> Condition:
 
 
 ACTED_LIT = cond.Lit(Atom("$acted"))
+_COUNTER_RESET = re.compile(r"\s*" + FAILURES + r"\d+\s*:=\s*0\s*")
+_INHIBITED = re.compile(r"(?:\s*\|\|\s*" + FAILURES + r"\d+\s*>\s*\d+)+\s*$")
 
 
 def parse_assignments(text: str) -> list[tuple[Term, bool]]:
@@ -262,6 +274,53 @@ def parse_assignments(text: str) -> list[tuple[Term, bool]]:
 # Export
 
 GENERIC_ACTION = "SchemalogAction"
+
+
+@dataclass(frozen=True)
+class NodeType:
+    """The BT.CPP node type a functor's actions run as, and its input ports, one per argument
+    in order (`a1: {type: PickUp, ports: [object]}`: `a1(spoon)` is `<PickUp object="spoon">`)."""
+
+    type: str
+    ports: tuple[str, ...]
+
+
+NodeTypes = dict      # functor name -> NodeType
+LabelNodes = dict     # action label -> (node type, ((port, value), ...)): bt_node/3 facts
+
+_PORT = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def check_node_types(types: NodeTypes) -> None:
+    """Refuse a node type or port BT.CPP would not take (ValueError, naming it)."""
+    for functor, t in types.items():
+        if not _KEY.fullmatch(t.type) or t.type in BUILTIN_NODES or t.type in (ACTED, MAIN_TREE):
+            raise ValueError(f"{functor}: {t.type!r} cannot be a node type (an identifier that is not "
+                             f"one of BT.CPP's own node types)")
+        for port in t.ports:
+            if not _PORT.fullmatch(port) or port in ("name", "ID"):
+                raise ValueError(f"{functor}: {port!r} cannot be a port name (an identifier not starting "
+                                 f"with _, nor name or ID)")
+        if len(set(t.ports)) != len(t.ports):
+            raise ValueError(f"{functor}: a port is named twice in {list(t.ports)}")
+
+
+def default_node(label: Term) -> tuple[str, tuple[tuple[str, str], ...]]:
+    """The node type and ports an export gives action `label` when nothing maps it."""
+    args = label.args if isinstance(label, Struct) else ()
+    values = [_port_value(a) for a in args]
+    ports = () if None in values else tuple((f"arg{k}", v) for k, v in enumerate(values, 1))
+    return action_id(label), ports
+
+
+def _port_value(arg: Term) -> str | None:
+    """An argument as a literal port value, or None where BT.CPP would read it as something else
+    (`{x}`: a blackboard entry; `=`: the entry of the port's own name)."""
+    text = term_to_text(arg)
+    core = text.strip(" ")
+    if core == "=" or (core.startswith("{") and core.endswith("}")):
+        return None
+    return text
 
 
 def action_id(label: Term) -> str:
@@ -337,15 +396,47 @@ def _attrs(pairs: list[tuple[str, str]]) -> str:
 
 
 class _Exporter:
-    def __init__(self, tree: Behaviour) -> None:
+    def __init__(self, tree: Behaviour, retries: int, node_types: NodeTypes, nodes: LabelNodes) -> None:
         self.trees: dict[str, str] = {}        # body -> BehaviorTree ID
         self.bodies: list[tuple[str, str]] = []
-        self.actions: dict[str, None] = {}
+        self.actions: dict[str, dict[str, str]] = {}    # node type -> its ports -> a description
+        self.retries = retries
+        self.counters: list[str] = []          # failures__1 ... one per action element
+        self.node_types = node_types
+        self.nodes = nodes
         # BT.CPP refuses a BehaviorTree ID that names a registered node: a built-in one
         # (a task called SubTree) or one of this document's actions (a sub-task pick(x)
         # beside an action pick_x)
         self.used_ids: set[str] = {MAIN_TREE, GENERIC_ACTION, *BUILTIN_NODES, *(
-            action_id(action) for node in walk(tree) if not node.children for action, _ in steps_of(node))}
+            self.action(action)[0] for node in walk(tree) if not node.children for action, _ in steps_of(node))}
+        self.actions.clear()
+
+    def action(self, label: Term) -> tuple[str, list[tuple[str, str]]]:
+        """The node type of an action and its ports: one per argument, `argK` unless the node
+        types map names them (no ports when an argument would read as a blackboard entry)."""
+        functor = label.name if isinstance(label, (Atom, Struct)) else None
+        args = label.args if isinstance(label, Struct) else ()
+        mapped = self.node_types.get(functor) if functor is not None else None
+        written = self.nodes.get(label)
+        if written is not None and mapped is None:        # bt_node/3: as the imported tree had it
+            ident, ports = written
+            declared = self.actions.setdefault(ident, {})
+            for name, _ in ports:
+                declared.setdefault(name, f"a port of {ident}")
+            return ident, list(ports)
+        if mapped is not None:
+            if len(args) > len(mapped.ports):
+                raise Unquotable(f"the node types map gives {mapped.type} {len(mapped.ports)} port(s), "
+                                 f"and {term_to_text(label)} has {len(args)} argument(s)")
+            ident, names = mapped.type, mapped.ports
+        else:
+            ident, names = action_id(label), tuple(f"arg{k}" for k in range(1, len(args) + 1))
+        values = [_port_value(a) for a in args]
+        ports = [] if None in values else list(zip(names, values))
+        declared = self.actions.setdefault(ident, {})
+        for k, name in enumerate(names[:len(args)], 1):
+            declared.setdefault(name, f"argument {k} of {ident}")
+        return ident, ports
 
     def _tree_id(self, label: Term) -> str:
         base = re.sub(r"_+", "_", re.sub(r"[^A-Za-z0-9_]", "_", term_to_text(label))).strip("_") or "task"
@@ -358,8 +449,15 @@ class _Exporter:
         self.used_ids.add(name)
         return name
 
-    def guards(self, node: Behaviour) -> list[tuple[str, str]]:
-        return [("_while", to_script(node.pre)), ("_skipIf", f"{ACTED} || {_operand(node.post)}")]
+    def guards(self, node: Behaviour, counters: tuple[str, ...] = ()) -> list[tuple[str, str]]:
+        """`_while="PRE" _skipIf="acted || (POST) || failures__N > R ..."`: active, not yet
+        acted this tick, and none of its actions inhibited (failed more than R times in a row)."""
+        inhibited = "".join(f" || {c} > {self.retries}" for c in counters)
+        return [("_while", to_script(node.pre)), ("_skipIf", f"{ACTED} || {_operand(node.post)}{inhibited}")]
+
+    def counter(self) -> str:
+        self.counters.append(f"{FAILURES}{len(self.counters) + 1}")
+        return self.counters[-1]
 
     def element(self, node: Behaviour, indent: str) -> list[str]:
         """The lines of the element that stands for `node` where its parent lists it."""
@@ -370,17 +468,29 @@ class _Exporter:
                      *_meta(node, port_style=True)]
             return [f"{indent}<SubTree{_attrs(pairs)}/>"]
         steps = steps_of(node)
-        decided = ("_onSuccess", f"{ACTED} := true")
+        # A leaf that acts, succeeding or failing, is this tick's decision (`acted`); a failure
+        # counts against the action that failed and the next tick retries it (the executive's
+        # rule), until it has failed more than R times in a row: then it is skipped (inhibited).
         if steps == ((node.label, node.post),):
-            ident = action_id(node.label)
-            self.actions[ident] = None
-            pairs = [("name", label), *self.guards(node), decided, *_meta(node, port_style=False)]
+            ident, ports = self.action(node.label)
+            n = self.counter()
+            pairs = [("name", label), *ports, *self.guards(node, (n,)), ("_onSuccess", f"{ACTED} := true; {n} := 0"),
+                     ("_onFailure", f"{ACTED} := true; {n} += 1"), *_meta(node, port_style=False)]
             return [f"{indent}<{ident}{_attrs(pairs)}/>"]
-        lines = [f"{indent}<Sequence{_attrs([('name', label), *self.guards(node), decided, *_meta(node, False)])}>"]
-        for action, post in steps:
-            ident = action_id(action)
-            self.actions[ident] = None
-            lines.append(f"{indent}  <{ident}{_attrs([('name', term_to_text(action)), ('_skipIf', to_script(post))])}/>")
+        counters = tuple(self.counter() for _ in steps)
+        decided = [("_onSuccess", f"{ACTED} := true"), ("_onFailure", f"{ACTED} := true")]
+        lines = [f"{indent}<Sequence{_attrs([('name', label), *self.guards(node, counters), *decided, *_meta(node, False)])}>"]
+        previous = None
+        for (action, post), n in zip(steps, counters):
+            ident, ports = self.action(action)
+            # A constituent runs only once the one before it holds its post-condition
+            # (`_while`), so a robot that reports success without achieving it does not
+            # run the next action; the merged leaf ends and is tried again.
+            after = [] if previous is None else [("_while", to_script(previous))]
+            pairs = [("name", term_to_text(action)), *ports, *after, ("_skipIf", to_script(post)),
+                     ("_onSuccess", f"{n} := 0"), ("_onFailure", f"{n} += 1")]
+            lines.append(f"{indent}  <{ident}{_attrs(pairs)}/>")
+            previous = post
         lines.append(f"{indent}</Sequence>")
         return lines
 
@@ -398,39 +508,65 @@ class _Exporter:
         return found
 
 
-def export_btcpp(tree: Behaviour, initial=(), title: str = "") -> str:
-    """A BT.CPP v4 document that runs `tree` (original or compressed) from state `initial`,
-    parsed back before it is returned: it must import as `tree` and `initial` (Unquotable: refused)."""
-    text = _document(tree, initial, title)
+def export_btcpp(tree: Behaviour, initial=None, title: str = "", retries: int = defaults.RETRIES,
+                 node_types: NodeTypes | None = None, nodes: LabelNodes | None = None) -> str:
+    """A BT.CPP v4 document that runs `tree` (original or compressed), its failed actions retried
+    `retries` times, parsed back before it is returned: it must import as `tree` and `initial`
+    (Unquotable: refused). `initial` None: the robot writes the state (every literal's blackboard
+    entry) before the first tick; atoms: the tree's first tick writes that state itself.
+    `node_types`: functor -> NodeType, the node type and port names of its actions; `nodes`:
+    label -> (node type, ports), an action's own node as an imported tree wrote it (bt_node/3),
+    unless node_types maps its functor."""
+    node_types = dict(node_types or {})
+    check_node_types(node_types)
+    nodes = dict(nodes or {})
+    check_node_types({term_to_text(k): NodeType(t, tuple(p for p, _ in ports)) for k, (t, ports) in nodes.items()})
+    text = _document(tree, initial, title, retries, node_types, nodes)
     try:
         back = import_btcpp(text, "<export>")
     except SchemalogError as err:
         raise Unquotable(f"the document does not read back: {err.message}") from None
-    if back.tree != tree or set(back.initial) != set(initial):
+    if back.tree != tree or set(back.initial) != set(initial or ()):
         raise Unquotable("the document does not read back as the tree exported")
     return text
 
 
-def _document(tree: Behaviour, initial, title: str) -> str:
+def state_keys(tree: Behaviour) -> list[tuple[str, Term]]:
+    """The blackboard entries the robot writes for `tree`: (key, atom), in order of appearance."""
+    return [(literal_key(a), a) for a in atoms_of(tree)]
+
+
+def _document(tree: Behaviour, initial, title: str, retries: int, node_types: NodeTypes, nodes: LabelNodes) -> str:
     """The text of export_btcpp's document."""
-    exporter = _Exporter(tree)
-    task = exporter.element(tree, "          ")
-    true_atoms = set(initial)
-    atoms = list(dict.fromkeys([*atoms_of(tree), *initial]))
-    state = "; ".join([f"{ACTED} := false"] + [f"{literal_key(a)} := {'true' if a in true_atoms else 'false'}"
-                                               for a in atoms])
+    if not isinstance(retries, int) or isinstance(retries, bool) or retries < 0:
+        raise ValueError(f"retries must be an int, 0 or more, not {retries!r}")
+    exporter = _Exporter(tree, retries, node_types, nodes)
+    task = exporter.element(tree, "            ")
+    assignments = [f"{ACTED} := false"] + [f"{c} := 0" for c in exporter.counters]
+    if initial is not None:
+        true_atoms = set(initial)
+        atoms = list(dict.fromkeys([*atoms_of(tree), *initial]))
+        assignments += [f"{literal_key(a)} := {'true' if a in true_atoms else 'false'}" for a in atoms]
+    keys = ", ".join(f"{k} = {term_to_text(a)}" for k, a in state_keys(tree))
+    perception = ("the robot writes these boolean blackboard entries before the first tick, "
+                  "and again whenever they change: " + (keys or "none") if initial is None else
+                  "the initial state is written by the first tick (the Script \"initial state\"); "
+                  "the robot then keeps these boolean entries current: " + (keys or "none"))
     lines = ['<?xml version="1.0" encoding="UTF-8"?>']
     if title:
         lines.append(xml_comment(title))
-    lines += [f'<root BTCPP_format="4" main_tree_to_execute="{MAIN_TREE}">',
+    lines += [xml_comment(perception),
+              f'<root BTCPP_format="4" main_tree_to_execute="{MAIN_TREE}">',
               f'  <BehaviorTree ID="{MAIN_TREE}">',
               '    <Sequence name="run">',
-              f'      <Script name="initial state" code={xml_attribute(state)}/>',
+              f'      <Script name="initial state" code={xml_attribute("; ".join(assignments))}/>',
               '      <ForceSuccess name="until no decision is taken">',
               '        <KeepRunningUntilFailure name="one decision per tick">',
               '          <Sequence name="decision">',
               f'            <Script name="decide" code="{ACTED} := false"/>',
+              '            <ForceSuccess name="a failed action is a decision too">',
               *["  " + t for t in task],
+              '            </ForceSuccess>',
               f'            <ScriptCondition name="decided" code="{ACTED}"/>',
               '          </Sequence>',
               '        </KeepRunningUntilFailure>',
@@ -441,14 +577,42 @@ def _document(tree: Behaviour, initial, title: str) -> str:
     for tree_id, body in exporter.bodies:
         lines += [f'  <BehaviorTree ID="{tree_id}">', body, '  </BehaviorTree>']
     lines.append('  <TreeNodesModel>')
-    lines += [f'    <Action ID="{a}"/>' for a in exporter.actions]
+    for ident, ports in exporter.actions.items():
+        if not ports:
+            lines.append(f'    <Action ID="{ident}"/>')
+            continue
+        lines.append(f'    <Action ID="{ident}">')
+        lines += [f'      <input_port name="{port}" type="std::string">{text}</input_port>'
+                  for port, text in ports.items()]
+        lines.append('    </Action>')
     lines += ['  </TreeNodesModel>', '</root>', '']
     return "\n".join(lines)
 
 
 def action_ids(xml: str) -> list[str]:
     """The action node types an exported document declares (what a runtime must register)."""
-    return re.findall(r'<Action ID="([^"]+)"/>', xml.split("<TreeNodesModel>", 1)[-1])
+    return re.findall(r'<Action ID="([^"]+)"/?>', xml.split("<TreeNodesModel>", 1)[-1])
+
+
+def without_ports(xml: str) -> str:
+    """An exported document with its actions' ports taken out, for a runtime that can register
+    actions but not declare their ports (behaviortreepy 0.1.4): BT.CPP refuses an XML port its
+    node type does not provide. The action's name still holds the label, arguments included."""
+    model = xml.split("<TreeNodesModel>", 1)[-1]
+    ports = set(re.findall(r'<input_port name="([^"]+)"', model))
+    types = set(action_ids(xml))
+    if not ports:
+        return xml
+    attribute = re.compile(r' (' + "|".join(map(re.escape, sorted(ports))) + r')="[^"]*"')
+
+    def strip(m: re.Match) -> str:
+        return attribute.sub("", m.group(0)) if m.group(1) in types else m.group(0)
+
+    body, _, _ = xml.partition("  <TreeNodesModel>")
+    rest = xml[len(body):]
+    rest = re.sub(r'<input_port [^>]*>[^<]*</input_port>\s*', "", rest)
+    rest = re.sub(r'<Action ID="([^"]+)">\s*</Action>', r'<Action ID="\1"/>', rest)
+    return re.sub(r'<([A-Za-z_][A-Za-z0-9_]*)\b[^>]*>', strip, body) + rest
 
 
 # ---------------------------------------------------------------------------
@@ -541,6 +705,9 @@ class Imported:
     initial: tuple[Term, ...] = ()
     notes: tuple[str, ...] = ()
     includes: tuple[str, ...] = ()     # the files read through <include>, in the order read
+    # Each action's node type and ports as the document wrote them, by (label, post-condition):
+    # what an export needs to give the robot its own nodes back (`bt_node/3` in converted knowledge).
+    nodes: dict[tuple[Term, Condition], tuple[str, tuple[tuple[str, str], ...]]] = field(default_factory=dict)
 
 
 def import_btcpp(text: str, file: str = "<xml>", read=None) -> Imported:
@@ -577,6 +744,14 @@ class _Importer:
         self.used_posts: dict[Term, int] = {}
         self.count = 0
         self.includes: list[str] = []
+        self.nodes: dict = {}
+
+    def _record(self, label: Term, post: Condition, node: XNode, skip: set[str] = frozenset()) -> None:
+        """Keep the node type and literal ports an action was written with."""
+        ident = node.attrs.get("ID", node.tag) if node.tag == "Action" else node.tag
+        ports = tuple((k, v) for k, v in node.attrs.items()
+                      if not (k in skip or k.startswith("_") or k in ("name", "ID")))
+        self.nodes.setdefault((label, post), (ident, ports))
 
     def pos(self, node: XNode) -> SourcePos:
         return SourcePos(node.file or self.file, node.line, node.column)
@@ -599,10 +774,10 @@ class _Importer:
             initial = tuple(self._assignments(state_script, want_initial=True))
             self.on_path.append(main)
             tree = self.exported(task_node)
-            return Imported(tree, initial, includes=tuple(self.includes))
+            return Imported(tree, initial, includes=tuple(self.includes), nodes=self.nodes)
         self.on_path.append(main)
         tree = self.plain(body, cond.TRUE, None)
-        return Imported(tree, (), includes=tuple(self.includes))
+        return Imported(tree, (), includes=tuple(self.includes), nodes=self.nodes)
 
     def _collect(self, root: XNode, file: str, chain: list[str]) -> None:
         """Register the BehaviorTrees of `root` (a document read from `file`) and of its includes."""
@@ -656,6 +831,8 @@ class _Importer:
             (loop,) = forced.children
             (decision,) = loop.children
             reset, task, decided = decision.children
+            if task.tag == "ForceSuccess" and task.attrs.get("name") == "a failed action is a decision too":
+                (task,) = task.children
         except ValueError:
             return None
         shape = [(body, "Sequence"), (script, "Script"), (forced, "ForceSuccess"),
@@ -666,8 +843,11 @@ class _Importer:
         return script, task
 
     def _assignments(self, script: XNode, want_initial: bool) -> list[Term]:
+        code = script.attrs.get("code", "")
+        if want_initial:                     # `failures__1 := 0; ...`: the runtime's counters
+            code = ";".join(s for s in code.split(";") if not _COUNTER_RESET.fullmatch(s))
         try:
-            pairs = parse_assignments(script.attrs.get("code", ""))
+            pairs = parse_assignments(code)
         except ScriptError as err:
             self.fail(script, f"Script: {err}")
         return [key_atom(k) for k, v in pairs if v and k != ACTED] if want_initial else pairs
@@ -704,7 +884,12 @@ class _Importer:
         a = node.attrs
         if "name" not in a or "_while" not in a or "_skipIf" not in a:
             self.fail(node, f"<{node.tag}> in a schemalog run tree needs name, _while and _skipIf")
-        skip = self._cond(node, "_skipIf", acted=True)
+        # `acted || (POST) || failures__3 > 2 || ...`: the failure counters are the runtime's
+        skip_text = _INHIBITED.sub("", a["_skipIf"])
+        try:
+            skip = parse_script_condition(skip_text, acted=True)
+        except ScriptError as err:
+            self.fail(node, f"_skipIf: {err}")
         if not (isinstance(skip, cond.Or) and len(skip.items) == 2 and skip.items[0] == ACTED_LIT):
             self.fail(node, f"_skipIf must read \"{ACTED} || POST\", not {a['_skipIf']!r}")
         pre = self._cond(node, "_while")
@@ -744,10 +929,15 @@ class _Importer:
             labels = [self._label(s, s.attrs.get("name", "")) for s in node.children]
             if labels != [o.label for o in fields["origins"]]:
                 self.fail(node, "a merged behaviour's actions must be its provenance (_origins), in order")
+            for step, origin in zip(node.children, fields["origins"]):
+                self._record(origin.label, origin.post, step)
             return Behaviour(**fields)
         if node.tag in BUILTIN_NODES:
             self.fail(node, f"<{node.tag}> is not part of a schemalog run tree")
-        return Behaviour(**self._common(node, port_style=False))
+        fields = self._common(node, port_style=False)
+        origins = fields["origins"]
+        self._record(origins[0].label if len(origins) == 1 else fields["label"], fields["post"], node)
+        return Behaviour(**fields)
 
     def _subtree_body(self, node: XNode, tree_id: str) -> XNode:
         if tree_id not in self.trees:
@@ -827,6 +1017,8 @@ class _Importer:
         self._count(node)
         tag = node.tag
         releaser = cond.conjoin([releaser, self._guard(node)])
+        if tag in ("Fallback", "ReactiveFallback"):
+            return self._post_condition_pattern(node, releaser)
         if tag in REFUSED:
             self.fail(node, f"<{tag}> has no schema meaning: {REFUSED[tag]}")
         if tag == "Precondition":
@@ -897,9 +1089,33 @@ class _Importer:
                             f"SequenceWithMemory, ReactiveSequence, Parallel, Precondition and SubTree")
         ident = node.attrs.get("ID", tag) if tag == "Action" else tag
         label = self._plain_label(node, ident)
-        return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=self._post_of(label),
+        post = self._post_of(label)
+        self._record(label, post, node, {"importance", "agent"})
+        return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=post,
                          importance=self._weight(node), agent=agent_of(node.attrs.get("agent", DEFAULT_AGENT)),
                          source=self.pos(node))
+
+    def _post_condition_pattern(self, node: XNode, releaser: Condition) -> Behaviour:
+        """`<Fallback><IsDoorOpen/><OpenDoor/></Fallback>`: conditions first, then one behaviour,
+        is that behaviour with the conditions (any of them) as its post-condition: it runs
+        only while they do not hold, the schema's "active while its goal is not achieved"."""
+        conditions = []
+        for child in node.children:
+            c = self._condition_of(child)
+            if c is None:
+                break
+            conditions.append(cond.conjoin([c, self._guard(child)]))
+        rest = node.children[len(conditions):]
+        if not conditions or len(rest) != 1:
+            self.fail(node, f"<{node.tag}> has a schema meaning only as the post-condition pattern, conditions "
+                            f"then one behaviour (<{node.tag}><IsDoorOpen/><OpenDoor/></{node.tag}>); "
+                            f"otherwise it tries alternatives after a failure, which schemas do not model")
+        from dataclasses import replace
+        inner = self.plain(rest[0], releaser, None)
+        goal = cond.Or(tuple(conditions)) if len(conditions) > 1 else conditions[0]
+        if (inner.label, inner.post) in self.nodes:           # the action keeps its node under its new goal
+            self.nodes.setdefault((inner.label, goal), self.nodes[(inner.label, inner.post)])
+        return replace(inner, post=goal, source=self.pos(node))
 
     def _weight(self, node: XNode):
         v = node.attrs.get("importance")
@@ -958,11 +1174,12 @@ class BtRun:
     """A run of an exported tree in BT.CPP: how it ended, the actions, the ticks."""
 
     status: str             # "completed", "stuck" or "tick limit"
-    trace: list[Term]
+    trace: list[Term]       # the actions performed, in order
     ticks: int
     seconds: float = 0.0            # ticking, the actions' callbacks included
     action_seconds: float = 0.0     # of which in the callbacks (the emulated robot and world)
     tick_seconds: tuple[float, ...] = ()   # each tick's own work, its callbacks left out
+    failed: list[Term] = field(default_factory=list)   # the commands the robot failed, in order
 
     @property
     def control_seconds(self) -> float:
@@ -970,17 +1187,23 @@ class BtRun:
         return self.seconds - self.action_seconds
 
 
-def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None = None) -> BtRun:
-    """Tick `xml` in BT.CPP to the end; each action performs in the World of `original`."""
+def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None = None,
+              failures: dict[Term, int | None] | None = None) -> BtRun:
+    """Tick `xml` in BT.CPP to the end; each action performs in the World of `original`, whose
+    state the robot writes to the blackboard before the first tick and after each action.
+    `failures`: the robot fails these actions' commands that many times (None: always)."""
     import time
 
     import behaviortreepy as bt
 
+    from ..run.execute import RobotManager
     from ..run.world import World
 
     world = World(original, initial)
+    robot = RobotManager(failures=failures)
     by_name = action_posts(original)
     trace: list[Term] = []
+    failed: list[Term] = []
     factory = bt.BehaviorTreeFactory()
     board: list = []
 
@@ -989,6 +1212,10 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
     def perform(node) -> object:
         began = time.perf_counter()
         label, post = performed(by_name, node.name(), world)
+        if not robot.command(label, None):
+            failed.append(label)
+            spent[0] += time.perf_counter() - began
+            return bt.NodeStatus.FAILURE
         change = world.perform(post)
         trace.append(label)
         bb = board[0]
@@ -1001,9 +1228,12 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
 
     for ident in action_ids(xml):
         factory.register_simple_action(ident, perform)
-    tree = factory.create_tree_from_text(xml)
+    tree = factory.create_tree_from_text(without_ports(xml))
     board.append(tree.root_blackboard())
+    for atom in dict.fromkeys([*atoms_of(original), *world.atoms]):     # the robot's perception
+        board[0].set_bool(literal_key(atom), atom in world)
     limit = max_ticks if max_ticks is not None else 4 * sum(1 for n in walk(original) if not n.children) + 8
+    limit += (defaults.RETRIES + 1) * sum((v if v is not None else 1) for v in (failures or {}).values())
     started = time.perf_counter()
     status = bt.NodeStatus.RUNNING
     ticks = 0
@@ -1016,9 +1246,9 @@ def run_btcpp(xml: str, original: Behaviour, initial=(), max_ticks: int | None =
     seconds = time.perf_counter() - started
     outcome = ("completed" if status == bt.NodeStatus.SUCCESS else
                "stuck" if status == bt.NodeStatus.FAILURE else "tick limit")
-    return BtRun(outcome, trace, ticks, seconds, spent[0], tuple(each))
+    return BtRun(outcome, trace, ticks, seconds, spent[0], tuple(each), failed)
 
 
-__all__ = ["export_btcpp", "import_btcpp", "run_btcpp", "Imported", "BtRun", "literal_key", "key_atom",
+__all__ = ["export_btcpp", "import_btcpp", "run_btcpp", "state_keys", "NodeType", "without_ports", "Imported", "BtRun", "literal_key", "key_atom",
            "to_script", "parse_script_condition", "parse_assignments", "ScriptError", "parse_xml",
            "action_id", "action_ids", "steps_of", "atoms_of", "MAIN_TREE"]

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import types
 
+from .. import defaults
 from ..logic.terms import Term, term_to_text
 from ..task import conditions as cond
 from ..task.conditions import Condition
@@ -56,39 +57,59 @@ def compile_condition(c, holds):
 
 
 class Active(py_trees.behaviour.Behaviour):
-    """SUCCESS when the behaviour is active: its pre-condition holds and its post-condition not."""
+    """SUCCESS when the behaviour is active: its pre-condition holds, its post-condition does
+    not, and (a leaf) none of its actions is inhibited."""
 
-    def __init__(self, name, pre, post):
+    def __init__(self, name, pre, post, inhibited=lambda: False):
         super().__init__(name)
-        self.pre, self.post = pre, post
+        self.pre, self.post, self.inhibited = pre, post, inhibited
 
     def update(self):
-        return Status.SUCCESS if self.pre() and not self.post() else Status.FAILURE
+        return Status.SUCCESS if self.pre() and not self.post() and not self.inhibited() else Status.FAILURE
 
 
 class Act(py_trees.behaviour.Behaviour):
-    """Perform the leaf's actions in order, skipping the accomplished ones; SUCCESS: it acted."""
+    """Perform the leaf's actions in order, skipping the accomplished ones; SUCCESS: it acted.
+
+    An action runs only once the one before it holds its post-condition. When the robot fails
+    one (perform returns False), the leaf stops there: that failure was this tick's decision,
+    and the next tick retries the action, until it has failed more than RETRIES times in a row;
+    then it is inhibited (the executive's rule)."""
 
     def __init__(self, name, steps, perform):
         super().__init__(name)
         self.steps, self.perform = steps, perform
+        self.failures = [0] * len(steps)        # consecutive failures of each action
+
+    def inhibited(self):
+        return any(n > RETRIES for n in self.failures)
 
     def update(self):
-        for action, done in self.steps:
-            if not done():
-                self.perform(action)
+        previous = None
+        for i, (action, done) in enumerate(self.steps):
+            if done():
+                previous = done
+                continue
+            if previous is not None and not previous():
+                break
+            if self.perform(action) is False:
+                self.failures[i] += 1
+                break
+            self.failures[i] = 0
+            previous = done
         return Status.SUCCESS
 
 
 def build(index, holds, perform):
     """The py_trees subtree of behaviour NODES[index]."""
     name, pre, post, steps, children = NODES[index]
-    guard = Active("active", compile_condition(pre, holds), compile_condition(post, holds))
     if children:
+        guard = Active("active", compile_condition(pre, holds), compile_condition(post, holds))
         body = py_trees.composites.Selector(name="first that acts", memory=False,
                                             children=[build(c, holds, perform) for c in children])
     else:
         body = Act("act", [(a, compile_condition(p, holds)) for a, p in steps], perform)
+        guard = Active("active", compile_condition(pre, holds), compile_condition(post, holds), body.inhibited)
     return py_trees.composites.Sequence(name=name, memory=False, children=[guard, body])
 
 
@@ -113,7 +134,7 @@ def run(holds, perform, max_ticks=None):
     """Tick until the task is accomplished ("completed"), nothing acts ("stuck") or max_ticks."""
     tree = create_tree(holds, perform)
     done = compile_condition(NODES[0][2], holds)
-    limit = max_ticks if max_ticks is not None else 4 * LEAVES + 8
+    limit = max_ticks if max_ticks is not None else (RETRIES + 1) * (4 * LEAVES + 8)   # failures retried
     with deep_enough():
         for _ in range(limit):
             if done():
@@ -161,17 +182,23 @@ _DOCSTRING = '''"""A task tree exported by schemalog, as a py_trees 2.x tree (TI
     run(holds, perform, max_ticks=None) -> "completed" | "stuck" | "tick limit"
 
 holds(atom) is the robot's perception ("hand.free" -> bool); perform(action) executes
-one action ("a1(spoon)"). `python this_file.py` prints the tree.
+one action ("a1(spoon)") and returns False when the robot failed it (anything else: done).
+A failed action is retried at the next tick, RETRIES times, then inhibited.
+`python this_file.py` prints the tree.
 """
 '''
-_DATA = ("TITLE", "TASK", "INITIAL", "LEAVES", "DEPTH", "NODES")
+_DATA = ("TITLE", "TASK", "INITIAL", "RETRIES", "LEAVES", "DEPTH", "NODES")
 
 
-def export_pytrees(tree: Behaviour, initial=(), title: str = "") -> str:
-    """The source of a module that builds `tree` with py_trees 2.x and runs it (Unquotable: refused)."""
+def export_pytrees(tree: Behaviour, initial=None, title: str = "", retries: int = defaults.RETRIES) -> str:
+    """The source of a module that builds `tree` with py_trees 2.x and runs it, a failed action
+    retried `retries` times (Unquotable: refused). INITIAL is `initial`'s atoms, what `python
+    the_module.py` prints the tree in; the robot's holds() is the state the tree runs in."""
+    if not isinstance(retries, int) or isinstance(retries, bool) or retries < 0:
+        raise ValueError(f"retries must be an int, 0 or more, not {retries!r}")
     nodes = tree_data(tree)
     data = {"TITLE": title or "a task tree exported by schemalog", "TASK": tree.name,
-            "INITIAL": sorted(term_to_text(a) for a in initial),
+            "INITIAL": sorted(term_to_text(a) for a in initial or ()), "RETRIES": retries,
             "LEAVES": sum(1 for n in nodes if not n[4]), "DEPTH": depth(tree), "NODES": nodes}
     source = _DOCSTRING + "".join(f"{k} = {python_literal(data[k])}\n" for k in _DATA) + _RUNTIME
     check_module(source, data)
@@ -208,9 +235,11 @@ def load_module(source: str, name: str = "schemalog_pytrees_tree") -> types.Modu
     return module
 
 
-def world_adapters(original: Behaviour, world, trace: list[Term], spent: list[float] | None = None):
+def world_adapters(original: Behaviour, world, trace: list[Term], spent: list[float] | None = None,
+                   robot=None, failed: list[Term] | None = None):
     """holds(text) and perform(text) over the World of `original`, recording the trace (and, in
-    `spent[0]`, the seconds spent performing)."""
+    `spent[0]`, the seconds spent performing); `robot` (a RobotManager) may fail a command, which
+    perform reports as False and records in `failed`."""
     import time
 
     from .btcpp import action_posts, atoms_of, performed
@@ -220,31 +249,41 @@ def world_adapters(original: Behaviour, world, trace: list[Term], spent: list[fl
     def holds(text: str) -> bool:
         return atoms[text] in world
 
-    def perform(text: str) -> None:
+    def perform(text: str) -> bool:
         began = time.perf_counter()
         label, post = performed(posts, text, world)
-        world.perform(post)
-        trace.append(label)
+        done = robot is None or robot.command(label, None)
+        if done:
+            world.perform(post)
+            trace.append(label)
+        elif failed is not None:
+            failed.append(label)
         if spent is not None:
             spent[0] += time.perf_counter() - began
+        return done
 
     return holds, perform
 
 
-def run_pytrees(source: str, original: Behaviour, initial=(), max_ticks: int | None = None) -> BtRun:
-    """Load exported source and run it against the World of `original` from `initial`."""
+def run_pytrees(source: str, original: Behaviour, initial=(), max_ticks: int | None = None,
+                failures: dict[Term, int | None] | None = None) -> BtRun:
+    """Load exported source and run it against the World of `original` from `initial`; the robot
+    fails the commands `failures` names that many times (None: always)."""
     import time
 
+    from ..run.execute import RobotManager
     from ..run.world import World
 
     module = load_module(source)
     world = World(original, initial)
     trace: list[Term] = []
+    failed: list[Term] = []
     spent = [0.0]
-    holds, perform = world_adapters(original, world, trace, spent)
+    holds, perform = world_adapters(original, world, trace, spent, RobotManager(failures=failures), failed)
     tree = module.create_tree(holds, perform)
     done = module.compile_condition(module.NODES[0][2], holds)
     limit = max_ticks if max_ticks is not None else 4 * module.LEAVES + 8
+    limit += (module.RETRIES + 1) * len(failures or ())
     ticks, status = 0, "tick limit"
     each = []
     started = time.perf_counter()
@@ -263,7 +302,7 @@ def run_pytrees(source: str, original: Behaviour, initial=(), max_ticks: int | N
         else:
             if done():
                 status = "completed"
-    return BtRun(status, trace, ticks, time.perf_counter() - started, spent[0], tuple(each))
+    return BtRun(status, trace, ticks, time.perf_counter() - started, spent[0], tuple(each), failed)
 
 
 __all__ = ["export_pytrees", "check_module", "load_module", "run_pytrees", "tree_data", "condition_data",

@@ -524,7 +524,7 @@ def _signature(node: Behaviour) -> tuple:
             node.agent, node.objects)
 
 
-def _distinct_labels(root: Behaviour) -> Behaviour:
+def distinct_labels(root: Behaviour) -> Behaviour:
     """Rename (name_2, name_3, ...) a behaviour whose label another, different one has."""
     seen: dict[Term, tuple] = {}
     used: set[Term] = {b.label for b in walk(root)}
@@ -564,7 +564,7 @@ def carried_clauses(kb) -> list[Clause]:
 def tree_document(root: Behaviour, file: str = "<tree>", carried: list[Clause] = ()) -> Document:
     """Ground schema knowledge whose task (the root's label) instantiates to `root` again,
     followed by the `carried` clauses of its source (initial state, no_merge/1, rules)."""
-    root = _distinct_labels(root)
+    root = distinct_labels(root)
     schemas: dict[Term, SchemaDef] = {}
     order: list[Term] = []
     agents: dict[Term, str] = {}
