@@ -7,8 +7,8 @@ import pytest
 
 from schemalog.bt.model import Document, Node, NodeModel
 from schemalog.bt.prove import replay, simulate
-from schemalog.bt.semantics import (RULES, Await, Config, FAILURE, RUNNING, SUCCESS, Rule,
-                                    RootTicked, Status, advance, initial, program, step)
+from schemalog.bt.semantics import (RULES, STATEFUL_ACTION as RULES_STATEFUL, Await, Config, FAILURE, RUNNING,
+                                    SUCCESS, Rule, RootTicked, Status, advance, initial, program, step)
 from schemalog.errors import SchemalogError
 
 S, F, R = SUCCESS, FAILURE, RUNNING
@@ -198,6 +198,34 @@ def test_rate_controller_ticks_its_child_when_the_period_elapsed():
     assert run(tree, S, R, True, R, S) == [
         (["tick Plan SUCCESS", "tick Follow RUNNING"], "RUNNING"),
         (["time RateController true", "tick Plan RUNNING", "tick Follow SUCCESS", "halt Plan"], "SUCCESS")]
+
+
+def test_a_decorator_resets_its_completed_child_after_its_tick():
+    # Found by the BT.CPP harness (tests/bt/test_btcpp_harness.py, stateful actions): BT.CPP 4's
+    # DecoratorNode::executeTick (src/decorator_node.cpp) resets a child that completed right
+    # after the decorator's tick. Nav2's RateController does not reset its child itself, so
+    # under a PipelineSequence (which does not reset the RateController) a stateful Plan was
+    # left SUCCESS and, the period elapsed, answered SUCCESS again without a tick; BT.CPP ticks
+    # it anew (onStart). The same holds under a custom (opaque) decorator.
+    rules = {"Plan": RULES_STATEFUL}
+    tree = n("PipelineSequence", n("RateController", act("Plan"), hz="1.0"), act("Follow"))
+    traces = replay(doc(tree), (S, R, True, S, S), rules=rules)
+    assert [([fmt(e) for e in t.events], t.status.value) for t in traces] == [
+        (["tick Plan SUCCESS", "tick Follow RUNNING"], "RUNNING"),
+        (["time RateController true", "tick Plan SUCCESS", "tick Follow SUCCESS"], "SUCCESS")]
+    custom = Document((("Main", n("PipelineSequence", Node("MyDecorator", (), (act("Plan"),)), act("Follow"))),),
+                      "Main", (NodeModel("MyDecorator", "Decorator"),))
+    traces = replay(custom, (0, S, S, R, 0, S, S, S), rules=rules)
+    assert [([fmt(e) for e in t.events], t.status.value) for t in traces] == [
+        (["choose MyDecorator 0", "tick Plan SUCCESS", "choose MyDecorator SUCCESS", "tick Follow RUNNING"], "RUNNING"),
+        (["choose MyDecorator 0", "tick Plan SUCCESS", "choose MyDecorator SUCCESS", "tick Follow SUCCESS"],
+         "SUCCESS")]
+    # a custom node over one child that its model calls a Control is no DecoratorNode: not reset
+    control = Document((("Main", n("PipelineSequence", Node("MyControl", (), (act("Plan"),)), act("Follow"))),),
+                       "Main", (NodeModel("MyControl", "Control"),))
+    traces = replay(control, (0, S, S, R, 0, S, S), rules=rules)
+    assert [fmt(e) for e in traces[1].events] == ["choose MyControl 0", "choose MyControl SUCCESS",
+                                                  "tick Follow SUCCESS"]
 
 
 # -- decorators -------------------------------------------------------------------------------
