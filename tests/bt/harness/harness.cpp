@@ -2,7 +2,7 @@
 // types registered from TreeNodesModel files, ports and all, the leaves scripted by draws.
 //
 //   harness --tree FILE [--models FILE]... [--main ID] [--draws FILE] [--max-ticks N]
-//           [--stateful] [--load-only]
+//           [--stateful] [--load-only] [--enum NAME=INT]...
 //
 // FILE is loaded with registerBehaviorTreeFromFile (its <include>s relative to it); the main
 // tree is --main, else BT.CPP's choice (the file's main_tree_to_execute, else its only tree). Every node type a
@@ -36,6 +36,8 @@
 //   {"ev":"error","what":".."}          BT.CPP threw while ticking: the run ends
 // A tree BT.CPP refuses to load: {"ev":"load_error","what":".."} and exit status 3.
 // --load-only: load and create the main tree, print {"ev":"loaded","main":".."}, exit.
+// --enum NAME=INT: a scripting enum (registerScriptingEnum), as a program registers them
+// (BT.CPP's scripting tutorial: THE_ANSWER, RED, BLUE, GREEN).
 //
 // Written for schemalog (tests/bt/test_btcpp_harness.py); Nav2's nodes below are our renditions
 // of the behaviour of ros-navigation/navigation2's nav2_behavior_tree/plugins, not its code.
@@ -532,7 +534,7 @@ std::vector<std::pair<std::string, std::vector<long>>> read_draws(std::istream& 
 
 int usage() {
   std::cerr << "usage: harness --tree FILE [--models FILE]... [--main ID] [--draws FILE] "
-               "[--max-ticks N] [--stateful] [--load-only]\n";
+               "[--max-ticks N] [--stateful] [--load-only] [--enum NAME=INT]...\n";
   return 2;
 }
 
@@ -541,6 +543,7 @@ int usage() {
 int main(int argc, char** argv) {
   std::string tree_file, main_id, draws_file;
   std::vector<std::string> models_files;
+  std::vector<std::pair<std::string, int>> enums;
   int max_ticks = 12;
   bool stateful = false, load_only = false;
   for (int i = 1; i < argc; ++i) {
@@ -557,6 +560,12 @@ int main(int argc, char** argv) {
       else if (a == "--max-ticks") max_ticks = std::stoi(value());
       else if (a == "--stateful") stateful = true;
       else if (a == "--load-only") load_only = true;
+      else if (a == "--enum") {
+        const std::string e = value();
+        const auto eq = e.find('=');
+        if (eq == std::string::npos) throw std::runtime_error("--enum NAME=INT");
+        enums.emplace_back(e.substr(0, eq), std::stoi(e.substr(eq + 1)));
+      }
       else return usage();
     } catch (const std::exception& e) {
       std::cerr << e.what() << "\n";
@@ -582,6 +591,7 @@ int main(int argc, char** argv) {
              {"RateController", "Decorator", {{"hz", BT::PortInfo(BT::PortDirection::INPUT)}}}}) {
       register_model(factory, m, stateful);
     }
+    for (const auto& [name, v] : enums) factory.registerScriptingEnum(name, v);
     factory.registerBehaviorTreeFromFile(tree_file);
     auto probe = factory.createTree(main_id);      // "": BT.CPP picks the main tree
     if (main_id.empty()) main_id = probe.subtrees.front()->tree_ID;
