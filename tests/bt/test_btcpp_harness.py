@@ -32,9 +32,12 @@ import json
 import os
 import random
 import subprocess
+import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, event, given, note, settings
+from hypothesis import strategies as st
 
 from schemalog.api.behaviour_trees import compress_tree, read_tree
 from schemalog.bt.model import Document, Node, NodeModel, Port, walk
@@ -432,3 +435,61 @@ def test_a_decorator_resets_its_completed_child_in_btcpp_and_in_our_semantics(ha
         assert sum(any(e.get("ev") == "time" for e in ev) for ev in runs.values()) >= 5
         for seed, events in runs.items():
             replay(document, events, stateful)
+
+
+# -- (c) on generated Nav2-style trees -----------------------------------------------------------
+
+NAV2_DECORATORS = ("RateController", "GoalUpdater", "DistanceController", "SpeedController",
+                   "GoalUpdatedController")
+GEN_MODELS = (tuple(NodeModel(f"A{i}", "Action", (Port("input", "goal"),)) for i in range(4))
+              + tuple(NodeModel(f"C{i}", "Condition") for i in range(2))
+              + (NodeModel("RateController", "Decorator", (Port("input", "hz"),)),)
+              + tuple(NodeModel(t, "Decorator") for t in NAV2_DECORATORS[1:])
+              + (NodeModel("PipelineSequence", "Control"), NodeModel("RoundRobin", "Control"),
+                 NodeModel("RecoveryNode", "Control", (Port("input", "number_of_retries"),))))
+
+
+def _generated(draw, depth: int, budget: list[int]) -> Node:
+    budget[0] -= 1
+    if depth >= 3 or budget[0] < 2 or draw(st.integers(0, 9)) < (0, 3, 6)[depth]:
+        i = draw(st.integers(0, 5))
+        return Node(f"A{i}", (("goal", "{goal}"),)) if i < 4 else Node(f"C{i - 4}")
+    kind = "control" if depth == 0 else draw(st.sampled_from(["control", "decorator", "decorator"]))
+    if kind == "decorator":
+        t = draw(st.sampled_from(NAV2_DECORATORS + ("RateController", "Inverter", "KeepRunningUntilFailure",
+                                                    "RetryUntilSuccessful")))
+        attrs = (("hz", "1.0"),) if t == "RateController" else (
+            (("num_attempts", str(draw(st.integers(1, 3)))),) if t == "RetryUntilSuccessful" else ())
+        return Node(t, attrs, (_generated(draw, depth + 1, budget),))
+    t = draw(st.sampled_from(["PipelineSequence", "PipelineSequence", "RecoveryNode", "RoundRobin", "Sequence",
+                              "Fallback", "ReactiveFallback"]))
+    count = 2 if t == "RecoveryNode" else draw(st.integers(1, 3))
+    attrs = (("number_of_retries", str(draw(st.integers(0, 3)))),) if t == "RecoveryNode" else ()
+    return Node(t, attrs, tuple(_generated(draw, depth + 1, budget) for _ in range(count)))
+
+
+@st.composite
+def generated_trees(draw) -> Node:
+    return _generated(draw, 0, [14])
+
+
+@settings(max_examples=int(os.environ.get("SCHEMALOG_HARNESS_EXAMPLES", "400")), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(root=generated_trees(), stateful=st.booleans(), seed=st.integers(0, 2**32 - 1))
+def test_our_semantics_makes_btcpps_runs_of_generated_nav2_trees(harness, root, stateful, seed):
+    """Hypothesis: trees of Nav2's controls and decorators (and a few of BT.CPP's) over scripted
+    leaves, each run in the harness under 6 seeds, actions stateful or not, replayed in our
+    semantics event for event."""
+    document = Document((("Main", root),), "Main", GEN_MODELS)
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = written(document, Path(tmp) / "gen.xml")
+        note(tree.read_text())
+        runs = run(harness, tree, [tree], Path(tmp), range(seed, seed + 6), stateful=stateful)
+    for s, events in runs.items():
+        note(f"seed {s} stateful={stateful}\n" + "\n".join(map(json.dumps, events)))
+        replay(document, events, stateful)
+        event(f"ends {events[-1].get('status', events[-1]['ev'])}")
+        event(">= 10 events" if len(events) >= 10 else "< 10 events")
+        for kind in ("halt", "time", "choose"):
+            if any(e["ev"] == kind for e in events):
+                event(f"has a {kind}")
