@@ -182,6 +182,21 @@ def test_recovery_node_retries_after_a_successful_recovery():
     assert run(tree, F, F) == [(["tick Nav FAILURE", "tick Clear FAILURE"], "FAILURE")]
 
 
+def test_recovery_node_skipped_children():
+    # Found by tests/bt/test_btcpp_harness.py (generated trees with _skipIf): Nav2's RecoveryNode
+    # for BT.CPP 4 (recovery_node.cpp) skips when its first child is skipped, and fails when the
+    # recovery is skipped, back at the first child but keeping retry_count_; we raised an error
+    first = Node("A", (("_skipIf", "s"),), (), "Action")
+    assert run(n("RecoveryNode", first, act("B")), True) == [(["check _skipIf true"], "SKIPPED")]
+    recovery = Node("B", (("_skipIf", "s"),), (), "Action")
+    tree = n("RetryUntilSuccessful", n("RecoveryNode", act("A"), recovery, number_of_retries="2"), num_attempts="2")
+    assert run(tree, F, False, S, F, True, F, False, S, F) == [
+        (["tick A FAILURE", "check _skipIf false", "tick B SUCCESS", "tick A FAILURE", "check _skipIf true"],
+         "RUNNING"),
+        # one retry left, not two: the skipped recovery kept the count
+        (["tick A FAILURE", "check _skipIf false", "tick B SUCCESS", "tick A FAILURE"], "FAILURE")]
+
+
 def test_round_robin_starts_where_it_left_off():
     tree = n("Repeat", n("RoundRobin", act("A"), act("B")), num_cycles="2")
     assert run(tree, F, S, S) == [(["tick A FAILURE", "tick B SUCCESS"], "RUNNING"),
@@ -348,7 +363,9 @@ def test_unknown_and_declared_types_are_opaque():
     custom = Document((("Main", Node("MyControl", (), (act("A"),))),), "Main",
                       (NodeModel("MyControl", "Control"),))
     first = step(program(custom), initial())
-    assert first.event.kind == "choose" and first.options == (0, S, F, R)
+    # SKIPPED too (found by tests/bt/test_btcpp_harness.py: Nav2's GoalUpdater returns its
+    # child's status, a SKIPPED one included, and before, no opaque node could)
+    assert first.event.kind == "choose" and first.options == (0, S, F, R, Status.SKIPPED)
     assert [[fmt(e) for e in t.events] for t in replay(custom, (0, S, F))] == [
         ["choose MyControl 0", "tick A SUCCESS", "choose MyControl FAILURE"]]
     # a count from the blackboard makes a known node opaque

@@ -706,9 +706,11 @@ _pipeline_halt = _forgetting("last")
 
 
 def _recovery(run: _Run, n: PNode) -> Status:
-    # RecoveryNode::tick (recovery_node.cpp): tick the first child; on its failure tick the
-    # second (the recovery) and, if that succeeds, the first again, number_of_retries (default 1)
-    # times; a failed recovery fails the node
+    # RecoveryNode::tick (recovery_node.cpp, the BT.CPP 4 version): tick the first child; on its
+    # failure tick the second (the recovery) and, if that succeeds, the first again,
+    # number_of_retries (default 1) times; a failed recovery fails the node. A skipped first
+    # child skips the node (reset); a skipped recovery fails it without a reset: back at the
+    # first child, halting the recovery, the retries counted so far kept (retry_count_)
     if len(n.kids) != 2:
         raise TreeError(f"Recovery Node {n.node.name!r} must only have 2 children.")
     retries = _int(n, "number_of_retries", 1)
@@ -716,12 +718,20 @@ def _recovery(run: _Run, n: PNode) -> Status:
     idx, count = run.get(n, "idx"), run.get(n, "retries")
     while idx < 2 and count <= retries:
         s = run.tick(n.kids[idx])
-        if s not in (SUCCESS, FAILURE, RUNNING):
-            raise TreeError("A child node must never return IDLE")   # SKIPPED too, in this version
+        if s not in (SUCCESS, FAILURE, RUNNING, SKIPPED):
+            raise TreeError("A child node must never return IDLE")
         if s is RUNNING:
             run.put(n, "idx", idx)
             run.put(n, "retries", count)
             return RUNNING
+        if s is SKIPPED:
+            if idx == 0:
+                _recovery_halt(run, n)
+                return SKIPPED
+            run.put(n, "idx", 0)
+            run.put(n, "retries", count)
+            run.halt_child(n, 1)
+            return FAILURE
         if idx == 0:
             if s is SUCCESS:
                 _recovery_halt(run, n)
@@ -959,10 +969,11 @@ def _rate_controller(run: _Run, n: PNode) -> Status:
 
 def _opaque(run: _Run, n: PNode) -> Status:
     """A leaf returns any status; a node with children picks, as events, children to tick and
-    then the status it returns (it may tick several before returning)."""
+    then the status it returns (it may tick several before returning), SKIPPED too: a custom
+    decorator that returns its child's status (Nav2's GoalUpdater) passes a SKIPPED on."""
     if not n.kids:
         return run.event("tick", n, ACTION_OUTCOMES)
-    options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING)
+    options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING, SKIPPED)
     while True:
         choice = run.event("choose", n, options)
         if isinstance(choice, Status):
