@@ -196,16 +196,22 @@ class ScriptedCondition : public BT::ConditionNode {
 // ---------------------------------------------------------------------------------------------
 // Nav2's controls (nav2_behavior_tree/plugins/control/), as their source behaves
 
-// PipelineSequence: every tick ticks the children from the first; a SUCCESS goes on, a RUNNING
-// child at or past the furthest one that ran stops the tick (one before it goes on), a FAILURE
-// halts all children and fails; after the last child, halt all children and succeed.
+// PipelineSequence: every tick ticks the children from the first; a SUCCESS or SKIPPED goes on,
+// a RUNNING child at or past the furthest one that ran stops the tick (one before it goes on), a
+// FAILURE halts all children and fails; after the last child, halt all children and succeed (or
+// skip, when every child was skipped).
 class PipelineSequence : public BT::ControlNode {
  public:
   PipelineSequence(const std::string& name, const BT::NodeConfig& config)
       : BT::ControlNode(name, config) {}
   NodeStatus tick() override {
+    size_t skipped = 0;
     for (size_t i = 0; i < children_nodes_.size(); ++i) {
       const NodeStatus s = children_nodes_[i]->executeTick();
+      if (s == NodeStatus::SKIPPED) {
+        ++skipped;
+        continue;
+      }
       if (s == NodeStatus::FAILURE) {
         haltChildren();
         last_ = 0;
@@ -224,7 +230,7 @@ class PipelineSequence : public BT::ControlNode {
     }
     haltChildren();
     last_ = 0;
-    return NodeStatus::SUCCESS;
+    return skipped == children_nodes_.size() ? NodeStatus::SKIPPED : NodeStatus::SUCCESS;
   }
   void halt() override {
     ControlNode::halt();
@@ -238,6 +244,8 @@ class PipelineSequence : public BT::ControlNode {
 // RecoveryNode: tick the first child; when it fails and retries are left, halt it and tick the
 // second (the recovery); the recovery's success counts a retry and goes back to the first.
 // The first child's success, the recovery's failure, or no retry left: reset and return.
+// A skipped first child skips the node (reset); a skipped recovery fails it, back at the first
+// child, the retries counted so far kept.
 class RecoveryNode : public BT::ControlNode {
  public:
   RecoveryNode(const std::string& name, const BT::NodeConfig& config)
