@@ -7,8 +7,8 @@ import pytest
 
 from schemalog.bt.model import Document, Node, NodeModel
 from schemalog.bt.prove import replay, simulate
-from schemalog.bt.semantics import (RULES, Await, Config, FAILURE, RUNNING, SUCCESS, Rule,
-                                    RootTicked, Status, advance, initial, program, step)
+from schemalog.bt.semantics import (RULES, STATEFUL_ACTION as RULES_STATEFUL, Await, Config, FAILURE, RUNNING,
+                                    SUCCESS, Rule, RootTicked, Status, advance, initial, program, step)
 from schemalog.errors import SchemalogError
 
 S, F, R = SUCCESS, FAILURE, RUNNING
@@ -182,6 +182,21 @@ def test_recovery_node_retries_after_a_successful_recovery():
     assert run(tree, F, F) == [(["tick Nav FAILURE", "tick Clear FAILURE"], "FAILURE")]
 
 
+def test_recovery_node_skipped_children():
+    # Found by tests/bt/test_btcpp_harness.py (generated trees with _skipIf): Nav2's RecoveryNode
+    # for BT.CPP 4 (recovery_node.cpp) skips when its first child is skipped, and fails when the
+    # recovery is skipped, back at the first child but keeping retry_count_; we raised an error
+    first = Node("A", (("_skipIf", "s"),), (), "Action")
+    assert run(n("RecoveryNode", first, act("B")), True) == [(["check _skipIf true"], "SKIPPED")]
+    recovery = Node("B", (("_skipIf", "s"),), (), "Action")
+    tree = n("RetryUntilSuccessful", n("RecoveryNode", act("A"), recovery, number_of_retries="2"), num_attempts="2")
+    assert run(tree, F, False, S, F, True, F, False, S, F) == [
+        (["tick A FAILURE", "check _skipIf false", "tick B SUCCESS", "tick A FAILURE", "check _skipIf true"],
+         "RUNNING"),
+        # one retry left, not two: the skipped recovery kept the count
+        (["tick A FAILURE", "check _skipIf false", "tick B SUCCESS", "tick A FAILURE"], "FAILURE")]
+
+
 def test_round_robin_starts_where_it_left_off():
     tree = n("Repeat", n("RoundRobin", act("A"), act("B")), num_cycles="2")
     assert run(tree, F, S, S) == [(["tick A FAILURE", "tick B SUCCESS"], "RUNNING"),
@@ -198,6 +213,34 @@ def test_rate_controller_ticks_its_child_when_the_period_elapsed():
     assert run(tree, S, R, True, R, S) == [
         (["tick Plan SUCCESS", "tick Follow RUNNING"], "RUNNING"),
         (["time RateController true", "tick Plan RUNNING", "tick Follow SUCCESS", "halt Plan"], "SUCCESS")]
+
+
+def test_a_decorator_resets_its_completed_child_after_its_tick():
+    # Found by the BT.CPP harness (tests/bt/test_btcpp_harness.py, stateful actions): BT.CPP 4's
+    # DecoratorNode::executeTick (src/decorator_node.cpp) resets a child that completed right
+    # after the decorator's tick. Nav2's RateController does not reset its child itself, so
+    # under a PipelineSequence (which does not reset the RateController) a stateful Plan was
+    # left SUCCESS and, the period elapsed, answered SUCCESS again without a tick; BT.CPP ticks
+    # it anew (onStart). The same holds under a custom (opaque) decorator.
+    rules = {"Plan": RULES_STATEFUL}
+    tree = n("PipelineSequence", n("RateController", act("Plan"), hz="1.0"), act("Follow"))
+    traces = replay(doc(tree), (S, R, True, S, S), rules=rules)
+    assert [([fmt(e) for e in t.events], t.status.value) for t in traces] == [
+        (["tick Plan SUCCESS", "tick Follow RUNNING"], "RUNNING"),
+        (["time RateController true", "tick Plan SUCCESS", "tick Follow SUCCESS"], "SUCCESS")]
+    custom = Document((("Main", n("PipelineSequence", Node("MyDecorator", (), (act("Plan"),)), act("Follow"))),),
+                      "Main", (NodeModel("MyDecorator", "Decorator"),))
+    traces = replay(custom, (0, S, S, R, 0, S, S, S), rules=rules)
+    assert [([fmt(e) for e in t.events], t.status.value) for t in traces] == [
+        (["choose MyDecorator 0", "tick Plan SUCCESS", "choose MyDecorator SUCCESS", "tick Follow RUNNING"], "RUNNING"),
+        (["choose MyDecorator 0", "tick Plan SUCCESS", "choose MyDecorator SUCCESS", "tick Follow SUCCESS"],
+         "SUCCESS")]
+    # a custom node over one child that its model calls a Control is no DecoratorNode: not reset
+    control = Document((("Main", n("PipelineSequence", Node("MyControl", (), (act("Plan"),)), act("Follow"))),),
+                       "Main", (NodeModel("MyControl", "Control"),))
+    traces = replay(control, (0, S, S, R, 0, S, S), rules=rules)
+    assert [fmt(e) for e in traces[1].events] == ["choose MyControl 0", "choose MyControl SUCCESS",
+                                                  "tick Follow SUCCESS"]
 
 
 # -- decorators -------------------------------------------------------------------------------
@@ -320,7 +363,9 @@ def test_unknown_and_declared_types_are_opaque():
     custom = Document((("Main", Node("MyControl", (), (act("A"),))),), "Main",
                       (NodeModel("MyControl", "Control"),))
     first = step(program(custom), initial())
-    assert first.event.kind == "choose" and first.options == (0, S, F, R)
+    # SKIPPED too (found by tests/bt/test_btcpp_harness.py: Nav2's GoalUpdater returns its
+    # child's status, a SKIPPED one included, and before, no opaque node could)
+    assert first.event.kind == "choose" and first.options == (0, S, F, R, Status.SKIPPED)
     assert [[fmt(e) for e in t.events] for t in replay(custom, (0, S, F))] == [
         ["choose MyControl 0", "tick A SUCCESS", "choose MyControl FAILURE"]]
     # a count from the blackboard makes a known node opaque

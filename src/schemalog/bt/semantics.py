@@ -129,6 +129,7 @@ class PNode:
     kids: tuple["PNode", ...]
     context: tuple
     path: tuple[int, ...]
+    decorator: bool = False         # a BT.CPP DecoratorNode: its executeTick resets a completed child
 
     @property
     def identity(self) -> tuple:
@@ -232,6 +233,11 @@ class _Run:
                     self.script(n, code, k)
         if new is not SKIPPED:                               # preserve IDLE if skipped
             self.set_status(n, new)
+        if n.decorator and self.status(n.kids[0]) in COMPLETED:
+            # DecoratorNode::executeTick (src/decorator_node.cpp): after the tick, a child that
+            # completed is reset (resetStatus: no halt), whatever the decorator's own tick did,
+            # so Nav2's RateController or a custom decorator never leaves a finished child
+            self.set_status(n.kids[0], IDLE)
         return new
 
     def _pre_conditions(self, n: PNode) -> Status | None:
@@ -700,9 +706,11 @@ _pipeline_halt = _forgetting("last")
 
 
 def _recovery(run: _Run, n: PNode) -> Status:
-    # RecoveryNode::tick (recovery_node.cpp): tick the first child; on its failure tick the
-    # second (the recovery) and, if that succeeds, the first again, number_of_retries (default 1)
-    # times; a failed recovery fails the node
+    # RecoveryNode::tick (recovery_node.cpp, the BT.CPP 4 version): tick the first child; on its
+    # failure tick the second (the recovery) and, if that succeeds, the first again,
+    # number_of_retries (default 1) times; a failed recovery fails the node. A skipped first
+    # child skips the node (reset); a skipped recovery fails it without a reset: back at the
+    # first child, halting the recovery, the retries counted so far kept (retry_count_)
     if len(n.kids) != 2:
         raise TreeError(f"Recovery Node {n.node.name!r} must only have 2 children.")
     retries = _int(n, "number_of_retries", 1)
@@ -710,12 +718,20 @@ def _recovery(run: _Run, n: PNode) -> Status:
     idx, count = run.get(n, "idx"), run.get(n, "retries")
     while idx < 2 and count <= retries:
         s = run.tick(n.kids[idx])
-        if s not in (SUCCESS, FAILURE, RUNNING):
-            raise TreeError("A child node must never return IDLE")   # SKIPPED too, in this version
+        if s not in (SUCCESS, FAILURE, RUNNING, SKIPPED):
+            raise TreeError("A child node must never return IDLE")
         if s is RUNNING:
             run.put(n, "idx", idx)
             run.put(n, "retries", count)
             return RUNNING
+        if s is SKIPPED:
+            if idx == 0:
+                _recovery_halt(run, n)
+                return SKIPPED
+            run.put(n, "idx", 0)
+            run.put(n, "retries", count)
+            run.halt_child(n, 1)
+            return FAILURE
         if idx == 0:
             if s is SUCCESS:
                 _recovery_halt(run, n)
@@ -938,7 +954,8 @@ def _subtree(run: _Run, n: PNode) -> Status:
 def _rate_controller(run: _Run, n: PNode) -> Status:
     # Nav2 RateController::tick (nav2_behavior_tree/plugins/decorator/rate_controller.cpp): the
     # child is ticked the first time (from IDLE), while it runs, and when the period elapsed (a
-    # `time` event); else RUNNING. The child is not reset on completion; SKIPPED -> FAILURE.
+    # `time` event); else RUNNING; SKIPPED -> FAILURE. Nav2's tick does not reset a completed
+    # child; BT.CPP 4's DecoratorNode::executeTick does, after it (_Run.tick).
     first = run.status(n) is IDLE
     run.set_status(n, RUNNING)
     child = n.kids[0]
@@ -952,10 +969,11 @@ def _rate_controller(run: _Run, n: PNode) -> Status:
 
 def _opaque(run: _Run, n: PNode) -> Status:
     """A leaf returns any status; a node with children picks, as events, children to tick and
-    then the status it returns (it may tick several before returning)."""
+    then the status it returns (it may tick several before returning), SKIPPED too: a custom
+    decorator that returns its child's status (Nav2's GoalUpdater) passes a SKIPPED on."""
     if not n.kids:
         return run.event("tick", n, ACTION_OUTCOMES)
-    options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING)
+    options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING, SKIPPED)
     while True:
         choice = run.event("choose", n, options)
         if isinstance(choice, Status):
@@ -1037,6 +1055,27 @@ RULES: Mapping[str, Rule] = MappingProxyType({
 # ---------------------------------------------------------------------------------------------
 # Programs
 
+# The table's types that BT.CPP (or Nav2) implements as a DecoratorNode
+DECORATOR_TYPES = frozenset({"Inverter", "ForceSuccess", "ForceFailure", "KeepRunningUntilFailure",
+                             "RetryUntilSuccessful", "Repeat", "RunOnce", "Timeout", "Delay", "Precondition",
+                             "SubTree", "RateController"})
+
+
+def _is_decorator(node: Node, document: Document, table: Mapping[str, Rule]) -> bool:
+    """Whether BT.CPP runs `node` as a DecoratorNode: the kind its model or generic form gives,
+    else the kind of the rule it runs under, else (a custom node no model declares) one child
+    makes it a Decorator, as formats.btxml.infer_models declares it for BT.CPP."""
+    if len(node.children) != 1:
+        return False
+    model = document.model(node.type)
+    kind = node.form or (model.kind if model else "")
+    if kind:
+        return kind == "Decorator"
+    rule = table.get(node.type)
+    if rule is not None:
+        return any(rule is RULES[t] for t in DECORATOR_TYPES if t in RULES)
+    return True
+
 def subtree_id(node: Node) -> str | None:
     """The ID of the tree a SubTree node calls, or None when `node` is no SubTree call."""
     if node.form == "SubTree":
@@ -1075,9 +1114,10 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None) -> Prog
             ports = tuple((k, v) for k, v in node.ports if k != "ID")
             ident = ("SubTree", tid, ports, node.attr("_autoremap", "false"))
             kid = build(called, context + (ident,), path + (0,), calls + (tid,))
-            return PNode(node, "SubTree", (kid,), context, path)
+            return PNode(node, "SubTree", (kid,), context, path, True)
         kids = tuple(build(c, context, path + (i,), calls) for i, c in enumerate(node.children))
-        return PNode(node, _rule_key(node, document, table), kids, context, path)
+        return PNode(node, _rule_key(node, document, table), kids, context, path,
+                     _is_decorator(node, document, table))
 
     return Program(build(document.root, (), (), (document.main,)), MappingProxyType(table))
 
