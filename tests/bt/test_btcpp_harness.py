@@ -518,3 +518,43 @@ def test_our_semantics_makes_btcpps_runs_of_generated_nav2_trees(harness, root, 
         for kind in ("halt", "time", "choose"):
             if any(e["ev"] == kind for e in events):
                 event(f"has a {kind}")
+
+
+# -- schemalog's own exports, with their ports, in real BT.CPP (issue 33, "Exports a BT.CPP user can plug into")
+
+MIX = HERE.parents[1] / "kb" / "tasks" / "mix_with_spoon.pl"
+
+
+@pytest.mark.parametrize("mapped", [False, True], ids=["functors", "node types"])
+@pytest.mark.parametrize("compressed", [False, True], ids=["original", "compressed"])
+def test_an_exported_task_loads_in_btcpp_with_its_ports_and_fails_as_the_executive(harness, tmp_path, compressed, mapped):
+    """An export declares its actions' ports in its own TreeNodesModel: registered from it
+    (as a robot's nodes would be), BT.CPP takes every port the tree writes, and a leaf ticks
+    with its arguments as port values. With every action failing, the first one is tried
+    retries + 1 times, then the run ends FAILURE (stuck), as `run --fail` does."""
+    import schemalog
+    from schemalog.formats.btcpp import NodeType
+
+    task = schemalog.load(MIX).task()
+    types = {"a1": NodeType("PickUp", ("object",)), "gripper": NodeType("GripperCommand", ("command",))} if mapped else None
+    xml = (task.compress() if compressed else task).to_btcpp(state=True, node_types=types, retries=2)
+    path = tmp_path / "exported.xml"
+    path.write_text(xml)
+    ok, said = load(harness, path, [path])
+    assert ok, said
+    first = "PickUp" if mapped else "a1"
+    port = "object" if mapped else "arg1"
+    failing = tmp_path / "failing.txt"
+    failing.write_text("0 " + " ".join(["1"] * 40) + "\n")           # draw 1: an action's FAILURE
+    done = subprocess.run([harness, "--tree", str(path), "--models", str(path), "--draws", str(failing),
+                           "--max-ticks", "20"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    events = [json.loads(line) for line in done.stdout.splitlines()][1:]
+    ticks = [e for e in events if e["ev"] == "tick"]
+    assert [(e["type"], e["name"], e["ports"], e["out"]) for e in ticks] == [(first, "a1(spoon)", {port: "spoon"}, "FAILURE")] * 3
+    assert [e["status"] for e in events if e["ev"] == "root"] == ["RUNNING"] * 3 + ["FAILURE"]
+    runs = run(harness, path, [path], tmp_path, seeds=range(5))
+    for seed_events in runs.values():
+        for e in seed_events:
+            if e["ev"] == "tick" and e["type"] == first:
+                assert e["ports"] == {port: "spoon"}
