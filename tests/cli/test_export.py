@@ -294,3 +294,17 @@ def test_a_malformed_bt_node_fact_is_an_error_at_its_clause(tmp_path):
     r = run("export", knowledge, "--to", "btcpp")
     line = len(MIX.read_text().splitlines()) + 2
     assert r.returncode == 1 and f"k.pl:{line}:1: error: bt_node/3 reads" in r.stderr, r.stderr
+
+
+def test_a_port_the_model_declares_is_a_port_even_when_named_agent(tmp_path):
+    """`agent` and `importance` are the schema's, unless the node's TreeNodesModel declares them
+    as its ports: then convert keeps them as ports and export gives them back (found in review:
+    PickUp's agent port came back as _agent, which BT.CPP ignores)."""
+    knowledge = tmp_path / "serve.pl"
+    assert run("convert", FIXTURES / "agent_port.xml", "-o", knowledge).returncode == 0
+    text = knowledge.read_text()
+    assert "bt_node(pick_up(left_arm,cup),'PickUp',[agent=left_arm,object=cup])." in text
+    assert "agent(place(cup),right_arm)." in text
+    exported = run("export", knowledge, "--to", "btcpp").stdout
+    assert '<PickUp name="pick_up(left_arm,cup)" agent="left_arm" object="cup"' in exported
+    assert '<Place name="place(cup)" object="cup"' in exported and '_agent="right_arm"' in exported

@@ -348,3 +348,45 @@ def test_a_fallback_of_alternatives_is_still_refused_at_its_element(body):
     with pytest.raises(SchemalogError, match="only as the post-condition pattern") as err:
         import_btcpp(text, "f.xml")
     assert (err.value.pos.line, err.value.pos.column) == (2, 3)
+
+
+@pytest.mark.parametrize("label", ['a1("x")', 'a1("x y", "z")', "a1('it''s')", "a1('a&b<c>')", 'a1("say arg1=")',
+                                   "a1('say arg1=\"')", "a1(' {x}')", "a1(f({x}))", "a1(' = ')"])
+def test_ports_come_out_whole_for_behaviortreepy_whatever_the_quotes(label):
+    """quoteattr writes a value holding `"` in single quotes; without_ports must take out the
+    port attributes as attributes (not by a pattern that looks inside another value), leaving
+    a document BT.CPP loads and the same tree (found in review: `a1("x")` kept its port)."""
+    import xml.etree.ElementTree as ET
+    from schemalog.formats.btcpp import without_ports
+    from schemalog.task.tree import Behaviour
+    leaf = Behaviour(label=parse_term(label), post=cond.Lit(parse_term("p.done")))
+    root = Behaviour(label=parse_term("t"), children=(leaf,), post=cond.Lit(parse_term("t.done")))
+    xml = export_btcpp(root)
+    stripped = without_ports(xml)
+    elements = [e for e in ET.fromstring(stripped.split("?>", 1)[1]).iter() if e.get("name") == label.replace("''", "'")
+                or e.tag == "a1"]
+    assert elements and all(not any(k.startswith("arg") for k in e.attrib) for e in elements)
+    assert import_btcpp(stripped, "s.xml").tree == root
+    run = run_btcpp(xml, root, ())
+    assert run.status == "completed" and run.trace == [leaf.label]
+
+
+def test_a_mapped_node_type_never_takes_another_actions_node_type():
+    """A robot's a2 node has its own ports: mapping a1 onto a2 (or two functors onto one type
+    with different ports, or onto SchemalogAction) would declare a mix BT.CPP refuses there."""
+    from schemalog.formats.btcpp import NodeType
+    from schemalog.formats.quoting import Unquotable
+    from schemalog.task.tree import Behaviour
+    leaves = tuple(Behaviour(label=parse_term(t), post=cond.Lit(parse_term(f"p{i}.done")))
+                   for i, t in enumerate(["a1(spoon)", "a2(cup, x)", "a3(fork)"]))
+    root = Behaviour(label=parse_term("t"), children=leaves, post=cond.Lit(parse_term("t.done")))
+    with pytest.raises(Unquotable, match="which the action a2 already has"):
+        export_btcpp(root, node_types={"a1": NodeType("a2", ("object",))})
+    with pytest.raises(Unquotable, match="gives Pick to a1"):
+        export_btcpp(root, node_types={"a1": NodeType("Pick", ("object",)), "a3": NodeType("Pick", ("thing",))})
+    with pytest.raises(ValueError, match="nor SchemalogAction"):
+        export_btcpp(root, node_types={"a1": NodeType("SchemalogAction", ("object",))})
+    same = export_btcpp(root, node_types={"a1": NodeType("Pick", ("object",)), "a3": NodeType("Pick", ("object",))})
+    assert same.count('<Action ID="Pick">') == 1 and import_btcpp(same, "t.xml").tree == root
+    swapped = export_btcpp(root, node_types={"a1": NodeType("a2", ("object",)), "a2": NodeType("Place", ("what", "how"))})
+    assert '<a2 name="a1(spoon)" object="spoon"' in swapped and '<Place name="a2(cup,x)" what="cup" how="x"' in swapped

@@ -132,3 +132,28 @@ def test_generated_grid_tasks_with_one_action_failing_for_good(depth, children, 
         for label in leaves[:: max(1, len(leaves) // 6)]:
             executive, _ = assert_same_failure_semantics(tree, tree_run, initial, {label: None}, 1)
             assert not executive.outcome.completed
+
+
+def _leaf(label, releaser="true"):
+    from schemalog.task import conditions as cond
+    from schemalog.task.tree import Behaviour
+    return Behaviour(label=parse_term(label), objects=(parse_term("cup"),), releaser=cond.from_term(parse_term(releaser)),
+                     post=cond.from_term(parse_term(label.split("(")[0] + ".done")))
+
+
+@pytest.mark.parametrize("retries, times", [(0, 1), (1, 2), (2, 3), (1, 1)])
+def test_an_action_two_merged_leaves_share_is_inhibited_in_one_and_still_done_by_the_other(retries, times):
+    """p = [b, c (after b), d (after b)] compresses to b_c and b_d, both starting with b. When
+    b fails for good in b_c, the executive splits b_c and inhibits its b alone; b then succeeds
+    through b_d, and c, released by b.done, runs. The exports must do the same: the inhibition
+    is on the failed constituent, not on the whole merged leaf (found in review)."""
+    from schemalog.task import conditions as cond
+    from schemalog.task.tree import Behaviour
+    original = Behaviour(label=parse_term("p"), releaser=cond.TRUE, post=cond.from_term(parse_term("p.done")),
+                         children=(_leaf("b(cup)"), _leaf("c(cup)", "b.done"), _leaf("d(cup)", "b.done")))
+    small = compress(original).tree
+    assert [len(n.origins) for n in walk(small) if not n.children] == [2, 2]
+    executive, exported = assert_same_failure_semantics(original, small, (), {parse_term("b(cup)"): times}, retries)
+    assert executive.outcome.completed
+    for run in exported:
+        assert Counter(texts(run.trace)) == Counter(["b(cup)", "c(cup)", "d(cup)"])

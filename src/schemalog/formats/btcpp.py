@@ -294,9 +294,9 @@ _PORT = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 def check_node_types(types: NodeTypes) -> None:
     """Refuse a node type or port BT.CPP would not take (ValueError, naming it)."""
     for functor, t in types.items():
-        if not _KEY.fullmatch(t.type) or t.type in BUILTIN_NODES or t.type in (ACTED, MAIN_TREE):
+        if not _KEY.fullmatch(t.type) or t.type in BUILTIN_NODES or t.type in (ACTED, MAIN_TREE, GENERIC_ACTION):
             raise ValueError(f"{functor}: {t.type!r} cannot be a node type (an identifier that is not "
-                             f"one of BT.CPP's own node types)")
+                             f"one of BT.CPP's own node types, nor {GENERIC_ACTION})")
         for port in t.ports:
             if not _PORT.fullmatch(port) or port in ("name", "ID"):
                 raise ValueError(f"{functor}: {port!r} cannot be a port name (an identifier not starting "
@@ -404,6 +404,16 @@ class _Exporter:
         self.counters: list[str] = []          # failures__1 ... one per action element
         self.node_types = node_types
         self.nodes = nodes
+        self.mapped_owner: dict[str, tuple] = {}       # a mapped node type -> (functor, ports)
+        # A mapped type may not be the node type another functor already gets by default
+        # (`a1` mapped to `a2` beside an action a2(cup, x)): the robot's a2 has its own ports.
+        defaults_of = {action_id(action): action.name for node in walk(tree) if not node.children
+                       for action, _ in steps_of(node) if isinstance(action, (Atom, Struct))
+                       and action.name not in node_types}
+        for functor, t in node_types.items():
+            if t.type in defaults_of and defaults_of[t.type] != functor:
+                raise Unquotable(f"the node types map gives {functor} the node type {t.type}, which the "
+                                 f"action {defaults_of[t.type]} already has")
         # BT.CPP refuses a BehaviorTree ID that names a registered node: a built-in one
         # (a task called SubTree) or one of this document's actions (a sub-task pick(x)
         # beside an action pick_x)
@@ -425,6 +435,10 @@ class _Exporter:
                 declared.setdefault(name, f"a port of {ident}")
             return ident, list(ports)
         if mapped is not None:
+            other = self.mapped_owner.setdefault(mapped.type, (functor, mapped.ports))
+            if other[0] != functor and other[1] != mapped.ports:
+                raise Unquotable(f"the node types map gives {mapped.type} to {other[0]} (ports {', '.join(other[1]) or 'none'}) "
+                                 f"and to {functor} (ports {', '.join(mapped.ports) or 'none'})")
             if len(args) > len(mapped.ports):
                 raise Unquotable(f"the node types map gives {mapped.type} {len(mapped.ports)} port(s), "
                                  f"and {term_to_text(label)} has {len(args)} argument(s)")
@@ -479,15 +493,20 @@ class _Exporter:
             return [f"{indent}<{ident}{_attrs(pairs)}/>"]
         counters = tuple(self.counter() for _ in steps)
         decided = [("_onSuccess", f"{ACTED} := true"), ("_onFailure", f"{ACTED} := true")]
-        lines = [f"{indent}<Sequence{_attrs([('name', label), *self.guards(node, counters), *decided, *_meta(node, False)])}>"]
+        lines = [f"{indent}<Sequence{_attrs([('name', label), *self.guards(node), *decided, *_meta(node, False)])}>"]
         previous = None
         for (action, post), n in zip(steps, counters):
             ident, ports = self.action(action)
             # A constituent runs only once the one before it holds its post-condition
             # (`_while`), so a robot that reports success without achieving it does not
-            # run the next action; the merged leaf ends and is tried again.
+            # run the next action; the merged leaf ends and is tried again. An inhibited
+            # constituent is skipped by itself (`_skipIf`), and with it those that wait for
+            # its post-condition: all skipped, the Sequence is SKIPPED and did not act. Its
+            # post-condition may still come from elsewhere (another merged leaf sharing the
+            # action), and then the rest runs: the executive's split leaf, after `decompress`.
             after = [] if previous is None else [("_while", to_script(previous))]
-            pairs = [("name", term_to_text(action)), *ports, *after, ("_skipIf", to_script(post)),
+            pairs = [("name", term_to_text(action)), *ports, *after,
+                     ("_skipIf", f"{_operand(post)} || {n} > {self.retries}"),
                      ("_onSuccess", f"{n} := 0"), ("_onFailure", f"{n} += 1")]
             lines.append(f"{indent}  <{ident}{_attrs(pairs)}/>")
             previous = post
@@ -598,21 +617,27 @@ def without_ports(xml: str) -> str:
     """An exported document with its actions' ports taken out, for a runtime that can register
     actions but not declare their ports (behaviortreepy 0.1.4): BT.CPP refuses an XML port its
     node type does not provide. The action's name still holds the label, arguments included."""
-    model = xml.split("<TreeNodesModel>", 1)[-1]
+    body, marker, model = xml.partition("  <TreeNodesModel>")
     ports = set(re.findall(r'<input_port name="([^"]+)"', model))
-    types = set(action_ids(xml))
     if not ports:
         return xml
-    attribute = re.compile(r' (' + "|".join(map(re.escape, sorted(ports))) + r')="[^"]*"')
+    types = set(action_ids(xml))
 
     def strip(m: re.Match) -> str:
-        return attribute.sub("", m.group(0)) if m.group(1) in types else m.group(0)
+        # `<Type a="..." b='...' .../>`: attribute by attribute, each value in its own quotes
+        # (quoteattr writes '...' when the value holds a "), so no value is looked inside
+        if m.group(1) not in types:
+            return m.group(0)
+        kept = [a.group(0) for a in _ATTRIBUTE.finditer(m.group(2)) if a.group(1) not in ports]
+        return f"<{m.group(1)}{''.join(kept)}{m.group(3)}>"
 
-    body, _, _ = xml.partition("  <TreeNodesModel>")
-    rest = xml[len(body):]
-    rest = re.sub(r'<input_port [^>]*>[^<]*</input_port>\s*', "", rest)
-    rest = re.sub(r'<Action ID="([^"]+)">\s*</Action>', r'<Action ID="\1"/>', rest)
-    return re.sub(r'<([A-Za-z_][A-Za-z0-9_]*)\b[^>]*>', strip, body) + rest
+    model = re.sub(r'<input_port [^>]*>[^<]*</input_port>\s*', "", model)
+    model = re.sub(r'<Action ID="([^"]+)">\s*</Action>', r'<Action ID="\1"/>', model)
+    return _ELEMENT.sub(strip, body) + marker + model
+
+
+_ATTRIBUTE = re.compile(r'\s+([^\s=/>]+)=("[^"]*"|\'[^\']*\')')
+_ELEMENT = re.compile(r'<([A-Za-z_][A-Za-z0-9_]*)((?:\s+[^\s=/>]+=(?:"[^"]*"|\'[^\']*\'))*)\s*(/?)>')
 
 
 # ---------------------------------------------------------------------------
@@ -745,6 +770,7 @@ class _Importer:
         self.count = 0
         self.includes: list[str] = []
         self.nodes: dict = {}
+        self.model_ports: dict[str, set[str]] = {}     # node type -> the ports its TreeNodesModel declares
 
     def _record(self, label: Term, post: Condition, node: XNode, skip: set[str] = frozenset()) -> None:
         """Keep the node type and literal ports an action was written with."""
@@ -802,6 +828,9 @@ class _Importer:
                 for model in child.children:
                     if model.tag == "Condition" and model.attrs.get("ID"):
                         self.conditions.add(model.attrs["ID"])
+                    if model.attrs.get("ID"):
+                        self.model_ports.setdefault(model.attrs["ID"], set()).update(
+                            p.attrs["name"] for p in model.children if p.attrs.get("name"))
             elif child.tag == "include":
                 path = child.attrs.get("path")
                 if not path:
@@ -974,8 +1003,9 @@ class _Importer:
             args.append(_value_term(v))
         return args
 
-    def _plain_label(self, node: XNode, ident: str, skip: set[str] = frozenset()) -> Term:
-        args = self._ports(node, skip | {"importance", "agent"})
+    def _plain_label(self, node: XNode, ident: str, skip: set[str] = frozenset(),
+                     meta: set[str] = frozenset({"importance", "agent"})) -> Term:
+        args = self._ports(node, skip | meta)
         name = node.attrs.get("name")
         if name:
             from ..logic.opread import parse_term
@@ -1088,11 +1118,15 @@ class _Importer:
             self.fail(node, f"unknown node type <{tag}> with children: schemalog reads Sequence, "
                             f"SequenceWithMemory, ReactiveSequence, Parallel, Precondition and SubTree")
         ident = node.attrs.get("ID", tag) if tag == "Action" else tag
-        label = self._plain_label(node, ident)
+        # `importance` and `agent` are the schema's, unless the node's model declares them as
+        # its own ports (a robot's `agent` port): then they are ports like any other.
+        meta = {"importance", "agent"} - self.model_ports.get(ident, set())
+        label = self._plain_label(node, ident, meta=meta)
         post = self._post_of(label)
-        self._record(label, post, node, {"importance", "agent"})
+        self._record(label, post, node, meta)
         return Behaviour(label=label, objects=_objects(label), releaser=releaser, post=post,
-                         importance=self._weight(node), agent=agent_of(node.attrs.get("agent", DEFAULT_AGENT)),
+                         importance=self._weight(node) if "importance" in meta else DEFAULT_IMPORTANCE,
+                         agent=agent_of(node.attrs.get("agent", DEFAULT_AGENT)) if "agent" in meta else DEFAULT_AGENT,
                          source=self.pos(node))
 
     def _post_condition_pattern(self, node: XNode, releaser: Condition) -> Behaviour:

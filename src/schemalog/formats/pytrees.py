@@ -58,7 +58,7 @@ def compile_condition(c, holds):
 
 class Active(py_trees.behaviour.Behaviour):
     """SUCCESS when the behaviour is active: its pre-condition holds, its post-condition does
-    not, and (a leaf) none of its actions is inhibited."""
+    not, and (a leaf) an action of it can run (not all are accomplished or inhibited)."""
 
     def __init__(self, name, pre, post, inhibited=lambda: False):
         super().__init__(name)
@@ -74,29 +74,32 @@ class Act(py_trees.behaviour.Behaviour):
     An action runs only once the one before it holds its post-condition. When the robot fails
     one (perform returns False), the leaf stops there: that failure was this tick's decision,
     and the next tick retries the action, until it has failed more than RETRIES times in a row;
-    then it is inhibited (the executive's rule)."""
+    then it is inhibited, and so are those after it until its post-condition holds (the
+    executive's rule: after `decompress`, each action is a leaf of its own)."""
 
     def __init__(self, name, steps, perform):
         super().__init__(name)
         self.steps, self.perform = steps, perform
         self.failures = [0] * len(steps)        # consecutive failures of each action
 
-    def inhibited(self):
-        return any(n > RETRIES for n in self.failures)
+    def runnable(self, i):
+        """Whether action i would run now: not accomplished, not inhibited, and the one before
+        it holds its post-condition."""
+        return (not self.steps[i][1]() and self.failures[i] <= RETRIES
+                and (i == 0 or self.steps[i - 1][1]()))
+
+    def blocked(self):
+        """Whether no action of the leaf can run now (Active then lets the tick go on)."""
+        return not any(self.runnable(i) for i in range(len(self.steps)))
 
     def update(self):
-        previous = None
-        for i, (action, done) in enumerate(self.steps):
-            if done():
-                previous = done
+        for i, (action, _) in enumerate(self.steps):
+            if not self.runnable(i):
                 continue
-            if previous is not None and not previous():
-                break
             if self.perform(action) is False:
                 self.failures[i] += 1
                 break
             self.failures[i] = 0
-            previous = done
         return Status.SUCCESS
 
 
@@ -109,7 +112,7 @@ def build(index, holds, perform):
                                             children=[build(c, holds, perform) for c in children])
     else:
         body = Act("act", [(a, compile_condition(p, holds)) for a, p in steps], perform)
-        guard = Active("active", compile_condition(pre, holds), compile_condition(post, holds), body.inhibited)
+        guard = Active("active", compile_condition(pre, holds), compile_condition(post, holds), body.blocked)
     return py_trees.composites.Sequence(name=name, memory=False, children=[guard, body])
 
 
