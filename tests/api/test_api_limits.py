@@ -121,3 +121,16 @@ def test_a_ceiling_under_what_the_process_already_holds_stops_the_call_at_once()
         list(kb.query("numlist(1, 10000000, L), length(L, N)", max_memory="100M", max_steps=10**9))
     assert time.monotonic() - started < 5 and resource.getrlimit(resource.RLIMIT_DATA) == before
     del ballast
+
+
+def test_a_findall_over_a_built_ins_endless_solutions_stops_at_its_limits():
+    """findall(X, between(1, inf, X), L) runs no goal between two solutions of between/3; each
+    solution is a step, where the step limit and the memory ceiling are looked at. Before, it
+    ran to the real ceiling, and there answered a list of unbound variables (found in review)."""
+    kb = schemalog.loads("fact.\n")
+    goal = "catch(findall(X, between(1, inf, X), L), E, true)"
+    with pytest.raises(schemalog.LimitExceeded) as err:
+        list(kb.query(goal, max_memory="64M", max_steps=10**10))
+    assert err.value.limit == "memory"
+    with pytest.raises(schemalog.SchemalogError, match="step limit of 100,000"):
+        list(kb.query(goal, max_steps=100_000))

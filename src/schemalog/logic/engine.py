@@ -535,6 +535,14 @@ class Engine:
                 gen, rest = cp[2], cp[3]
                 try:
                     next(gen)
+                    # each further solution of a built-in is a step: findall(X, between(1,
+                    # inf, X), L) runs no goal between two of them, so it is counted, and the
+                    # memory ceiling looked at, here
+                    steps = self.steps = self.steps + 1
+                    if steps > self.max_steps:
+                        raise self._over()
+                    if steps & _MEMORY_MASK == 0 and near_ceiling():
+                        raise CeilingReached("near the memory ceiling")
                     if b.work:
                         self._charge_work(b)
                     return rest
