@@ -86,25 +86,36 @@ def is_own_export(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> bool
     return f'main_tree_to_execute="{MAIN_TREE}"' in text
 
 
+def _name_pairs(path: str | Path, max_bytes: int, what: str, entry: str):
+    """The (key, value, fail) of each `key: value` line of a YAML mapping of names, `what` the
+    file's kind and `entry` a line's shape for the messages; a key given twice is refused."""
+    from ..inputs import compose_yaml
+
+    name = str(path)
+    root, fail = compose_yaml(_decoded(name, max_bytes), name)
+    if root is None:
+        raise SchemalogError(f"an empty {what} file: write `{entry}` per line", SourcePos(name, 1, 1))
+    if root.tag != "tag:yaml.org,2002:map":
+        raise fail(f"a {what} file is a mapping, `{entry}` per line", root)
+    seen: set[str] = set()
+    for key, value in root.value:
+        if key.tag != "tag:yaml.org,2002:str" or value.tag != "tag:yaml.org,2002:str":
+            raise fail(f"each entry is `{entry}`", key)
+        if key.value in seen:
+            raise fail(f"{key.value} is given twice", key)
+        seen.add(key.value)
+        yield key, value, fail
+
+
 def read_semantics(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> dict:
     """A user's node semantics: a YAML mapping from a custom node type to the type whose rule it
     follows, a node of the table (`RecoveryNode`, `Sequence`) or a leaf kind (`Action`,
     `StatefulAction`, `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`."""
     from ..bt.semantics import ACTION, CONDITION, RULES, STATEFUL_ACTION
-    from ..inputs import compose_yaml
 
-    name = str(path)
-    root, fail = compose_yaml(_decoded(name, max_bytes), name)
     leaves = {"Action": ACTION, "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
-    if root is None or root.tag != "tag:yaml.org,2002:map":
-        raise fail("a node semantics file is a mapping, `MyType: KnownType` per line", root) if root is not None \
-            else SchemalogError("an empty node semantics file: write `MyType: KnownType` per line", SourcePos(name, 1, 1))
     rules: dict = {}
-    for key, value in root.value:
-        if key.tag != "tag:yaml.org,2002:str" or value.tag != "tag:yaml.org,2002:str":
-            raise fail("each entry is `MyType: KnownType`, two names", key)
-        if key.value in rules:
-            raise fail(f"{key.value} is given twice", key)
+    for key, value, fail in _name_pairs(path, max_bytes, "node semantics", "MyType: KnownType"):
         rule = leaves.get(value.value) or RULES.get(value.value)
         if rule is None:
             known = ", ".join(sorted({*leaves, *RULES}))
@@ -119,20 +130,9 @@ def read_node_types(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> di
     import re
 
     from ..formats.btcpp import NodeType, check_node_types
-    from ..inputs import compose_yaml
 
-    name = str(path)
-    root, fail = compose_yaml(_decoded(name, max_bytes), name)
-    if root is None or root.tag != "tag:yaml.org,2002:map":
-        raise fail("a node types file is a mapping, `functor: NodeType(port, ...)` per line", root) \
-            if root is not None else SchemalogError("an empty node types file: write `functor: NodeType(port, ...)` "
-                                                    "per line", SourcePos(name, 1, 1))
     types: dict = {}
-    for key, value in root.value:
-        if key.tag != "tag:yaml.org,2002:str" or value.tag != "tag:yaml.org,2002:str":
-            raise fail("each entry is `functor: NodeType(port, ...)`", key)
-        if key.value in types:
-            raise fail(f"{key.value} is given twice", key)
+    for key, value, fail in _name_pairs(path, max_bytes, "node types", "functor: NodeType(port, ...)"):
         m = re.fullmatch(r"\s*([^\s(]+)\s*(?:\((.*)\))?\s*", value.value)
         if m is None:
             raise fail(f"{value.value!r}: write NodeType or NodeType(port, ...)", value)
