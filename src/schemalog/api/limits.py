@@ -173,12 +173,9 @@ def restored_memory_limit() -> Iterator[None]:
 def ceiling_in_force() -> int | None:
     """The memory ceiling the process runs under now (RLIMIT_DATA's soft limit), None for none:
     --max-memory's, the environment's, the default or an inherited lower one, whichever won."""
-    try:
-        import resource
-    except ImportError:
-        return None
-    soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
-    return None if soft == resource.RLIM_INFINITY else soft
+    from ..memory import ceiling
+
+    return ceiling()
 
 
 def out_of_memory_text(ceiling: int | None) -> str:
