@@ -4,10 +4,10 @@ BT.CPP source inside behaviortreepy's PyPI sdist; docs/behaviour_trees.md, "Runn
 with ports").
 
 (a) every corpus file schemalog reads loads in BT.CPP with its node types registered from
-    their TreeNodesModel with their ports (but subtree_test.xml, which BT.CPP 4.8.2 refuses
-    however it is registered: BTCPP_REFUSES); with nav2_tree_nodes.xml alone, a refusal is
-    only a node type or a port the models file does not declare; what schemalog refuses BT.CPP
-    refuses too.
+    their TreeNodesModel with their ports; with nav2_tree_nodes.xml alone, a refusal is only a
+    node type or a port the models file does not declare; what schemalog refuses BT.CPP refuses
+    too (subtree_test.xml however its nodes are registered), and on generated trees of BT.CPP's
+    own nodes with attributes right and wrong, the two load and refuse the same (bt/ports.py).
 (b) each tree and compress_tree's (proved) compression make the same events in BT.CPP under
     the same draws: leaf ticks with their ports, halts, the choices of Nav2's decorators,
     root statuses.
@@ -45,7 +45,9 @@ from schemalog.api.behaviour_trees import compress_tree, read_tree
 from schemalog.bt.model import Document, Node, NodeModel, Port, walk
 from schemalog.bt.semantics import STATEFUL_ACTION, Await, Status, advance, halt_step, initial, program, step
 from schemalog.errors import SchemalogError
+from schemalog.bt.ports import BUILTIN_PORTS
 from schemalog.formats.btxml import BUILTIN, infer_models, write_bt
+from schemalog.formats.quoting import xml_attribute
 
 HERE = Path(__file__).resolve().parent
 CORPUS = HERE / "corpus"
@@ -53,14 +55,14 @@ NAV2 = CORPUS / "nav2"
 NODES = NAV2 / "nav2_tree_nodes.xml"
 BUILD = HERE / "harness" / "build.sh"
 V3_NAV2 = NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"
-MAIN_OF = {"log_test.xml": "Main", "subtree_test.xml": "BehaviorTree"}     # as tests/bt/test_btxml.py
+MAIN_OF = {"log_test.xml": "Main"}                      # as tests/bt/test_btxml.py
 PARTS = {"t14_subtree_model_2.xml"}             # read with its partner (t14_subtree_model_1.xml)
 # the scripting enums BT.CPP's tutorial 9 registers in C++ (registerScriptingEnums<Color>, THE_ANSWER)
 ENUMS = {"t09_scripting.xml": ("THE_ANSWER=42", "RED=1", "BLUE=2", "GREEN=3")}
-# Read by schemalog, refused by BT.CPP 4.8.2 under any registration: <CheckStatus/> calls the
+# Refused by BT.CPP 4.8.2 under any registration, and by schemalog: <CheckStatus/> calls the
 # included tree CheckStatus by its ID as a tag (BT.CPP 3 style); unregistered it is "not
 # recognized", registered as a node the tree's ID "must not use the name of a registered Node".
-BTCPP_REFUSES = {"subtree_test.xml": "Node not recognized: CheckStatus"}
+SUBTREE_TEST = CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml"
 
 SEEDS = 50                 # runs per file and per kind of action (b)
 MODEL_SEEDS = 25           # runs per Nav2 file replayed in the model (c)
@@ -155,7 +157,7 @@ def readable() -> list[Path]:
     return out
 
 
-READABLE = [p for p in readable() if p.name not in BTCPP_REFUSES]
+READABLE = readable()
 NAV2_TREES = [p for p in READABLE if p.parent == NAV2]
 
 
@@ -231,8 +233,8 @@ def test_every_tree_schemalog_reads_loads_in_btcpp_with_its_ports(harness, path,
 
 
 def test_what_schemalog_refuses_btcpp_refuses(harness, tmp_path):
-    refused = [p for p in corpus() if p not in READABLE and p.name not in PARTS and p.name not in BTCPP_REFUSES]
-    assert V3_NAV2 in refused
+    refused = [p for p in corpus() if p not in READABLE and p.name not in PARTS]
+    assert V3_NAV2 in refused and SUBTREE_TEST in refused
     for path in refused:
         ok, said = load(harness, path, nodes_of(path), MAIN_OF.get(path.name))
         assert not ok, path
@@ -248,20 +250,78 @@ def test_what_schemalog_refuses_btcpp_refuses(harness, tmp_path):
     assert not ok and "SequenceStar" in said, said
 
 
-@pytest.mark.parametrize("name", sorted(BTCPP_REFUSES))
-def test_what_btcpp_refuses_and_schemalog_reads(harness, name, tmp_path):
-    path = next(p for p in corpus() if p.name == name)
-    read_tree(path, nodes_of(path), main=MAIN_OF.get(name))          # schemalog reads it
-    document = prepared(path)
-    declared = tmp_path / "declared.xml"                # every custom type but the trees' IDs
-    ids = {k for k, _ in document.trees}
-    declared.write_text(models_xml([m for m in document.models if m.type not in ids]))
-    ok, said = load(harness, path, [declared], MAIN_OF.get(name))
-    assert not ok and BTCPP_REFUSES[name] in said, said
+def test_a_tree_called_by_its_id_as_a_tag_is_refused_by_both(harness, tmp_path):
+    with pytest.raises(SchemalogError) as err:
+        read_tree(SUBTREE_TEST, [], main="BehaviorTree")
+    assert "subtree_test.xml:8:13: error: <CheckStatus> names the BehaviorTree CheckStatus" in str(err.value)
+    assert 'call the tree with <SubTree ID="CheckStatus"/>' in str(err.value)
+    leaves = [NodeModel("SaySomething", "Action", (Port("input", "message"),))] + \
+        [NodeModel(t, "Action") for t in ("SayHello", "CheckBattery", "CheckTemperature", "OpenGripper",
+                                          "CloseGripper")]
+    declared = tmp_path / "declared.xml"                # every leaf type, not the trees' IDs
+    declared.write_text(models_xml(leaves))
+    ok, said = load(harness, SUBTREE_TEST, [declared], "BehaviorTree")
+    assert not ok and "Node not recognized: CheckStatus" in said, said
     everything = tmp_path / "everything.xml"
-    everything.write_text(models_xml(document.models))
-    ok, said = load(harness, path, [everything], MAIN_OF.get(name))
+    everything.write_text(models_xml(leaves + [NodeModel("CheckStatus", "Action"), NodeModel("SayStuff", "Action")]))
+    ok, said = load(harness, SUBTREE_TEST, [everything], "BehaviorTree")
     assert not ok and "must not use the name of a registered Node" in said, said
+
+
+# -- (a) BT.CPP's own nodes with attributes right and wrong: both load, or both refuse ----------
+
+OWN_TYPES = sorted(t for t in BUILTIN if t != "SubTree")
+# Values for the typed ports: prefixes std::from_chars reads ("3.5", "7 apples"), what it does not
+# (" 3", "+3"), bounds, the boolean and status spellings, queues, blackboard entries exact or not.
+VALUES = ["3", "0", "-1", "3.5", "7 apples", " 3", "+3", "", "x", "{bb}", "{}", "{=}", "=", "2147483648",
+          "-2147483648", "4294967295", "4294967296", "99999999999999999999", "true", "True", "tRue", "1",
+          "SUCCESS", "success", "IDLE", "1;2", "1;;2", ";1", "1;2;", "a;b", "0.5;1e3", "1e999", "2e-310",
+          "0x10", " nan", "inFinity"]
+SCRIPT_PORTS = ("code", "if")        # scripts BT.CPP parses at load: given only ones it parses
+
+
+@st.composite
+def own_element(draw) -> tuple[str, str]:
+    """One of BT.CPP's own nodes with 0-3 attributes, declared ports or not, and its XML."""
+    node_type = draw(st.sampled_from(OWN_TYPES))
+    keys = draw(st.lists(st.sampled_from(sorted(BUILTIN_PORTS.get(node_type, {})) + ["foo", "Name", "name",
+                                                                                   "_description"]),
+                         max_size=3, unique=True))
+    attrs = "".join(f" {k}={xml_attribute(draw(st.sampled_from(['A:=1', 'true'] if k in SCRIPT_PORTS else VALUES)))}"
+                    for k in keys)
+    kind = BUILTIN[node_type]
+    tag, head = (kind, f'{kind} ID="{node_type}"') if draw(st.booleans()) else (node_type, node_type)
+    children = {"Control": "<AlwaysSuccess/><AlwaysSuccess/>", "Decorator": "<AlwaysSuccess/>"}.get(kind, "")
+    return node_type, f"<{head}{attrs}>{children}</{tag}>"
+
+
+def _reason(text: str) -> str:
+    """The kind of a refusal, in BT.CPP's words and ours alike."""
+    for words in ("providedPorts", "can not be converted", "Missing p", "not found"):
+        if words in text:
+            return words
+    return text
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(own_element())
+def test_btcpp_and_schemalog_refuse_the_same_attributes_of_btcpp_nodes(harness, element):
+    node_type, xml = element
+    text = f'<root BTCPP_format="4">\n  <BehaviorTree ID="T">\n    {xml}\n  </BehaviorTree>\n</root>\n'
+    with tempfile.TemporaryDirectory() as scratch:
+        path = Path(scratch) / "own.xml"
+        path.write_text(text)
+        ok, said = load(harness, path, [])
+        try:
+            read_tree(path, [])
+            ours = None
+        except SchemalogError as err:
+            ours = str(err)
+    note(f"{xml}\nBT.CPP: {said}\nschemalog: {ours}")
+    event(f"{node_type}: {'loads' if ok else _reason(said)}")
+    assert ok == (ours is None), (xml, said, ours)
+    if not ok:
+        assert _reason(said) == _reason(ours) and "own.xml:3:5" in ours
 
 
 # -- (b) compressed and original in BT.CPP -------------------------------------------------------

@@ -413,3 +413,17 @@ def test_simulate_counts_internal_node_ticks():
     assert statuses == (S, R, R, S, F) and ticks == 4 + 4 + 2 + 2 + 4
     assert all(e.node[1][0] == "A" for e in events)
     assert simulate(doc(act("A")), seed=3, root_ticks=5) == simulate(doc(act("A")), seed=3, root_ticks=5)
+
+
+def test_literal_ports_mean_what_bt_cpp_reads_in_them():
+    # convertFromString<int> is std::from_chars: num_cycles="2.9" is 2 cycles, as in BT.CPP
+    assert run(n("Repeat", act("A"), num_cycles="2.9"), S, S) == [
+        (["tick A SUCCESS"], "RUNNING"), (["tick A SUCCESS"], "SUCCESS")]
+    # an API-built tree that BT.CPP would not load, or whose status port it cannot read: the
+    # root tick ends in an error, as BT.CPP's tick throws
+    for tree, words in ((n("Sleep", msec="-1"), "msec='-1' can not be converted to unsigned int"),
+                        (n("Repeat", act("A"), num_cycles="+2"), "num_cycles='+2' can not be converted to int"),
+                        (n("Precondition", act("A"), **{"if": "false", "else": "success"}),
+                         "else='success' can not be converted to BT::NodeStatus")):
+        ticked = step(program(doc(tree)), initial())
+        assert ticked.status is None and words in ticked.error

@@ -95,10 +95,12 @@ def test_a_wrapped_tree_is_compressed_and_a_limit_is_never_a_proof(tmp_path):
 def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_path):
     r = run("compress", CORPUS / "btcpp" / "tutorials" / "t09_scripting.xml")
     assert r.returncode == 0 and "nothing to compress (9 nodes)" in r.stdout, r.stderr
-    several = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml")
+    several = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "log_test.xml")
     assert several.returncode == 1 and "main_tree_to_execute" in several.stderr
-    chosen = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml", "--task", "BehaviorTree")
+    chosen = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "log_test.xml", "--task", "Main")
     assert chosen.returncode == 0, chosen.stderr
+    by_tag = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml", "--task", "BehaviorTree")
+    assert by_tag.returncode == 1 and "subtree_test.xml:8:13: error: <CheckStatus> names the BehaviorTree" in by_tag.stderr
     v3 = run("compress", NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml")
     assert v3.returncode == 1 and ":21:15: error:" in v3.stderr and "BT.CPP 3" in v3.stderr
     bad = tmp_path / "bad.xml"

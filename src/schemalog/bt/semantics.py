@@ -33,6 +33,7 @@ from enum import Enum
 from types import MappingProxyType
 
 from schemalog.bt.model import Document, Node
+from schemalog.bt.ports import TYPE_NAMES, convert
 from schemalog.errors import SchemalogError
 
 
@@ -297,37 +298,33 @@ def _is_ref(value: str | None) -> bool:
     return (len(v) >= 3 and v[0] == "{" and v[-1] == "}") or v in ("=", "{=}")
 
 
-def _int(n: PNode, port: str, default: int) -> int:
-    """A literal integer port (its default when absent)."""
+def _literal(n: PNode, port: str, port_type: str, default):
+    """A literal port read as BT.CPP's convertFromString reads it (bt/ports.py), its default
+    when absent; a value BT.CPP cannot convert is an error here as there."""
     value = n.node.attr(port)
     if value is None:
         return default
-    try:
-        return int(value.strip())
-    except ValueError:
-        raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} is not an integer") from None
+    converted = convert(port_type, value)
+    if converted is None:
+        raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} can not be converted to "
+                        f"{TYPE_NAMES[port_type]} (BT.CPP's convertFromString)")
+    return converted
+
+
+def _int(n: PNode, port: str, default: int, port_type: str = "int") -> int:
+    """A literal integer port: "3.5" is 3, as std::from_chars reads it."""
+    return _literal(n, port, port_type, default)
 
 
 def _bool(n: PNode, port: str, default: bool) -> bool:
-    value = n.node.attr(port)
-    if value is None:
-        return default
-    v = value.strip().lower()
-    if v in ("true", "1"):
-        return True
-    if v in ("false", "0"):
-        return False
-    raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} is not a boolean")
+    return _literal(n, port, "bool", default)
 
 
 def _status_port(n: PNode, port: str, default: Status) -> Status:
-    value = n.node.attr(port)
-    if value is None:
-        return default
-    try:
-        return Status(value.strip().upper())
-    except ValueError:
-        raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}={value!r} is not a status") from None
+    status = _literal(n, port, "status", default.value)
+    if status == "IDLE":
+        raise TreeError(f"{n.node.type} {n.node.name!r}: port {port}=\"IDLE\": a node may not return IDLE")
+    return Status(status)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -367,7 +364,7 @@ def _sleep(run: _Run, n: PNode) -> Status:
     # RUNNING until the timer fires (the environment's choice of when)
     msec = n.node.attr("msec")
     if run.status(n) is not RUNNING:
-        if msec is not None and not _is_ref(msec) and _int(n, "msec", 0) <= 0:
+        if msec is not None and not _is_ref(msec) and _int(n, "msec", 0, "unsigned") <= 0:
             return SUCCESS
         run.event("time", n, (None,))              # the timer starts
         return RUNNING
@@ -885,7 +882,7 @@ def _timeout(run: _Run, n: PNode) -> Status:
     # if it fires while the child is RUNNING the child is halted and the node fails. When it
     # fires is the environment's choice, asked before each later tick while the child runs.
     msec = n.node.attr("msec")
-    armed = msec is None or _is_ref(msec) or _int(n, "msec", 0) > 0
+    armed = msec is None or _is_ref(msec) or _int(n, "msec", 0, "unsigned") > 0
     child = n.kids[0]
     if not run.get(n, "started"):
         run.put(n, "started", True)

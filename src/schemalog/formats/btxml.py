@@ -48,7 +48,10 @@ form or <SubTree> without ID, an ID on any other node, a <BehaviorTree> without 
 <TreeNodesModel> in one file, a decorator without exactly one child, a control node without
 children, a leaf with children, a <SubTree> with children or naming no tree, a SubTree model's
 mandatory port left unremapped, an `_autoremap` that is not a boolean, a main tree that does not
-exist, an <include> without path or through ros_pkg (no ROS package index here). Beyond BT.CPP,
+exist, an <include> without path or through ros_pkg (no ROS package index here), a tree's ID used
+as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a model), and on
+BT.CPP's own nodes a port they do not declare, a literal that does not convert or a port their
+constructor needs (bt/ports.py). Beyond BT.CPP,
 and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
 includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
 end), and two trees with one ID (BT.CPP keeps the last silently).
@@ -70,6 +73,7 @@ from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
+from ..bt.ports import BUILTIN, RESERVED, refusal
 from ..errors import SchemalogError, SourcePos
 from .btcpp import XNode, parse_xml
 from .quoting import Unquotable, xml_attribute
@@ -78,29 +82,11 @@ MAX_INCLUDE_DEPTH = 16
 GENERIC = ("Action", "Condition", "Control", "Decorator")
 PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
 PORT_TAG_OF = {v: k for k, v in PORT_TAGS.items()}
-# Attributes BT.CPP reads itself (IsReservedAttribute: name, ID, _autoremap and the scripted
-# pre- and post-conditions); they are never ports.
-RESERVED = frozenset({"name", "ID", "_autoremap", "_failureIf", "_successIf", "_skipIf", "_while",
-                      "_onSuccess", "_onFailure", "_onHalted", "_post"})
 
-# The node types BehaviorTreeFactory registers in BT.CPP 4 (bt_factory.cpp), by kind.
-BUILTIN: dict[str, str] = {
-    **dict.fromkeys(("Sequence", "SequenceWithMemory", "ReactiveSequence", "Fallback", "ReactiveFallback",
-                     "Parallel", "ParallelAll", "IfThenElse", "WhileDoElse", "Switch2", "Switch3", "Switch4",
-                     "Switch5", "Switch6", "AsyncSequence", "AsyncFallback"), "Control"),
-    **dict.fromkeys(("Inverter", "RetryUntilSuccessful", "RetryUntilSuccesful", "KeepRunningUntilFailure",
-                     "Repeat", "Timeout", "Delay", "RunOnce", "ForceSuccess", "ForceFailure", "Precondition",
-                     "LoopInt", "LoopBool", "LoopDouble", "LoopString", "SkipUnlessUpdated",
-                     "WaitValueUpdate"), "Decorator"),
-    **dict.fromkeys(("AlwaysSuccess", "AlwaysFailure", "Script", "SetBlackboard", "UnsetBlackboard",
-                     "Sleep"), "Action"),
-    **dict.fromkeys(("ScriptCondition", "WasEntryUpdated"), "Condition"),
-    "SubTree": "SubTree",
-}
 # Node types of BT.CPP 3 that version 4 does not register (renamed or removed).
 V3_ONLY = {"SequenceStar": "SequenceWithMemory", "FallbackStar": "Fallback", "SubTreePlus": "SubTree",
            "BlackboardCheckInt": "Precondition", "BlackboardCheckDouble": "Precondition",
-           "BlackboardCheckString": "Precondition"}
+           "BlackboardCheckString": "Precondition", "RetryUntilSuccesful": "RetryUntilSuccessful"}
 
 
 # ---------------------------------------------------------------------------
@@ -477,6 +463,9 @@ class _Reader:
             _fail(element, f"The node '{node_type}' must have 1 or more children (a control node)")
         if kind in ("Action", "Condition") and count:
             _fail(element, f"The node '{node_type}' must not have any child (an {kind.lower()})")
+        why = refusal(node_type, element.attrs)
+        if why is not None:
+            _fail(element, why)
         attrs = tuple((k, v) for k, v in element.attrs if not (generic and k == "ID"))
         return Node(node_type, attrs, children, tag if generic else "", element.pos.line, element.pos.column,
                     element.pos.file)
@@ -512,6 +501,27 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     visit(main, (main,))
 
 
+def _tree_id_checks(reader: _Reader) -> None:
+    """Refuse a tree ID that is also a node type: BT.CPP 4 calls a tree only through <SubTree>, so
+    <CheckStatus/> naming the tree CheckStatus is "Node not recognized" unless CheckStatus is
+    registered as a node, and then the tree's ID "must not use the name of a registered Node"."""
+    trees = {t.id: t for t in reader.trees}
+    for t in reader.trees:
+        for n in walk(t.root):
+            if n.type in trees and n.type != "SubTree":
+                where = SourcePos(n.file or t.element.pos.file, n.line, n.column)
+                raise SchemalogError(f"<{n.form or n.type}{f' ID={n.type!r}' if n.form else ''}> names the "
+                                     f"BehaviorTree {n.type} (at {trees[n.type].element.pos}) as a node type; BT.CPP 4 "
+                                     f"refuses it (unregistered: Node not recognized: {n.type}; registered: the tree's "
+                                     f"ID must not use the name of a registered Node): call the tree with "
+                                     f"<SubTree ID=\"{n.type}\"/>", where)
+    for m in (*reader.models, *reader.extra):
+        if m.kind != "SubTree" and m.type in trees:
+            _fail(trees[m.type].element, f"The attribute [ID] of tag <BehaviorTree> must not use the name of a "
+                                         f"registered Node (BT.CPP): the TreeNodesModel declares {m.type} as "
+                                         f"{'an' if m.kind[0] in 'AE' else 'a'} {m.kind}")
+
+
 def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
             main: str | None = None) -> Document:
     """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
@@ -521,6 +531,7 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     root = reader.document(text, file, (os.path.normpath(file),))
     if not reader.trees:
         _fail(root, "the document defines no <BehaviorTree>")
+    _tree_id_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
     asked = main
     main = main if main is not None else root.get("main_tree_to_execute")
