@@ -511,10 +511,10 @@ def _tree_id_checks(reader: _Reader) -> None:
             if n.type in trees and n.type != "SubTree":
                 where = SourcePos(n.file or t.element.pos.file, n.line, n.column)
                 raise SchemalogError(f"<{n.form or n.type}{f' ID={n.type!r}' if n.form else ''}> names the "
-                                     f"BehaviorTree {n.type} (at {trees[n.type].element.pos}) as a node type; BT.CPP 4 "
-                                     f"refuses it (unregistered: Node not recognized: {n.type}; registered: the tree's "
-                                     f"ID must not use the name of a registered Node): call the tree with "
-                                     f"<SubTree ID=\"{n.type}\"/>", where)
+                                     f"BehaviorTree {n.type} as a node type; BT.CPP 4 refuses it (unregistered: "
+                                     f"Node not recognized: {n.type}; registered: the tree's ID must not use the "
+                                     f"name of a registered Node): call the tree with <SubTree ID=\"{n.type}\"/> "
+                                     f"(the tree is at {trees[n.type].element.pos})", where)
     for m in (*reader.models, *reader.extra):
         if m.kind != "SubTree" and m.type in trees:
             _fail(trees[m.type].element, f"The attribute [ID] of tag <BehaviorTree> must not use the name of a "
