@@ -324,6 +324,23 @@ def test_btcpp_and_schemalog_refuse_the_same_attributes_of_btcpp_nodes(harness, 
         assert _reason(said) == _reason(ours) and "own.xml:3:5" in ours
 
 
+def test_btcpp_checks_ports_only_in_the_trees_it_creates_as_schemalog_does(harness, tmp_path):
+    unused = ('<root BTCPP_format="4" main_tree_to_execute="M">\n  <BehaviorTree ID="M"><AlwaysSuccess/>'
+              '</BehaviorTree>\n  <BehaviorTree ID="U"><Sleep msec="x"/></BehaviorTree>\n</root>\n')
+    for text, loads in ((unused, True), (unused.replace("<AlwaysSuccess/>", '<SubTree ID="U"/>'), False)):
+        path = tmp_path / "two.xml"
+        path.write_text(text)
+        ok, said = load(harness, path, [])
+        assert ok is loads, said
+        try:
+            read_tree(path, [])
+            ours = True
+        except SchemalogError as err:
+            ours = False
+            assert "can not be converted to unsigned int" in str(err) and "can not be converted" in said
+        assert ours is loads
+
+
 # -- (b) compressed and original in BT.CPP -------------------------------------------------------
 
 @pytest.mark.parametrize("stateful", [False, True], ids=["actions", "stateful-actions"])

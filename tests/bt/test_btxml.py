@@ -243,8 +243,13 @@ REFUSED = [
     ("a tree called by its ID as a tag", '<root BTCPP_format="4" main_tree_to_execute="T">\n  <BehaviorTree ID="T">\n'
      '    <Sequence><A/><S/></Sequence>\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/></BehaviorTree>\n</root>',
      (3, 19), "names the BehaviorTree S"),
-    ("a tree named after a model's node", '<root BTCPP_format="4">\n  <BehaviorTree ID="Say"><A/></BehaviorTree>\n'
-     '  <TreeNodesModel><Action ID="Say"/></TreeNodesModel>\n</root>', (2, 3), "registered Node"),
+    ("a generic form under a ReactiveSequence", _tree('<ReactiveSequence>\n      <Action ID="A"/>\n'
+                                                       '    </ReactiveSequence>'), (4, 7), "Unknown node type: Action"),
+    ("two async children of a ReactiveSequence", _tree('<ReactiveSequence>\n      <AsyncSequence><A/></AsyncSequence>'
+                                                        '<AsyncSequence><A/></AsyncSequence>\n    </ReactiveSequence>'),
+     (3, 5), "more than one async child"),
+    ("a generic form naming SubTree", _tree('<Sequence>\n      <Action ID="SubTree"/>\n    </Sequence>'), (4, 7),
+     "Can't find a tree with name: SubTree"),
     ("a BT.CPP 3 spelling", '<root>\n  <BehaviorTree ID="T">\n    <RetryUntilSuccesful num_attempts="2"><A/>'
      '</RetryUntilSuccesful>\n  </BehaviorTree>\n</root>', (3, 5), "BT.CPP 3"),
     ("malformed XML", _tree('<Sequence>\n      <A x="1">\n    </Sequence>'), (5, 7), "malformed XML"),
@@ -268,8 +273,6 @@ BEYOND_BT_CPP = {
     "version 5": "BT.CPP only warns when BTCPP_format is missing and ignores its value",
     "a tree defined twice": "BT.CPP keeps the last tree of an ID silently",
     "subtree containing itself": "BT.CPP recurses until its stack overflows",
-    "a tree named after a model's node": "refused by BT.CPP when the program registers the Action its model "
-                                         "declares; the test registers none",
 }
 
 
@@ -284,6 +287,32 @@ def test_bt_cpp_refuses_them_too(name, text):
         factory.register_simple_action(leaf, lambda node: bt.NodeStatus.SUCCESS)
     with pytest.raises(Exception):
         factory.create_tree_from_text(text)
+
+
+def test_a_tree_named_after_a_node_of_the_nodes_file_is_refused_and_of_its_own_model_read():
+    """A nodes file stands for what the program registers (BT.CPP then refuses the tree's ID); a
+    document's own TreeNodesModel registers nothing in BT.CPP, which loads the document."""
+    text = ('<root BTCPP_format="4">\n  <BehaviorTree ID="Say"><A/></BehaviorTree>\n'
+            '  <TreeNodesModel><Action ID="Say"/></TreeNodesModel>\n</root>')
+    assert read_bt(text, "own.xml").main == "Say"
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text, "own.xml", models=(NodeModel("Say", "Action"),))
+    assert "registered Node" in err.value.message and (err.value.line, err.value.column) == (2, 3)
+
+
+def test_bt_cpp_checks_ports_only_in_the_trees_it_creates():
+    """createNodeFromXML checks ports; a tree the main tree does not reach is never created."""
+    unused = ('<root BTCPP_format="4" main_tree_to_execute="M">\n  <BehaviorTree ID="M"><AlwaysSuccess/>'
+              '</BehaviorTree>\n  <BehaviorTree ID="U"><Sleep msec="x"/></BehaviorTree>\n</root>')
+    assert read_bt(unused, "u.xml").main == "M"
+    reached = unused.replace("<AlwaysSuccess/>", '<SubTree ID="U"/>')
+    with pytest.raises(SchemalogError) as err:
+        read_bt(reached, "u.xml")
+    assert "can not be converted to unsigned int" in err.value.message and (err.value.line, err.value.column) == (3, 24)
+
+
+def test_autoremap_is_read_on_a_subtree_only():
+    assert read_bt(_tree('<Sleep msec="1" _autoremap="maybe"/>'), "a.xml").root.attr("_autoremap") == "maybe"
 
 
 def _files(files: dict[str, str]):

@@ -427,3 +427,11 @@ def test_literal_ports_mean_what_bt_cpp_reads_in_them():
                          "else='success' can not be converted to BT::NodeStatus")):
         ticked = step(program(doc(tree)), initial())
         assert ticked.status is None and words in ticked.error
+    # a port without a default that the node reads when ticked: BT.CPP's tick throws without it
+    for tree, words in ((n("Repeat", act("A")), "Missing parameter [num_cycles] in RepeatNode"),
+                        (n("RetryUntilSuccessful", act("A")), "Missing parameter [num_attempts] in RetryNode"),
+                        (n("Sleep"), "Missing parameter [msec] in SleepNode"),
+                        (n("Timeout", act("A")), "Missing parameter [msec] in TimeoutNode"),
+                        (n("Delay", act("A")), "Missing parameter [delay_msec] in DelayNode")):
+        ticked = step(program(doc(tree)), initial())
+        assert ticked.status is None and words in ticked.error

@@ -22,7 +22,7 @@ works with. Not checked here: whether a script parses (BT.CPP parses `code`, `if
 The conversions are src/basic_types.cpp's convertFromString: integers by std::from_chars, which
 reads the longest prefix ("3.5" is 3, "7 apples" is 7, " 3" and "+3" are refused) and then
 checks the type's bounds; booleans and statuses by exact spelling; doubles by std::stod (a
-prefix after leading space, refused when it overflows or underflows to a subnormal); queues
+prefix after leading space, refused when it overflows or is an inexact subnormal); queues
 `a;b;c` part by part.
 
 >>> convert("int", "3.5"), convert("int", "+3"), convert("unsigned", "-1"), convert("bool", "True")
@@ -33,12 +33,12 @@ from __future__ import annotations
 
 import re
 import sys
+from fractions import Fraction
 from collections.abc import Mapping
 from types import MappingProxyType
 
 _INT32 = (-2**31, 2**31 - 1)
 _UINT32 = (0, 2**32 - 1)
-_INT64 = (-2**63, 2**63 - 1)
 _DIGITS = re.compile(r"-?[0-9]+")
 # std::stod through strtod: leading white space, a sign, then a decimal or hexadecimal number,
 # inf/infinity or nan(chars); the longest such prefix is read
@@ -54,13 +54,23 @@ def _integer(text: str, bounds: tuple[int, int]) -> int | None:
     if m is None:
         return None
     value = int(m.group())
-    if not _INT64[0] <= value <= _INT64[1] or not bounds[0] <= value <= bounds[1]:
-        return None
-    return value
+    return value if bounds[0] <= value <= bounds[1] else None
+
+
+def _exactly(number: str) -> Fraction:
+    """The rational number a decimal or hexadecimal floating literal writes."""
+    sign = -1 if number.startswith("-") else 1
+    digits = number.lstrip("+-").lower()
+    if not digits.startswith("0x"):
+        return sign * Fraction(digits)
+    mantissa, _, exponent = digits[2:].partition("p")
+    whole, _, fraction = mantissa.partition(".")
+    return sign * Fraction(int(whole + fraction or "0", 16), 16 ** len(fraction)) * Fraction(2) ** int(exponent or 0)
 
 
 def _double(text: str) -> float | None:
-    """std::stod: the longest number after leading white space; refused when out of range."""
+    """std::stod: the longest number after leading white space; refused when strtod sets ERANGE,
+    on overflow and on an inexact result below the smallest normal double (glibc)."""
     m = _DOUBLE.match(text)
     if m is None:
         return None
@@ -68,10 +78,14 @@ def _double(text: str) -> float | None:
     digits = number.lstrip("+-").lower()
     if digits.startswith(("inf", "nan")):
         return float(digits[:3]) if number[0] != "-" else -float(digits[:3])
-    value = float.fromhex(number) if digits.startswith("0x") else float(number)
-    mantissa = re.split("p" if digits.startswith("0x") else "e", digits.removeprefix("0x"))[0]
-    if value in (float("inf"), float("-inf")) or (abs(value) < sys.float_info.min and mantissa.strip("0.")):
-        return None                             # ERANGE, subnormals too: std::stod throws out_of_range
+    try:
+        value = float.fromhex(number) if digits.startswith("0x") else float(number)
+    except OverflowError:                       # float.fromhex("0x1p1024")
+        return None
+    if value in (float("inf"), float("-inf")):
+        return None
+    if abs(value) < sys.float_info.min and Fraction(value) != _exactly(number):
+        return None
     return value
 
 

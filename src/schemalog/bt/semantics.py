@@ -316,6 +316,13 @@ def _int(n: PNode, port: str, default: int, port_type: str = "int") -> int:
     return _literal(n, port, port_type, default)
 
 
+def _required(n: PNode, port: str, where: str) -> None:
+    """A port without a default that the node reads when ticked: absent, BT.CPP's tick throws
+    "Missing parameter [port] in where"."""
+    if n.node.attr(port) is None:
+        raise TreeError(f"{n.node.type} {n.node.name!r}: Missing parameter [{port}] in {where} (BT.CPP)")
+
+
 def _bool(n: PNode, port: str, default: bool) -> bool:
     return _literal(n, port, "bool", default)
 
@@ -364,7 +371,8 @@ def _sleep(run: _Run, n: PNode) -> Status:
     # RUNNING until the timer fires (the environment's choice of when)
     msec = n.node.attr("msec")
     if run.status(n) is not RUNNING:
-        if msec is not None and not _is_ref(msec) and _int(n, "msec", 0, "unsigned") <= 0:
+        _required(n, "msec", "SleepNode")
+        if not _is_ref(msec) and _int(n, "msec", 0, "unsigned") <= 0:
             return SUCCESS
         run.event("time", n, (None,))              # the timer starts
         return RUNNING
@@ -826,6 +834,7 @@ def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Stat
     done = SUCCESS if again is FAILURE else FAILURE
 
     def tick(run: _Run, n: PNode) -> Status:
+        _required(n, port, "RepeatNode" if again is SUCCESS else "RetryNode")
         turns = _int(n, port, 0)
         count = run.get(n, key)
         loop = count < turns or turns == -1
@@ -881,8 +890,9 @@ def _timeout(run: _Run, n: PNode) -> Status:
     # TimeoutNode::tick (src/decorators/timeout_node.cpp): the timer starts at the first tick;
     # if it fires while the child is RUNNING the child is halted and the node fails. When it
     # fires is the environment's choice, asked before each later tick while the child runs.
+    _required(n, "msec", "TimeoutNode")
     msec = n.node.attr("msec")
-    armed = msec is None or _is_ref(msec) or _int(n, "msec", 0, "unsigned") > 0
+    armed = _is_ref(msec) or _int(n, "msec", 0, "unsigned") > 0
     child = n.kids[0]
     if not run.get(n, "started"):
         run.put(n, "started", True)
@@ -902,6 +912,9 @@ def _delay(run: _Run, n: PNode) -> Status:
     # DelayNode::tick (src/decorators/delay_node.cpp): the first tick starts the timer and
     # returns RUNNING; later ticks return RUNNING until it fired (the environment's choice),
     # then tick the child until it completes
+    _required(n, "delay_msec", "DelayNode")
+    if not _is_ref(n.node.attr("delay_msec")):
+        _int(n, "delay_msec", 0, "unsigned")
     if not run.get(n, "started"):
         run.put(n, "started", True)
         run.put(n, "complete", False)

@@ -49,9 +49,10 @@ form or <SubTree> without ID, an ID on any other node, a <BehaviorTree> without 
 children, a leaf with children, a <SubTree> with children or naming no tree, a SubTree model's
 mandatory port left unremapped, an `_autoremap` that is not a boolean, a main tree that does not
 exist, an <include> without path or through ros_pkg (no ROS package index here), a tree's ID used
-as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a model), and on
-BT.CPP's own nodes a port they do not declare, a literal that does not convert or a port their
-constructor needs (bt/ports.py). Beyond BT.CPP,
+as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a nodes file), a
+generic form as a ReactiveSequence's child, and, in the trees BT.CPP creates (the main tree and
+the SubTrees it reaches), a node of BT.CPP's own with a port it does not declare, a literal that
+does not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
 and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
 includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
 end), and two trees with one ID (BT.CPP keeps the last silently).
@@ -443,10 +444,11 @@ class _Reader:
             _fail(element, f"Attribute [ID] is not allowed in <{tag}> (BT.CPP): only <Action>, <Condition>, "
                            f"<Control>, <Decorator> and <SubTree> have one")
         children = tuple(self.node(c) for c in element.children)
-        autoremap = element.get("_autoremap")
-        if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
-            _fail(element, f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)")
         if tag == "SubTree":
+            # BT.CPP reads _autoremap on a SubTree only (another node ignores it)
+            autoremap = element.get("_autoremap")
+            if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
+                _fail(element, f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)")
             if children:
                 _fail(element, f"<SubTree> with ID '{node_id}' should not have any child")
             if node_id in BUILTIN:
@@ -455,6 +457,9 @@ class _Reader:
             return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column, element.pos.file)
         generic = tag in GENERIC
         node_type = node_id if generic else tag
+        if generic and node_type == "SubTree":
+            _fail(element, f"<{tag} ID=\"SubTree\"> (BT.CPP: Can't find a tree with name: SubTree): a tree is "
+                           f"called with <SubTree ID=\"TreeID\"/>")
         kind = self.kind(node_type, tag if generic else "")
         count = len(children)
         if kind == "Decorator" and count != 1:
@@ -463,26 +468,39 @@ class _Reader:
             _fail(element, f"The node '{node_type}' must have 1 or more children (a control node)")
         if kind in ("Action", "Condition") and count:
             _fail(element, f"The node '{node_type}' must not have any child (an {kind.lower()})")
-        why = refusal(node_type, element.attrs)
-        if why is not None:
-            _fail(element, why)
+        if node_type == "ReactiveSequence":
+            # VerifyXML looks a ReactiveSequence's children up by tag, so a generic form is an
+            # unknown node there, and counts its async children (of BT.CPP's own, AsyncSequence)
+            for child in element.children:
+                if child.tag in GENERIC:
+                    _fail(child, f"Unknown node type: {child.tag} (BT.CPP: a ReactiveSequence's children are "
+                                 f"looked up by tag; write <{child.get('ID')}/>)")
+            if sum(c.tag == "AsyncSequence" for c in element.children) > 1:
+                _fail(element, "A ReactiveSequence cannot have more than one async child (BT.CPP)")
         attrs = tuple((k, v) for k, v in element.attrs if not (generic and k == "ID"))
         return Node(node_type, attrs, children, tag if generic else "", element.pos.line, element.pos.column,
                     element.pos.file)
 
 
 def _subtree_checks(reader: _Reader, main: str) -> None:
-    """Refuse a SubTree, reachable from the main tree, that names no tree, contains itself or
-    leaves a mandatory port of its model unremapped."""
+    """Check the trees BT.CPP creates, the main tree and the SubTrees it reaches, node by node in
+    the order createNodeFromXML meets them: a node of BT.CPP's own with attributes it refuses
+    (bt/ports.py), a SubTree that names no tree, contains itself or leaves a mandatory port of
+    its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
+    in it.)"""
     trees = {t.id: t for t in reader.trees}
     models = {m.type: m for m in (*reader.models, *reader.extra) if m.kind == "SubTree"}
+    done: set[str] = set()
 
     def visit(tree_id: str, path: tuple[str, ...]) -> None:
         for n in walk(trees[tree_id].root):
+            where = SourcePos(n.file or trees[tree_id].element.pos.file, n.line, n.column)
+            why = refusal(n.type, n.attrs) if n.type != "SubTree" or n.form else None
+            if why is not None:
+                raise SchemalogError(why, where)
             if n.type != "SubTree" or n.form:
                 continue
             target = n.attr("ID")
-            where = SourcePos(trees[tree_id].element.pos.file, n.line, n.column)
             if target not in trees:
                 raise SchemalogError(f"<SubTree ID=\"{target}\"> names no BehaviorTree (BT.CPP: Can't find a "
                                      f"tree with name: {target})", where)
@@ -496,7 +514,9 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
                         raise SchemalogError(f"In the <TreeNodesModel> the <Subtree ID=\"{target}\"> is defining a "
                                              f"mandatory port called [{port.name}], but you are not remapping it",
                                              where)
-            visit(target, (*path, target))
+            if target not in done:          # checked whole once: no cycle below it either
+                visit(target, (*path, target))
+        done.add(tree_id)
 
     visit(main, (main,))
 
@@ -515,10 +535,12 @@ def _tree_id_checks(reader: _Reader) -> None:
                                      f"Node not recognized: {n.type}; registered: the tree's ID must not use the "
                                      f"name of a registered Node): call the tree with <SubTree ID=\"{n.type}\"/> "
                                      f"(the tree is at {trees[n.type].element.pos})", where)
-    for m in (*reader.models, *reader.extra):
+    # a nodes file (`models`) stands for what the program registers; a document's own
+    # TreeNodesModel registers nothing in BT.CPP, so a tree may share a name with one of its entries
+    for m in reader.extra:
         if m.kind != "SubTree" and m.type in trees:
             _fail(trees[m.type].element, f"The attribute [ID] of tag <BehaviorTree> must not use the name of a "
-                                         f"registered Node (BT.CPP): the TreeNodesModel declares {m.type} as "
+                                         f"registered Node (BT.CPP): the nodes file declares {m.type} as "
                                          f"{'an' if m.kind[0] in 'AE' else 'a'} {m.kind}")
 
 
