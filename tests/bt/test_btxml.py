@@ -311,6 +311,29 @@ def test_bt_cpp_checks_ports_only_in_the_trees_it_creates():
     assert "can not be converted to unsigned int" in err.value.message and (err.value.line, err.value.column) == (3, 24)
 
 
+# Checked by createNodeFromXML or recursivelyCreateSubtree, so only in the trees BT.CPP creates
+# (found by tests/bt/test_btcpp_harness.py's generated documents: BT.CPP 4.8.2 loads each in a
+# tree the main tree does not reach).
+CREATED_ONLY = [
+    ('<AlwaysSuccess ID="x"/>', "Attribute [ID] is not allowed in <AlwaysSuccess>"),
+    ('<Sequence ID="x"><AlwaysSuccess/></Sequence>', "Attribute [ID] is not allowed in <Sequence>"),
+    ('<Foo ID="Foo"/>', "Attribute [ID] is not allowed in <Foo>"),
+    ('<SubTree ID="M" _autoremap="yes"/>', "not a boolean"),
+    ('<Action ID="SubTree"/>', "Can't find a tree with name: SubTree"),
+]
+
+
+@pytest.mark.parametrize("body,words", CREATED_ONLY, ids=[w for _, w in CREATED_ONLY])
+def test_bt_cpp_checks_ids_autoremap_and_subtree_forms_only_in_the_trees_it_creates(body, words):
+    unused = ('<root BTCPP_format="4" main_tree_to_execute="M">\n  <BehaviorTree ID="M"><AlwaysSuccess/>'
+              f'</BehaviorTree>\n  <BehaviorTree ID="U">{body}</BehaviorTree>\n</root>')
+    assert read_bt(unused, "u.xml").main == "M"
+    reached = unused.replace("<AlwaysSuccess/>", '<SubTree ID="U"/>', 1)
+    with pytest.raises(SchemalogError) as err:
+        read_bt(reached, "u.xml")
+    assert words in err.value.message and (err.value.line, err.value.column) == (3, 24)
+
+
 def test_autoremap_is_read_on_a_subtree_only():
     assert read_bt(_tree('<Sleep msec="1" _autoremap="maybe"/>'), "a.xml").root.attr("_autoremap") == "maybe"
 

@@ -43,16 +43,18 @@ main_tree_to_execute, else the only tree. Node types that
 BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
-form or <SubTree> without ID, an ID on any other node, a <BehaviorTree> without exactly one child
+form or <SubTree> without ID, a <BehaviorTree> without exactly one child
 (or without an ID beside other elements, or named after a registered node), a second
 <TreeNodesModel> in one file, a decorator without exactly one child, a control node without
-children, a leaf with children, a <SubTree> with children or naming no tree, a SubTree model's
-mandatory port left unremapped, an `_autoremap` that is not a boolean, a main tree that does not
+children, a leaf with children, a <SubTree> with children, a main tree that does not
 exist, an <include> without path or through ros_pkg (no ROS package index here), a tree's ID used
 as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a nodes file), a
-generic form as a ReactiveSequence's child, and, in the trees BT.CPP creates (the main tree and
-the SubTrees it reaches), a node of BT.CPP's own with a port it does not declare, a literal that
-does not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
+generic form as a ReactiveSequence's child, and, only in the trees BT.CPP creates (the main tree
+and the SubTrees it reaches: createNodeFromXML and recursivelyCreateSubtree check nothing else),
+an ID on a tag other than the generic forms and <SubTree>, a generic form naming SubTree, a
+<SubTree> naming no tree, an `_autoremap` that is not a boolean, a SubTree model's mandatory port
+left unremapped, and a node of BT.CPP's own with a port it does not declare, a literal that does
+not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
 and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
 includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
 end), and two trees with one ID (BT.CPP keeps the last silently).
@@ -440,15 +442,10 @@ class _Reader:
             _fail(element, f"The tag <{tag}> must have the attribute [ID]")
         if tag == "BehaviorTree":
             _fail(element, "a <BehaviorTree> inside a tree: trees are defined under <root> and used by <SubTree>")
-        if tag not in (*GENERIC, "SubTree") and node_id is not None:
-            _fail(element, f"Attribute [ID] is not allowed in <{tag}> (BT.CPP): only <Action>, <Condition>, "
-                           f"<Control>, <Decorator> and <SubTree> have one")
+        # an ID on another tag, an _autoremap that is not a boolean and a generic form naming
+        # SubTree are refused where BT.CPP creates the node only (_subtree_checks)
         children = tuple(self.node(c) for c in element.children)
         if tag == "SubTree":
-            # BT.CPP reads _autoremap on a SubTree only (another node ignores it)
-            autoremap = element.get("_autoremap")
-            if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
-                _fail(element, f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)")
             if children:
                 _fail(element, f"<SubTree> with ID '{node_id}' should not have any child")
             if node_id in BUILTIN:
@@ -457,9 +454,6 @@ class _Reader:
             return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column, element.pos.file)
         generic = tag in GENERIC
         node_type = node_id if generic else tag
-        if generic and node_type == "SubTree":
-            _fail(element, f"<{tag} ID=\"SubTree\"> (BT.CPP: Can't find a tree with name: SubTree): a tree is "
-                           f"called with <SubTree ID=\"TreeID\"/>")
         kind = self.kind(node_type, tag if generic else "")
         count = len(children)
         if kind == "Decorator" and count != 1:
@@ -484,9 +478,10 @@ class _Reader:
 
 def _subtree_checks(reader: _Reader, main: str) -> None:
     """Check the trees BT.CPP creates, the main tree and the SubTrees it reaches, node by node in
-    the order createNodeFromXML meets them: a node of BT.CPP's own with attributes it refuses
-    (bt/ports.py), a SubTree that names no tree, contains itself or leaves a mandatory port of
-    its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
+    the order createNodeFromXML meets them: an ID on a tag that takes none, a generic form naming
+    SubTree, a node of BT.CPP's own with attributes it refuses (bt/ports.py), a SubTree whose
+    _autoremap is not a boolean, that names no tree, contains itself or leaves a mandatory port
+    of its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
     in it.)"""
     trees = {t.id: t for t in reader.trees}
     models = {m.type: m for m in (*reader.models, *reader.extra) if m.kind == "SubTree"}
@@ -495,12 +490,23 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     def visit(tree_id: str, path: tuple[str, ...]) -> None:
         for n in walk(trees[tree_id].root):
             where = SourcePos(n.file or trees[tree_id].element.pos.file, n.line, n.column)
+            if not n.form and n.type != "SubTree" and n.attr("ID") is not None:
+                raise SchemalogError(f"Attribute [ID] is not allowed in <{n.type}> (BT.CPP): only <Action>, "
+                                     f"<Condition>, <Control>, <Decorator> and <SubTree> have one", where)
+            if n.form and n.type == "SubTree":
+                raise SchemalogError(f"<{n.form} ID=\"SubTree\"> (BT.CPP: Can't find a tree with name: SubTree): "
+                                     f"a tree is called with <SubTree ID=\"TreeID\"/>", where)
             why = refusal(n.type, n.attrs) if n.type != "SubTree" or n.form else None
             if why is not None:
                 raise SchemalogError(why, where)
             if n.type != "SubTree" or n.form:
                 continue
             target = n.attr("ID")
+            # BT.CPP reads _autoremap on a SubTree only (another node ignores it)
+            autoremap = n.attr("_autoremap")
+            if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
+                raise SchemalogError(f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)",
+                                     where)
             if target not in trees:
                 raise SchemalogError(f"<SubTree ID=\"{target}\"> names no BehaviorTree (BT.CPP: Can't find a "
                                      f"tree with name: {target})", where)
