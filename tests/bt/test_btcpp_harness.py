@@ -517,7 +517,13 @@ def documents(draw) -> tuple[str, str | None, set[str]]:
         target = draw(st.sampled_from(tree_ids))
         port = draw(st.sampled_from(['<input_port name="x"/>', '<input_port name="x" default="1"/>',
                                      '<output_port name="goal"/>', ""]))
-        models = f'\n  <TreeNodesModel><SubTree ID="{target}">{port}</SubTree></TreeNodesModel>'
+        entries = f'<SubTree ID="{target}">{port}</SubTree>'
+        if draw(st.integers(0, 2)) == 0:        # a custom type declared again, its kind maybe another
+            t = draw(st.sampled_from(sorted(DOC_KIND)))
+            k = draw(st.sampled_from(["Action", "Condition", "Control", "Decorator"]))
+            entries += f'<{k} ID="{t}"/>'
+            uses.add("the document's model of a custom type" + (" (another kind)" if k != DOC_KIND[t] else ""))
+        models = f'\n  <TreeNodesModel>{entries}</TreeNodesModel>'
         if draw(st.integers(0, 19)) == 0:
             models += "\n  <TreeNodesModel/>"
             uses.add("two TreeNodesModel")

@@ -334,6 +334,21 @@ def test_bt_cpp_checks_ids_autoremap_and_subtree_forms_only_in_the_trees_it_crea
     assert words in err.value.message and (err.value.line, err.value.column) == (3, 24)
 
 
+def test_a_node_types_kind_is_the_nodes_files_not_the_documents_own_model():
+    """BT.CPP goes by the registered kind; a document's own TreeNodesModel registers nothing, so
+    its entry of another kind changes nothing (found by the harness's generated documents)."""
+    text = _tree("<Sequence>\n      <Act/>\n    </Sequence>", '\n  <TreeNodesModel><Control ID="Act"/></TreeNodesModel>')
+    registered = (NodeModel("Act", "Action", (Port("input", "p"),)),)
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text, "k.xml")                          # unregistered: the document's model says Control
+    assert "1 or more children" in err.value.message and (err.value.line, err.value.column) == (4, 7)
+    document = read_bt(text, "k.xml", models=registered)
+    assert document.model("Act") == NodeModel("Act", "Action")
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text.replace("<Act/>", "<Act><Act/></Act>"), "k.xml", models=registered)
+    assert "must not have any child" in err.value.message
+
+
 def test_autoremap_is_read_on_a_subtree_only():
     assert read_bt(_tree('<Sleep msec="1" _autoremap="maybe"/>'), "a.xml").root.attr("_autoremap") == "maybe"
 

@@ -364,10 +364,11 @@ class _Reader:
         self.v3_hint = False
 
     def kind(self, node_type: str, form: str) -> str | None:
-        """Return a node type's kind: BT.CPP's own, a model's, the generic form's, or None (opaque)."""
+        """Return a node type's kind: BT.CPP's own, a nodes file's (what the program registers, which
+        BT.CPP goes by), the document's own model's, the generic form's, or None (opaque)."""
         if node_type in BUILTIN:
             return BUILTIN[node_type]
-        for m in (*self.models, *self.extra):
+        for m in (*self.extra, *self.models):
             if m.type == node_type:
                 return m.kind
         return form or None
@@ -553,7 +554,9 @@ def _tree_id_checks(reader: _Reader) -> None:
 def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
             main: str | None = None) -> Document:
     """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
-    node models from elsewhere (a nodes file) that the document's own models take precedence over,
+    node models from elsewhere (a nodes file: what the program registers) that the document's own
+    models take precedence over, except for a node type's kind, which BT.CPP takes from the
+    registration (the document's TreeNodesModel registers nothing),
     `main` names the tree to run as BT.CPP's createTree(name) does (default: as createTreeFromText)."""
     reader = _Reader(read, tuple(models))
     root = reader.document(text, file, (os.path.normpath(file),))
@@ -573,7 +576,10 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
         named = f"the tree {main!r} asked for" if asked is not None else f"main_tree_to_execute=\"{main}\""
         _fail(root, f"{named} names no BehaviorTree; the document's trees: {ids}")
     _subtree_checks(reader, main)
-    own = tuple(reader.models)
+    # the document's own models first, but each with the kind a nodes file registers its type as
+    registered = {m.type: m.kind for m in reversed(reader.extra) if m.kind != "SubTree"}
+    own = tuple(NodeModel(m.type, registered.get(m.type, m.kind), m.ports) if m.kind != "SubTree" else m
+                for m in reader.models)
     merged = own + tuple(m for m in reader.extra if all(m.type != k.type for k in own))
     return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes))
 
