@@ -430,7 +430,7 @@ class _DocGen:
             self.uses.add("SubTree")
             target = self.pick(later)
             attrs = ""
-            for k in self.draw(st.lists(st.sampled_from(["x", "goal", "p", "name", "_autoremap"]), max_size=2,
+            for k in self.draw(st.lists(st.sampled_from(["x", "goal", "p", "name", "_autoremap", "_y"]), max_size=2,
                                         unique=True)):
                 v = self.pick(["true", "false", "1", "yes"]) if k == "_autoremap" else self.pick(REMAP_VALUES)
                 if k == "_autoremap":
@@ -445,10 +445,19 @@ class _DocGen:
             self.uses.add(f"own {kind}{' (generic)' if generic else ''}")
             inner = self.children(kind, depth, tree) if not leaf_only else ""
             if node_type == "ReactiveSequence" and inner and self.chance(3):
-                inner += f'<Action ID="{self.pick(["Act0", "Act1", "AlwaysSuccess"])}"/>'
-                self.uses.add("generic under ReactiveSequence")
+                extra = self.pick(["generic", "async", "tree"])
+                inner += {"generic": f'<Action ID="{self.pick(["Act0", "Act1", "AlwaysSuccess"])}"/>',
+                          "async": "<AsyncSequence><Act1/></AsyncSequence>" * self.draw(st.integers(1, 2)),
+                          "tree": f"<{self.pick([t for t in self.tree_ids if t] or ['Act1'])}/>"}[extra]
+                self.uses.add(f"ReactiveSequence with a {extra} child")
             attrs = self.attrs_of_own(node_type)
+            if self.chance(20):
+                attrs += ' _autoremap="maybe"'             # read on a <SubTree> only
+                self.uses.add("_autoremap on another node")
             if generic:
+                if self.chance(8):                         # a form of another kind: BT.CPP goes by the type
+                    kind = self.pick([g for g in ("Action", "Condition", "Control", "Decorator") if g != kind])
+                    self.uses.add("own type in a generic form of another kind")
                 return self.element(kind, f'{kind} ID="{node_type}"{attrs}', inner)
             return self.element(node_type, f"{node_type}{attrs}", inner)
         node_type = self.pick([t for t, k in DOC_KIND.items() if k in ("Action", "Condition")] if leaf_only
@@ -472,7 +481,7 @@ class _DocGen:
                           "SubTree to no tree", "SubTree to itself or before"])
         self.uses.add(f"rare: {case}")
         if case == "tree as tag":
-            return f"<{self.pick(self.tree_ids)}/>"
+            return f"<{self.pick([t for t in self.tree_ids if t] or ['Act1'])}/>"
         if case == "ID on a tag":
             return self.pick(['<AlwaysSuccess ID="x"/>', '<Act1 ID="Act1"/>', '<Sequence ID="Sequence"><Act1/></Sequence>'])
         if case == "generic without ID":
@@ -499,6 +508,10 @@ def documents(draw) -> tuple[str, str | None, set[str]]:
     unnamed = n == 1 and not with_models and draw(st.integers(0, 3)) == 0
     tree_ids = ["BehaviorTree_0"] if unnamed else [f"T{i}" for i in range(n)]
     uses: set[str] = set()
+    empty_id = n == 1 and not unnamed and draw(st.integers(0, 19)) == 0      # ID="": named ""
+    if empty_id:
+        tree_ids = [""]
+        uses.add('a tree with ID=""')
     if not unnamed and draw(st.integers(0, 19)) == 0:
         k = draw(st.integers(0, n - 1))
         tree_ids[k] = draw(st.sampled_from(["Act1", "Sequence", "SubTree"]))
@@ -560,15 +573,15 @@ def test_btcpp_loads_exactly_the_generated_documents_schemalog_reads(harness, do
         nodes.write_text(models_xml(DOC_CUSTOM))
         ok, said = load(harness, path, [nodes], main)
     try:
-        read_bt(text, "doc.xml", models=DOC_CUSTOM, main=main)
-        ours = None
+        ours, main_read = None, read_bt(text, "doc.xml", models=DOC_CUSTOM, main=main).main
     except SchemalogError as err:
-        ours = str(err)
-    note(f"{text}main={main}\nBT.CPP: {'loads' if ok else said}\nschemalog: {ours}")
+        ours, main_read = str(err), None
+    note(f"{text}main={main}\nBT.CPP: {'loads ' + said if ok else said}\nschemalog: {ours or 'reads ' + main_read}")
     for u in sorted(uses):
         event(u)
     event("BT.CPP loads" if ok else "BT.CPP refuses")
     assert ok == (ours is None), (text, main, said, ours)
+    assert not ok or main_read == said, (text, main, said, main_read)      # the same tree runs
 
 
 # -- (b) compressed and original in BT.CPP -------------------------------------------------------

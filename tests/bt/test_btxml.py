@@ -349,6 +349,18 @@ def test_a_node_types_kind_is_the_nodes_files_not_the_documents_own_model():
     assert "must not have any child" in err.value.message
 
 
+def test_a_tree_with_an_empty_id_is_named_the_empty_string_as_bt_cpp_names_it():
+    """BT.CPP names a tree BehaviorTree_N only without the attribute; ID="" is the tree "", which
+    main_tree_to_execute="" names (found by the harness's generated documents)."""
+    text = '<root BTCPP_format="4">\n  <BehaviorTree ID="">\n    <A/>\n  </BehaviorTree>\n</root>'
+    assert read_bt(text, "e.xml").main == ""
+    assert read_bt(text.replace('"4"', '"4" main_tree_to_execute=""'), "e.xml").main == ""
+    assert read_bt(text.replace(' ID=""', ""), "e.xml").main == "BehaviorTree_0"
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text.replace("</root>", "<TreeNodesModel/></root>"), "e.xml")
+    assert "[ID]" in err.value.message
+
+
 def test_autoremap_is_read_on_a_subtree_only():
     assert read_bt(_tree('<Sleep msec="1" _autoremap="maybe"/>'), "a.xml").root.attr("_autoremap") == "maybe"
 

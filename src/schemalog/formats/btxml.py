@@ -38,7 +38,7 @@ is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml
 every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names
-it. The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
+it (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
 main_tree_to_execute, else the only tree. Node types that
 BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
@@ -416,10 +416,10 @@ class _Reader:
     def tree(self, element: _Element, elements: int) -> None:
         """Register one <BehaviorTree>."""
         tree_id = element.get("ID")
-        if not tree_id:
-            if elements > 1:
-                _fail(element, "The tag <BehaviorTree> must have the attribute [ID] (BT.CPP: an unnamed tree "
-                               "must be the only element of <root>)")
+        if not tree_id and elements > 1:
+            _fail(element, "The tag <BehaviorTree> must have the attribute [ID] (BT.CPP: an unnamed tree "
+                           "must be the only element of <root>)")
+        if tree_id is None:                     # ID="" names the tree "" (BT.CPP's loadDocImpl)
             tree_id = f"BehaviorTree_{self.suffix}"
             self.suffix += 1
         if tree_id in BUILTIN:
