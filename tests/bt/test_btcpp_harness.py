@@ -500,8 +500,9 @@ class _DocGen:
 
 
 @st.composite
-def documents(draw) -> tuple[str, str | None, set[str]]:
-    """A whole document (1-3 trees, models or not, main or not), the main to ask for, what it uses."""
+def documents(draw) -> tuple[str, str | None, str | None, set[str]]:
+    """A whole document (1-3 trees, models or not, main or not), the file it includes (inc.xml) or
+    None, the main to ask for, what it uses."""
     n = draw(st.integers(1, 3))
     with_models = draw(st.integers(0, 3)) == 0
     # one tree without an ID, the only element of <root>: BT.CPP names it BehaviorTree_0
@@ -516,6 +517,12 @@ def documents(draw) -> tuple[str, str | None, set[str]]:
         k = draw(st.integers(0, n - 1))
         tree_ids[k] = draw(st.sampled_from(["Act1", "Sequence", "SubTree"]))
         uses.add(f"tree named {tree_ids[k]}")
+    # the last tree in a file of its own that the document includes (without an ID sometimes:
+    # BT.CPP reads the included file first, so that tree is BehaviorTree_0)
+    include = n >= 2 and draw(st.integers(0, 3)) == 0
+    if include and draw(st.integers(0, 2)) == 0:
+        tree_ids[-1] = "BehaviorTree_0"
+        uses.add("an included unnamed tree")
     gen = _DocGen(draw, tree_ids)
     bodies = []
     for i in range(n):
@@ -550,11 +557,19 @@ def documents(draw) -> tuple[str, str | None, set[str]]:
     uses.add(f"main: {main_choice}")
     if unnamed:
         uses.add("an unnamed tree")
-    trees = "".join(f'\n  <BehaviorTree{"" if unnamed else f" ID={xml_attribute(t)}"}>\n    {b}\n  </BehaviorTree>'
-                    for t, b in zip(tree_ids, bodies))
+    def tree(t: str, b: str, unnamed: bool) -> str:
+        return f'\n  <BehaviorTree{"" if unnamed else f" ID={xml_attribute(t)}"}>\n    {b}\n  </BehaviorTree>'
+
+    included = None
+    if include:
+        included = f'<root BTCPP_format="4">{tree(tree_ids[-1], bodies[-1], tree_ids[-1] == "BehaviorTree_0")}\n</root>\n'
+        tree_ids, bodies = tree_ids[:-1], bodies[:-1]
+        uses.add("an include")
+    trees = "".join(tree(t, b, unnamed) for t, b in zip(tree_ids, bodies))
     uses |= gen.uses
     uses.add(f"{n} trees")
-    return f"{head}>{trees}{models}\n</root>\n", main, uses
+    return f"{head}>{trees}{models}" + ('\n  <include path="inc.xml"/>' if include else "") + "\n</root>\n", \
+        included, main, uses
 
 
 @settings(max_examples=int(os.environ.get("SCHEMALOG_DOC_EXAMPLES", "200")), deadline=None,
@@ -566,17 +581,22 @@ def test_btcpp_loads_exactly_the_generated_documents_schemalog_reads(harness, do
     trees' IDs as tags, wrong child counts, main named or not: BT.CPP 4.8.2 loads the document
     (and creates its main tree) exactly when read_bt, given the same models and main, raises no
     SchemalogError; read_bt raises nothing else."""
-    text, main, uses = doc
+    text, included, main, uses = doc
     with tempfile.TemporaryDirectory() as scratch:
         path, nodes = Path(scratch) / "doc.xml", Path(scratch) / "nodes.xml"
         path.write_text(text)
+        if included is not None:
+            (Path(scratch) / "inc.xml").write_text(included)
         nodes.write_text(models_xml(DOC_CUSTOM))
         ok, said = load(harness, path, [nodes], main)
-    try:
-        ours, main_read = None, read_bt(text, "doc.xml", models=DOC_CUSTOM, main=main).main
-    except SchemalogError as err:
-        ours, main_read = str(err), None
-    note(f"{text}main={main}\nBT.CPP: {'loads ' + said if ok else said}\nschemalog: {ours or 'reads ' + main_read}")
+
+        def read(name: str) -> str:
+            return (Path(scratch) / name).read_text()
+        try:
+            ours, main_read = None, read_bt(text, "doc.xml", read, models=DOC_CUSTOM, main=main).main
+        except SchemalogError as err:
+            ours, main_read = str(err), None
+    note(f"{text}{included or ''}main={main}\nBT.CPP: {'loads ' + said if ok else said}\nschemalog: {ours or 'reads ' + main_read}")
     for u in sorted(uses):
         event(u)
     event("BT.CPP loads" if ok else "BT.CPP refuses")
