@@ -356,6 +356,8 @@ def test_a_tree_with_an_empty_id_is_named_the_empty_string_as_bt_cpp_names_it():
     assert read_bt(text, "e.xml").main == ""
     assert read_bt(text.replace('"4"', '"4" main_tree_to_execute=""'), "e.xml").main == ""
     assert read_bt(text.replace(' ID=""', ""), "e.xml").main == "BehaviorTree_0"
+    with pytest.raises(SchemalogError):     # main="" is no main asked for, as createTree("") is
+        read_bt(text.replace('"4"', '"4" main_tree_to_execute="M"'), "e.xml", main="")
     with pytest.raises(SchemalogError) as err:
         read_bt(text.replace("</root>", "<TreeNodesModel/></root>"), "e.xml")
     assert "[ID]" in err.value.message

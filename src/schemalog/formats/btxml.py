@@ -557,15 +557,15 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     node models from elsewhere (a nodes file: what the program registers) that the document's own
     models take precedence over, except for a node type's kind, which BT.CPP takes from the
     registration (the document's TreeNodesModel registers nothing),
-    `main` names the tree to run as BT.CPP's createTree(name) does (default: as createTreeFromText)."""
+    `main` names the tree to run as BT.CPP's createTree(name) does (default, "" too: as createTreeFromText)."""
     reader = _Reader(read, tuple(models))
     root = reader.document(text, file, (os.path.normpath(file),))
     if not reader.trees:
         _fail(root, "the document defines no <BehaviorTree>")
     _tree_id_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
-    asked = main
-    main = main if main is not None else root.get("main_tree_to_execute")
+    asked = main or None                # createTree("") is createTree(): the default main tree
+    main = asked if asked is not None else root.get("main_tree_to_execute")
     if main is None:
         if len(reader.trees) != 1:
             _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
