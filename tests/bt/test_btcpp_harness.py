@@ -361,6 +361,10 @@ DOC_VALUES = [v for v in VALUES if v != "{=}"]
 GOOD_VALUE = {"int": "3", "unsigned": "3", "bool": "true", "double": "0.5", "status": "SUCCESS", "text": "x",
               "any": "x", "queue:int": "1;2", "queue:bool": "true;0", "queue:double": "0.5;1",
               "queue:text": "a;b"}
+# attribute values as written in the file: character references, entities, & and < as tinyxml2
+# takes them, single quotes
+RAW_VALUES = ['"&#51;"', '"&#x33;"', '"&#X33;"', '"3&amp;"', '"&quot;&b"', "'1'", '"&#49;&#48;"', '"1&2"',
+              '"&lt;3"', '"&#0;"', '"3&#10;"', '"&#32;3"', '"t&#114;ue"']
 REMAP_VALUES = ["{x}", "{=}", "1", "hello", "{goal}", ""]
 REQUIRED_PORTS = {"Script": "code", "ScriptCondition": "code", "Precondition": "if", "LoopInt": "queue",
                   "LoopBool": "queue", "LoopDouble": "queue", "LoopString": "queue", "SkipUnlessUpdated": "entry",
@@ -412,7 +416,14 @@ class _DocGen:
                 v = self.pick(DOC_VALUES)
             if v == "{bb}":
                 v, self.keys = f"{{bb{self.keys}}}", self.keys + 1
+            if k not in SCRIPT_PORTS and self.chance(8):       # as written, read as tinyxml2 reads it
+                out += f" {k}={self.pick(RAW_VALUES)}"
+                self.uses.add("a value with references")
+                continue
             out += f" {k}={xml_attribute(v)}"
+        if self.chance(15):
+            out += ' _foo="1"'                                # not a port name: BT.CPP ignores it
+            self.uses.add("an _-attribute")
         if self.chance(10):
             out += f' {self.pick(["_skipIf", "_while", "_onSuccess"])}={xml_attribute(self.pick(["true", "false", "B:=2"]))}'
             self.uses.add("pre/post condition")
@@ -427,6 +438,9 @@ class _DocGen:
     def node(self, depth: int, tree: int) -> str:
         """One element (and its children) of tree number `tree`."""
         self.budget += 1
+        if self.chance(30):                                   # BT.CPP's XML reader skips it
+            self.uses.add("a comment")
+            return "<!-- a comment -->" + self.node(depth, tree)
         leaf_only = depth >= 3 or self.budget > 12
         later = self.tree_ids[tree + 1:]
         what = self.pick(["own", "own", "own", "custom", "custom"] + (["subtree", "subtree"] if later else [])
