@@ -252,6 +252,16 @@ REFUSED = [
      "Can't find a tree with name: SubTree"),
     ("a BT.CPP 3 spelling", '<root>\n  <BehaviorTree ID="T">\n    <RetryUntilSuccesful num_attempts="2"><A/>'
      '</RetryUntilSuccesful>\n  </BehaviorTree>\n</root>', (3, 5), "BT.CPP 3"),
+    ("a generic element under root without ID beside a TreeNodesModel",
+     _tree("<A/>", "\n  <TreeNodesModel/>\n  <Action/>"), (6, 3), "The attribute [ID] is mandatory"),
+    ("a subtree model port no attribute can remap", '<root BTCPP_format="4" main_tree_to_execute="T">\n'
+     '  <BehaviorTree ID="T">\n    <SubTree ID="S" name="x"/>\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/>'
+     '</BehaviorTree>\n  <TreeNodesModel><SubTree ID="S"><input_port name="name"/></SubTree></TreeNodesModel>\n'
+     '</root>', (3, 5), "[name]"),
+    ("a port of a second model of a subtree unremapped", '<root BTCPP_format="4" main_tree_to_execute="T">\n'
+     '  <BehaviorTree ID="T">\n    <SubTree ID="S" a="1"/>\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/>'
+     '</BehaviorTree>\n  <TreeNodesModel><SubTree ID="S"><input_port name="a"/></SubTree><SubTree ID="S">'
+     '<input_port name="b"/></SubTree></TreeNodesModel>\n</root>', (3, 5), "[b]"),
     ("malformed XML", _tree('<Sequence>\n      <A x="1">\n    </Sequence>'), (5, 7), "malformed XML"),
     ("an entity", '<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY e "x">]>\n<root/>', None, "entit"),
 ]
@@ -361,6 +371,28 @@ def test_a_tree_with_an_empty_id_is_named_the_empty_string_as_bt_cpp_names_it():
     with pytest.raises(SchemalogError) as err:
         read_bt(text.replace("</root>", "<TreeNodesModel/></root>"), "e.xml")
     assert "[ID]" in err.value.message
+
+
+def test_subtree_model_ports_are_read_as_bt_cpp_reads_them():
+    """loadSubtreeModel: name="" is a port named "" (mandatory, no attribute remaps it), the last
+    port of a name wins, inout after output after input; _autoremap remaps every port. A stray
+    <Foo/> or <SubTree ID=""/> under <root> is ignored (found by the harness's documents)."""
+    def doc(call: str, ports: str, extra: str = "") -> str:
+        return ('<root BTCPP_format="4" main_tree_to_execute="T">\n  <BehaviorTree ID="T">\n    '
+                f'{call}\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/></BehaviorTree>\n  <TreeNodesModel>'
+                f'<SubTree ID="S">{ports}</SubTree></TreeNodesModel>{extra}\n</root>')
+    with pytest.raises(SchemalogError) as err:
+        read_bt(doc('<SubTree ID="S"/>', '<input_port name=""/>'), "s.xml")
+    assert "called [], but" in err.value.message
+    assert read_bt(doc('<SubTree ID="S" _autoremap="1"/>', '<input_port name=""/>'), "s.xml").main == "T"
+    assert read_bt(doc('<SubTree ID="S"/>', '<output_port name="b" default="1"/><input_port name="b"/>'),
+                   "s.xml").main == "T"
+    with pytest.raises(SchemalogError):
+        read_bt(doc('<SubTree ID="S"/>', '<output_port name="b"/><input_port name="b" default="1"/>'), "s.xml")
+    with pytest.raises(SchemalogError):
+        read_bt(doc('<SubTree ID="S"/>', '<input_port name="b" default="1"/><inout_port name="b"/>'), "s.xml")
+    assert read_bt(doc('<SubTree ID="S" b="1"/>', '<input_port name="b"/>', '<Foo/><SubTree ID=""/>'),
+                   "s.xml").main == "T"
 
 
 def test_autoremap_is_read_on_a_subtree_only():

@@ -45,7 +45,9 @@ refuses is refused with file:line:column; the checks follow VerifyXML, createNod
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
 form or <SubTree> without ID, a <BehaviorTree> without exactly one child
 (or without an ID beside other elements, or named after a registered node), a second
-<TreeNodesModel> in one file, a decorator without exactly one child, a control node without
+<TreeNodesModel> in one file, an <Action>, <Condition>, <Control>, <Decorator> or <SubTree>
+right under <root> without ID in a file with a <TreeNodesModel> (VerifyXML looks there, not in
+the TreeNodesModel), a decorator without exactly one child, a control node without
 children, a leaf with children, a <SubTree> with children, a main tree that does not
 exist, an <include> without path or through ros_pkg (no ROS package index here), a tree's ID used
 as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a nodes file), a
@@ -53,7 +55,8 @@ generic form as a ReactiveSequence's child, and, only in the trees BT.CPP create
 and the SubTrees it reaches: createNodeFromXML and recursivelyCreateSubtree check nothing else),
 an ID on a tag other than the generic forms and <SubTree>, a generic form naming SubTree, a
 <SubTree> naming no tree, an `_autoremap` that is not a boolean, a SubTree model's mandatory port
-left unremapped, and a node of BT.CPP's own with a port it does not declare, a literal that does
+left unremapped (the ports of every model of the ID, as loadSubtreeModel merges them; one whose
+name no attribute can carry, `name`, `_a` or "", is never remapped), and a node of BT.CPP's own with a port it does not declare, a literal that does
 not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
 and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
 includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
@@ -76,7 +79,7 @@ from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
-from ..bt.ports import BUILTIN, RESERVED, refusal
+from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
 from ..errors import SchemalogError, SourcePos
 from .btcpp import XNode, parse_xml
 from .quoting import Unquotable, xml_attribute
@@ -327,7 +330,7 @@ def _models(root: _Element) -> list[NodeModel]:
                 if p.tag not in PORT_TAGS:
                     continue
                 name = p.get("name")
-                if not name:
+                if name is None or (not name and entry.tag != "SubTree"):
                     if entry.tag == "SubTree":
                         _fail(p, "Missing attribute [name] in port (SubTree model)")
                     continue
@@ -358,6 +361,7 @@ class _Reader:
         self.read = read
         self.trees: list[_Tree] = []
         self.models: list[NodeModel] = []
+        self.subtree_models: list[NodeModel] = []       # every SubTree entry, in BT.CPP's reading order
         self.extra = models
         self.includes: list[str] = []
         self.suffix = 0
@@ -382,7 +386,16 @@ class _Reader:
         for child in root.children:
             if child.tag == "include":
                 self.include(child, file, chain)
-        self.models.extend(m for m in _models(root) if all(m.type != k.type for k in self.models))
+        if any(c.tag == "TreeNodesModel" for c in root.children):
+            # VerifyXML, when the file has a TreeNodesModel, looks for a missing ID among <root>'s
+            # own children (not the TreeNodesModel's): a stray <Action/> there is refused
+            for child in root.children:
+                if child.tag in (*GENERIC, "SubTree") and child.get("ID") is None:
+                    _fail(child, f"<{child.tag}> under <root> without ID: BT.CPP refuses it in a file with "
+                                 f"a <TreeNodesModel> (The attribute [ID] is mandatory)")
+        own = _models(root)
+        self.subtree_models.extend(m for m in own if m.kind == "SubTree")
+        self.models.extend(m for m in own if all(m.type != k.type for k in self.models))
         elements = len(root.children)
         for child in root.children:
             if child.tag == "BehaviorTree":
@@ -485,7 +498,13 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     of its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
     in it.)"""
     trees = {t.id: t for t in reader.trees}
-    models = {m.type: m for m in (*reader.models, *reader.extra) if m.kind == "SubTree"}
+    # BT.CPP's subtree_models: the ports of every entry of an ID, read file by file (includes
+    # first), input ports, then output, then inout ports; a later port of a name replaces one before
+    ports: dict[str, dict[str, Port]] = {}
+    for m in (*reader.subtree_models, *(m for m in reader.extra if m.kind == "SubTree")):
+        into = ports.setdefault(m.type, {})
+        for direction in ("input", "output", "inout"):
+            into.update((p.name, p) for p in m.ports if p.direction == direction)
     done: set[str] = set()
 
     def visit(tree_id: str, path: tuple[str, ...]) -> None:
@@ -513,11 +532,11 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
                                      f"tree with name: {target})", where)
             if target in path:
                 raise SchemalogError(f"SubTree {target} contains itself: {' -> '.join([*path, target])}", where)
-            model = models.get(target)
             autoremap = n.attr("_autoremap", "false") in ("true", "TRUE", "True", "1")
-            if model is not None and not autoremap:
-                for port in model.ports:
-                    if n.attr(port.name) is None and not port.default:
+            if not autoremap:
+                for port in ports.get(target, {}).values():
+                    # an attribute that is no port name (name, _a) remaps nothing
+                    if (n.attr(port.name) is None or not is_port_name(port.name)) and not port.default:
                         raise SchemalogError(f"In the <TreeNodesModel> the <Subtree ID=\"{target}\"> is defining a "
                                              f"mandatory port called [{port.name}], but you are not remapping it",
                                              where)
