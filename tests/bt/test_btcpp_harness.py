@@ -556,15 +556,21 @@ def documents(draw) -> tuple[str, str | None, str | None, set[str]]:
     models = ""
     if with_models:
         target = draw(st.sampled_from(tree_ids))
-        port = draw(st.sampled_from(['<input_port name="x"/>', '<input_port name="x" default="1"/>',
-                                     '<output_port name="goal"/>', ""]))
-        entries = f'<SubTree ID="{target}">{port}</SubTree>'
+        port_of = st.sampled_from(['<input_port name="x"/>', '<input_port name="x" default="1"/>',
+                                   '<output_port name="goal"/>', '<inout_port name="x"/>',
+                                   '<output_port name="x" default="{x}"/>', '<input_port name="name"/>',
+                                   '<input_port name="_y"/>', '<input_port name=""/>', '<input_port/>', ""])
+        entries = "".join(f'<SubTree ID="{target}">{"".join(draw(st.lists(port_of, max_size=2)))}</SubTree>'
+                          for _ in range(draw(st.integers(1, 2))))
         if _one_in(draw, 3):        # a custom type declared again, its kind maybe another
             t = draw(st.sampled_from(sorted(DOC_KIND)))
             k = draw(st.sampled_from(["Action", "Condition", "Control", "Decorator"]))
             entries += f'<{k} ID="{t}"/>'
             uses.add("the document's model of a custom type" + (" (another kind)" if k != DOC_KIND[t] else ""))
         models = f'\n  <TreeNodesModel>{entries}</TreeNodesModel>'
+        if _one_in(draw, 5):                    # under <root>: BT.CPP ignores it, or wants its ID
+            models += draw(st.sampled_from(["<Foo/>", "<Action/>", '<SubTree ID=""/>', '<Condition ID="C"/>']))
+            uses.add("a stray element under root")
         if _one_in(draw, 20):
             models += "\n  <TreeNodesModel/>"
             uses.add("two TreeNodesModel")
@@ -583,7 +589,13 @@ def documents(draw) -> tuple[str, str | None, str | None, set[str]]:
 
     included = None
     if include:
-        included = f'<root BTCPP_format="4">{tree(tree_ids[-1], bodies[-1], tree_ids[-1] == "BehaviorTree_0")}\n</root>\n'
+        inc_head = draw(st.sampled_from(['<root BTCPP_format="4">', "<root>",        # its main is not read
+                                         f'<root BTCPP_format="4" main_tree_to_execute="{tree_ids[-1]}">']))
+        inc_models = draw(st.sampled_from(["", f'<TreeNodesModel><SubTree ID="{tree_ids[-1]}"><input_port name="x"/>'
+                                               f'</SubTree></TreeNodesModel>']))
+        if inc_models and tree_ids[-1] == "BehaviorTree_0":
+            inc_models = ""                     # an unnamed tree is the only element of its file
+        included = f'{inc_head}{tree(tree_ids[-1], bodies[-1], tree_ids[-1] == "BehaviorTree_0")}{inc_models}\n</root>\n'
         tree_ids, bodies = tree_ids[:-1], bodies[:-1]
         uses.add("an include")
     trees = "".join(tree(t, b, unnamed) for t, b in zip(tree_ids, bodies))
