@@ -599,8 +599,8 @@ def documents(draw) -> tuple[str, str | None, str | None, set[str]]:
     if include:
         inc_head = draw(st.sampled_from(['<root BTCPP_format="4">', "<root>",        # its main is not read
                                          f'<root BTCPP_format="4" main_tree_to_execute="{tree_ids[-1]}">']))
-        inc_models = draw(st.sampled_from(["", f'<TreeNodesModel><SubTree ID="{tree_ids[-1]}"><input_port name="x"/>'
-                                               f'</SubTree></TreeNodesModel>']))
+        inc_models = draw(st.sampled_from(["", (f'<TreeNodesModel><SubTree ID="{tree_ids[-1]}"><input_port name="x"/>'
+                                                '</SubTree></TreeNodesModel>')]))
         if inc_models and tree_ids[-1] == "BehaviorTree_0":
             inc_models = ""                     # an unnamed tree is the only element of its file
         included = f'{inc_head}{tree(tree_ids[-1], bodies[-1], tree_ids[-1] == "BehaviorTree_0")}{inc_models}\n</root>\n'
