@@ -252,6 +252,16 @@ REFUSED = [
      "Can't find a tree with name: SubTree"),
     ("a BT.CPP 3 spelling", '<root>\n  <BehaviorTree ID="T">\n    <RetryUntilSuccesful num_attempts="2"><A/>'
      '</RetryUntilSuccesful>\n  </BehaviorTree>\n</root>', (3, 5), "BT.CPP 3"),
+    ("a generic element under root without ID beside a TreeNodesModel",
+     _tree("<A/>", "\n  <TreeNodesModel/>\n  <Action/>"), (6, 3), "The attribute [ID] is mandatory"),
+    ("a subtree model port no attribute can remap", '<root BTCPP_format="4" main_tree_to_execute="T">\n'
+     '  <BehaviorTree ID="T">\n    <SubTree ID="S" name="x"/>\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/>'
+     '</BehaviorTree>\n  <TreeNodesModel><SubTree ID="S"><input_port name="name"/></SubTree></TreeNodesModel>\n'
+     '</root>', (3, 5), "[name]"),
+    ("a port of a second model of a subtree unremapped", '<root BTCPP_format="4" main_tree_to_execute="T">\n'
+     '  <BehaviorTree ID="T">\n    <SubTree ID="S" a="1"/>\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/>'
+     '</BehaviorTree>\n  <TreeNodesModel><SubTree ID="S"><input_port name="a"/></SubTree><SubTree ID="S">'
+     '<input_port name="b"/></SubTree></TreeNodesModel>\n</root>', (3, 5), "[b]"),
     ("malformed XML", _tree('<Sequence>\n      <A x="1">\n    </Sequence>'), (5, 7), "malformed XML"),
     ("an entity", '<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY e "x">]>\n<root/>', None, "entit"),
 ]
@@ -309,6 +319,80 @@ def test_bt_cpp_checks_ports_only_in_the_trees_it_creates():
     with pytest.raises(SchemalogError) as err:
         read_bt(reached, "u.xml")
     assert "can not be converted to unsigned int" in err.value.message and (err.value.line, err.value.column) == (3, 24)
+
+
+# Checked by createNodeFromXML or recursivelyCreateSubtree, so only in the trees BT.CPP creates
+# (found by tests/bt/test_btcpp_harness.py's generated documents: BT.CPP 4.8.2 loads each in a
+# tree the main tree does not reach).
+CREATED_ONLY = [
+    ('<AlwaysSuccess ID="x"/>', "Attribute [ID] is not allowed in <AlwaysSuccess>"),
+    ('<Sequence ID="x"><AlwaysSuccess/></Sequence>', "Attribute [ID] is not allowed in <Sequence>"),
+    ('<Foo ID="Foo"/>', "Attribute [ID] is not allowed in <Foo>"),
+    ('<SubTree ID="M" _autoremap="yes"/>', "not a boolean"),
+    ('<Action ID="SubTree"/>', "Can't find a tree with name: SubTree"),
+]
+
+
+@pytest.mark.parametrize("body,words", CREATED_ONLY, ids=[w for _, w in CREATED_ONLY])
+def test_bt_cpp_checks_ids_autoremap_and_subtree_forms_only_in_the_trees_it_creates(body, words):
+    unused = ('<root BTCPP_format="4" main_tree_to_execute="M">\n  <BehaviorTree ID="M"><AlwaysSuccess/>'
+              f'</BehaviorTree>\n  <BehaviorTree ID="U">{body}</BehaviorTree>\n</root>')
+    assert read_bt(unused, "u.xml").main == "M"
+    reached = unused.replace("<AlwaysSuccess/>", '<SubTree ID="U"/>', 1)
+    with pytest.raises(SchemalogError) as err:
+        read_bt(reached, "u.xml")
+    assert words in err.value.message and (err.value.line, err.value.column) == (3, 24)
+
+
+def test_a_node_types_kind_is_the_nodes_files_not_the_documents_own_model():
+    """BT.CPP goes by the registered kind; a document's own TreeNodesModel registers nothing, so
+    its entry of another kind changes nothing (found by the harness's generated documents)."""
+    text = _tree("<Sequence>\n      <Act/>\n    </Sequence>", '\n  <TreeNodesModel><Control ID="Act"/></TreeNodesModel>')
+    registered = (NodeModel("Act", "Action", (Port("input", "p"),)),)
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text, "k.xml")                          # unregistered: the document's model says Control
+    assert "1 or more children" in err.value.message and (err.value.line, err.value.column) == (4, 7)
+    document = read_bt(text, "k.xml", models=registered)
+    assert document.model("Act") == NodeModel("Act", "Action")
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text.replace("<Act/>", "<Act><Act/></Act>"), "k.xml", models=registered)
+    assert "must not have any child" in err.value.message
+
+
+def test_a_tree_with_an_empty_id_is_named_the_empty_string_as_bt_cpp_names_it():
+    """BT.CPP names a tree BehaviorTree_N only without the attribute; ID="" is the tree "", which
+    main_tree_to_execute="" names (found by the harness's generated documents)."""
+    text = '<root BTCPP_format="4">\n  <BehaviorTree ID="">\n    <A/>\n  </BehaviorTree>\n</root>'
+    assert read_bt(text, "e.xml").main == ""
+    assert read_bt(text.replace('"4"', '"4" main_tree_to_execute=""'), "e.xml").main == ""
+    assert read_bt(text.replace(' ID=""', ""), "e.xml").main == "BehaviorTree_0"
+    with pytest.raises(SchemalogError):     # main="" is no main asked for, as createTree("") is
+        read_bt(text.replace('"4"', '"4" main_tree_to_execute="M"'), "e.xml", main="")
+    with pytest.raises(SchemalogError) as err:
+        read_bt(text.replace("</root>", "<TreeNodesModel/></root>"), "e.xml")
+    assert "[ID]" in err.value.message
+
+
+def test_subtree_model_ports_are_read_as_bt_cpp_reads_them():
+    """loadSubtreeModel: name="" is a port named "" (mandatory, no attribute remaps it), the last
+    port of a name wins, inout after output after input; _autoremap remaps every port. A stray
+    <Foo/> or <SubTree ID=""/> under <root> is ignored (found by the harness's documents)."""
+    def doc(call: str, ports: str, extra: str = "") -> str:
+        return ('<root BTCPP_format="4" main_tree_to_execute="T">\n  <BehaviorTree ID="T">\n    '
+                f'{call}\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/></BehaviorTree>\n  <TreeNodesModel>'
+                f'<SubTree ID="S">{ports}</SubTree></TreeNodesModel>{extra}\n</root>')
+    with pytest.raises(SchemalogError) as err:
+        read_bt(doc('<SubTree ID="S"/>', '<input_port name=""/>'), "s.xml")
+    assert "called [], but" in err.value.message
+    assert read_bt(doc('<SubTree ID="S" _autoremap="1"/>', '<input_port name=""/>'), "s.xml").main == "T"
+    assert read_bt(doc('<SubTree ID="S"/>', '<output_port name="b" default="1"/><input_port name="b"/>'),
+                   "s.xml").main == "T"
+    with pytest.raises(SchemalogError):
+        read_bt(doc('<SubTree ID="S"/>', '<output_port name="b"/><input_port name="b" default="1"/>'), "s.xml")
+    with pytest.raises(SchemalogError):
+        read_bt(doc('<SubTree ID="S"/>', '<input_port name="b" default="1"/><inout_port name="b"/>'), "s.xml")
+    assert read_bt(doc('<SubTree ID="S" b="1"/>', '<input_port name="b"/>', '<Foo/><SubTree ID=""/>'),
+                   "s.xml").main == "T"
 
 
 def test_autoremap_is_read_on_a_subtree_only():

@@ -38,21 +38,26 @@ is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml
 every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names
-it. The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
+it (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
 main_tree_to_execute, else the only tree. Node types that
 BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
-form or <SubTree> without ID, an ID on any other node, a <BehaviorTree> without exactly one child
+form or <SubTree> without ID, a <BehaviorTree> without exactly one child
 (or without an ID beside other elements, or named after a registered node), a second
-<TreeNodesModel> in one file, a decorator without exactly one child, a control node without
-children, a leaf with children, a <SubTree> with children or naming no tree, a SubTree model's
-mandatory port left unremapped, an `_autoremap` that is not a boolean, a main tree that does not
+<TreeNodesModel> in one file, an <Action>, <Condition>, <Control>, <Decorator> or <SubTree>
+right under <root> without ID in a file with a <TreeNodesModel> (VerifyXML looks there, not in
+the TreeNodesModel), a decorator without exactly one child, a control node without
+children, a leaf with children, a <SubTree> with children, a main tree that does not
 exist, an <include> without path or through ros_pkg (no ROS package index here), a tree's ID used
 as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a nodes file), a
-generic form as a ReactiveSequence's child, and, in the trees BT.CPP creates (the main tree and
-the SubTrees it reaches), a node of BT.CPP's own with a port it does not declare, a literal that
-does not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
+generic form as a ReactiveSequence's child, and, only in the trees BT.CPP creates (the main tree
+and the SubTrees it reaches: createNodeFromXML and recursivelyCreateSubtree check nothing else),
+an ID on a tag other than the generic forms and <SubTree>, a generic form naming SubTree, a
+<SubTree> naming no tree, an `_autoremap` that is not a boolean, a SubTree model's mandatory port
+left unremapped (the ports of every model of the ID, as loadSubtreeModel merges them; one whose
+name no attribute can carry, `name`, `_a` or "", is never remapped), and a node of BT.CPP's own with a port it does not declare, a literal that does
+not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
 and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
 includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
 end), and two trees with one ID (BT.CPP keeps the last silently).
@@ -74,7 +79,7 @@ from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
-from ..bt.ports import BUILTIN, RESERVED, refusal
+from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
 from ..errors import SchemalogError, SourcePos
 from .btcpp import XNode, parse_xml
 from .quoting import Unquotable, xml_attribute
@@ -325,7 +330,7 @@ def _models(root: _Element) -> list[NodeModel]:
                 if p.tag not in PORT_TAGS:
                     continue
                 name = p.get("name")
-                if not name:
+                if name is None or (not name and entry.tag != "SubTree"):
                     if entry.tag == "SubTree":
                         _fail(p, "Missing attribute [name] in port (SubTree model)")
                     continue
@@ -356,16 +361,18 @@ class _Reader:
         self.read = read
         self.trees: list[_Tree] = []
         self.models: list[NodeModel] = []
+        self.subtree_models: list[NodeModel] = []       # every SubTree entry, in BT.CPP's reading order
         self.extra = models
         self.includes: list[str] = []
         self.suffix = 0
         self.v3_hint = False
 
     def kind(self, node_type: str, form: str) -> str | None:
-        """Return a node type's kind: BT.CPP's own, a model's, the generic form's, or None (opaque)."""
+        """Return a node type's kind: BT.CPP's own, a nodes file's (what the program registers, which
+        BT.CPP goes by), the document's own model's, the generic form's, or None (opaque)."""
         if node_type in BUILTIN:
             return BUILTIN[node_type]
-        for m in (*self.models, *self.extra):
+        for m in (*self.extra, *self.models):
             if m.type == node_type:
                 return m.kind
         return form or None
@@ -379,7 +386,16 @@ class _Reader:
         for child in root.children:
             if child.tag == "include":
                 self.include(child, file, chain)
-        self.models.extend(m for m in _models(root) if all(m.type != k.type for k in self.models))
+        if any(c.tag == "TreeNodesModel" for c in root.children):
+            # VerifyXML, when the file has a TreeNodesModel, looks for a missing ID among <root>'s
+            # own children (not the TreeNodesModel's): a stray <Action/> there is refused
+            for child in root.children:
+                if child.tag in (*GENERIC, "SubTree") and child.get("ID") is None:
+                    _fail(child, f"<{child.tag}> under <root> without ID: BT.CPP refuses it in a file with "
+                                 f"a <TreeNodesModel> (The attribute [ID] is mandatory)")
+        own = _models(root)
+        self.subtree_models.extend(m for m in own if m.kind == "SubTree")
+        self.models.extend(m for m in own if all(m.type != k.type for k in self.models))
         elements = len(root.children)
         for child in root.children:
             if child.tag == "BehaviorTree":
@@ -413,10 +429,10 @@ class _Reader:
     def tree(self, element: _Element, elements: int) -> None:
         """Register one <BehaviorTree>."""
         tree_id = element.get("ID")
-        if not tree_id:
-            if elements > 1:
-                _fail(element, "The tag <BehaviorTree> must have the attribute [ID] (BT.CPP: an unnamed tree "
-                               "must be the only element of <root>)")
+        if not tree_id and elements > 1:
+            _fail(element, "The tag <BehaviorTree> must have the attribute [ID] (BT.CPP: an unnamed tree "
+                           "must be the only element of <root>)")
+        if tree_id is None:                     # ID="" names the tree "" (BT.CPP's loadDocImpl)
             tree_id = f"BehaviorTree_{self.suffix}"
             self.suffix += 1
         if tree_id in BUILTIN:
@@ -440,15 +456,10 @@ class _Reader:
             _fail(element, f"The tag <{tag}> must have the attribute [ID]")
         if tag == "BehaviorTree":
             _fail(element, "a <BehaviorTree> inside a tree: trees are defined under <root> and used by <SubTree>")
-        if tag not in (*GENERIC, "SubTree") and node_id is not None:
-            _fail(element, f"Attribute [ID] is not allowed in <{tag}> (BT.CPP): only <Action>, <Condition>, "
-                           f"<Control>, <Decorator> and <SubTree> have one")
+        # an ID on another tag, an _autoremap that is not a boolean and a generic form naming
+        # SubTree are refused where BT.CPP creates the node only (_subtree_checks)
         children = tuple(self.node(c) for c in element.children)
         if tag == "SubTree":
-            # BT.CPP reads _autoremap on a SubTree only (another node ignores it)
-            autoremap = element.get("_autoremap")
-            if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
-                _fail(element, f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)")
             if children:
                 _fail(element, f"<SubTree> with ID '{node_id}' should not have any child")
             if node_id in BUILTIN:
@@ -457,9 +468,6 @@ class _Reader:
             return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column, element.pos.file)
         generic = tag in GENERIC
         node_type = node_id if generic else tag
-        if generic and node_type == "SubTree":
-            _fail(element, f"<{tag} ID=\"SubTree\"> (BT.CPP: Can't find a tree with name: SubTree): a tree is "
-                           f"called with <SubTree ID=\"TreeID\"/>")
         kind = self.kind(node_type, tag if generic else "")
         count = len(children)
         if kind == "Decorator" and count != 1:
@@ -484,33 +492,51 @@ class _Reader:
 
 def _subtree_checks(reader: _Reader, main: str) -> None:
     """Check the trees BT.CPP creates, the main tree and the SubTrees it reaches, node by node in
-    the order createNodeFromXML meets them: a node of BT.CPP's own with attributes it refuses
-    (bt/ports.py), a SubTree that names no tree, contains itself or leaves a mandatory port of
-    its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
+    the order createNodeFromXML meets them: an ID on a tag that takes none, a generic form naming
+    SubTree, a node of BT.CPP's own with attributes it refuses (bt/ports.py), a SubTree whose
+    _autoremap is not a boolean, that names no tree, contains itself or leaves a mandatory port
+    of its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
     in it.)"""
     trees = {t.id: t for t in reader.trees}
-    models = {m.type: m for m in (*reader.models, *reader.extra) if m.kind == "SubTree"}
+    # BT.CPP's subtree_models: the ports of every entry of an ID, read file by file (includes
+    # first), input ports, then output, then inout ports; a later port of a name replaces one before
+    ports: dict[str, dict[str, Port]] = {}
+    for m in (*reader.subtree_models, *(m for m in reader.extra if m.kind == "SubTree")):
+        into = ports.setdefault(m.type, {})
+        for direction in ("input", "output", "inout"):
+            into.update((p.name, p) for p in m.ports if p.direction == direction)
     done: set[str] = set()
 
     def visit(tree_id: str, path: tuple[str, ...]) -> None:
         for n in walk(trees[tree_id].root):
             where = SourcePos(n.file or trees[tree_id].element.pos.file, n.line, n.column)
+            if not n.form and n.type != "SubTree" and n.attr("ID") is not None:
+                raise SchemalogError(f"Attribute [ID] is not allowed in <{n.type}> (BT.CPP): only <Action>, "
+                                     f"<Condition>, <Control>, <Decorator> and <SubTree> have one", where)
+            if n.form and n.type == "SubTree":
+                raise SchemalogError(f"<{n.form} ID=\"SubTree\"> (BT.CPP: Can't find a tree with name: SubTree): "
+                                     f"a tree is called with <SubTree ID=\"TreeID\"/>", where)
             why = refusal(n.type, n.attrs) if n.type != "SubTree" or n.form else None
             if why is not None:
                 raise SchemalogError(why, where)
             if n.type != "SubTree" or n.form:
                 continue
             target = n.attr("ID")
+            # BT.CPP reads _autoremap on a SubTree only (another node ignores it)
+            autoremap = n.attr("_autoremap")
+            if autoremap is not None and autoremap not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
+                raise SchemalogError(f"_autoremap=\"{autoremap}\" is not a boolean (BT.CPP: invalid bool conversion)",
+                                     where)
             if target not in trees:
                 raise SchemalogError(f"<SubTree ID=\"{target}\"> names no BehaviorTree (BT.CPP: Can't find a "
                                      f"tree with name: {target})", where)
             if target in path:
                 raise SchemalogError(f"SubTree {target} contains itself: {' -> '.join([*path, target])}", where)
-            model = models.get(target)
             autoremap = n.attr("_autoremap", "false") in ("true", "TRUE", "True", "1")
-            if model is not None and not autoremap:
-                for port in model.ports:
-                    if n.attr(port.name) is None and not port.default:
+            if not autoremap:
+                for port in ports.get(target, {}).values():
+                    # an attribute that is no port name (name, _a) remaps nothing
+                    if (n.attr(port.name) is None or not is_port_name(port.name)) and not port.default:
                         raise SchemalogError(f"In the <TreeNodesModel> the <Subtree ID=\"{target}\"> is defining a "
                                              f"mandatory port called [{port.name}], but you are not remapping it",
                                              where)
@@ -547,16 +573,18 @@ def _tree_id_checks(reader: _Reader) -> None:
 def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
             main: str | None = None) -> Document:
     """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
-    node models from elsewhere (a nodes file) that the document's own models take precedence over,
-    `main` names the tree to run as BT.CPP's createTree(name) does (default: as createTreeFromText)."""
+    node models from elsewhere (a nodes file: what the program registers) that the document's own
+    models take precedence over, except for a node type's kind, which BT.CPP takes from the
+    registration (the document's TreeNodesModel registers nothing),
+    `main` names the tree to run as BT.CPP's createTree(name) does (default, "" too: as createTreeFromText)."""
     reader = _Reader(read, tuple(models))
     root = reader.document(text, file, (os.path.normpath(file),))
     if not reader.trees:
         _fail(root, "the document defines no <BehaviorTree>")
     _tree_id_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
-    asked = main
-    main = main if main is not None else root.get("main_tree_to_execute")
+    asked = main or None                # createTree("") is createTree(): the default main tree
+    main = asked if asked is not None else root.get("main_tree_to_execute")
     if main is None:
         if len(reader.trees) != 1:
             _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
@@ -567,7 +595,10 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
         named = f"the tree {main!r} asked for" if asked is not None else f"main_tree_to_execute=\"{main}\""
         _fail(root, f"{named} names no BehaviorTree; the document's trees: {ids}")
     _subtree_checks(reader, main)
-    own = tuple(reader.models)
+    # the document's own models first, but each with the kind a nodes file registers its type as
+    registered = {m.type: m.kind for m in reversed(reader.extra) if m.kind != "SubTree"}
+    own = tuple(NodeModel(m.type, registered.get(m.type, m.kind), m.ports) if m.kind != "SubTree" else m
+                for m in reader.models)
     merged = own + tuple(m for m in reader.extra if all(m.type != k.type for k in own))
     return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes))
 
