@@ -86,6 +86,6 @@ def test_what_bt_cpp_loads(node_type, attrs):
 def test_the_module_examples_hold():
     import doctest
 
-    import schemalog.bt.ports as ports
+    from schemalog.bt import ports
     result = doctest.testmod(ports)
     assert result.attempted >= 1 and result.failed == 0

@@ -12,12 +12,13 @@ BT.CPP checks a node's attributes when it creates the tree (XMLParser::createNod
 xml_parsing.cpp): an attribute whose name starts with a letter and is not reserved (`name`, `ID`,
 `_autoremap`, the `_`-scripts) is a port; a port the node type's providedPorts() does not declare
 is refused ("a port with name [x] is found in the XML ... but not in the providedPorts() of its
-registered node type"), and a literal value (not `{key}`) of a strongly typed port (not `any`,
-not an enum such as NodeStatus, which is converted only when the node reads it) must convert ("The port with name ... can not be converted to ..."). Script, ScriptCondition and
-Precondition read their script in their constructor, so without it the tree does not load. The
-same conversion runs again when the node reads the port, so the value here is the one the node
-works with. Not checked here: whether a script parses (BT.CPP parses `code`, `if` and the
-`_`-scripts when it creates the tree; schemalog leaves scripts uninterpreted).
+registered node type"), and a literal value (not `{key}`) of a strongly typed port (not `any`, not
+an enum such as NodeStatus, which is converted only when the node reads it) must convert ("The
+port with name ... can not be converted to ..."). Script, ScriptCondition and Precondition read
+their script in their constructor, so without it the tree does not load. The same conversion runs
+again when the node reads the port, so the value here is the one the node works with. Not checked
+here: whether a script parses (BT.CPP parses `code`, `if` and the `_`-scripts when it creates the
+tree; schemalog leaves scripts uninterpreted).
 
 The conversions are src/basic_types.cpp's convertFromString: integers by std::from_chars, which
 reads the longest prefix ("3.5" is 3, "7 apples" is 7, " 3" and "+3" are refused) and then
@@ -33,8 +34,8 @@ from __future__ import annotations
 
 import re
 import sys
-from fractions import Fraction
 from collections.abc import Mapping
+from fractions import Fraction
 from types import MappingProxyType
 
 _INT32 = (-2**31, 2**31 - 1)

@@ -37,30 +37,30 @@ is `"qb` to BT.CPP; see _decode). The rest of the XML is checked with defusedxml
 (formats/btcpp.parse_xml: no entities, no external references, bounded size), which also gives
 every element its line and column.
 
-A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names
-it (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's createTree(name)), else the top file's
-main_tree_to_execute, else the only tree. Node types that
+A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names it
+(one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's
+createTree(name)), else the top file's main_tree_to_execute, else the only tree. Node types that
 BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
-form or <SubTree> without ID, a <BehaviorTree> without exactly one child
-(or without an ID beside other elements, or named after a registered node), a second
-<TreeNodesModel> in one file, an <Action>, <Condition>, <Control>, <Decorator> or <SubTree>
-right under <root> without ID in a file with a <TreeNodesModel> (VerifyXML looks there, not in
-the TreeNodesModel), a decorator without exactly one child, a control node without
-children, a leaf with children, a <SubTree> with children, a main tree that does not
-exist, an <include> without path or through ros_pkg (no ROS package index here), a tree's ID used
-as a node type (<CheckStatus/> for <SubTree ID="CheckStatus"/>, or declared by a nodes file), a
-generic form as a ReactiveSequence's child, and, only in the trees BT.CPP creates (the main tree
-and the SubTrees it reaches: createNodeFromXML and recursivelyCreateSubtree check nothing else),
-an ID on a tag other than the generic forms and <SubTree>, a generic form naming SubTree, a
-<SubTree> naming no tree, an `_autoremap` that is not a boolean, a SubTree model's mandatory port
-left unremapped (the ports of every model of the ID, as loadSubtreeModel merges them; one whose
-name no attribute can carry, `name`, `_a` or "", is never remapped), and a node of BT.CPP's own with a port it does not declare, a literal that does
-not convert or without a port its constructor needs (bt/ports.py). Beyond BT.CPP,
-and said so: a BTCPP_format other than 4 (version 3 files named as such), an include cycle or
-includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP recurses without
-end), and two trees with one ID (BT.CPP keeps the last silently).
+form or <SubTree> without ID, a <BehaviorTree> without exactly one child (or without an ID beside
+other elements, or named after a registered node), a second <TreeNodesModel> in one file, an
+<Action>, <Condition>, <Control>, <Decorator> or <SubTree> right under <root> without ID in a file
+with a <TreeNodesModel> (VerifyXML looks there, not in the TreeNodesModel), a decorator without
+exactly one child, a control node without children, a leaf with children, a <SubTree> with
+children, a main tree that does not exist, an <include> without path or through ros_pkg (no ROS
+package index here), a tree's ID used as a node type (<CheckStatus/> for <SubTree
+ID="CheckStatus"/>, or declared by a nodes file), a generic form as a ReactiveSequence's child,
+and, only in the trees BT.CPP creates (the main tree and the SubTrees it reaches:
+createNodeFromXML and recursivelyCreateSubtree check nothing else), an ID on a tag other than the
+generic forms and <SubTree>, a generic form naming SubTree, a <SubTree> naming no tree, an
+`_autoremap` that is not a boolean, a SubTree model's mandatory port left unremapped (the ports of
+every model of the ID, as loadSubtreeModel merges them; one whose name no attribute can carry,
+`name`, `_a` or "", is never remapped), and a node of BT.CPP's own with a port it does not
+declare, a literal that does not convert or without a port its constructor needs (bt/ports.py).
+Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
+include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
+recurses without end), and two trees with one ID (BT.CPP keeps the last silently).
 
 write_bt writes every tree (in order), main_tree_to_execute and a <TreeNodesModel> with the
 document's models, then a model for every other custom node type used (infer_models: kind from
