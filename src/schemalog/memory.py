@@ -3,6 +3,7 @@
     data_in_use()   -> int | None    the bytes of data and stack the process holds now (Linux:
                                      /proc/self/statm's data field; elsewhere None)
     near_ceiling()  -> bool          within HEADROOM of RLIMIT_DATA's soft limit (a ceiling set)
+    data_limits()   -> (soft, hard)  RLIMIT_DATA's limits, None for unlimited or unknown
 
 Why stop *before* the ceiling: at RLIMIT_DATA itself every allocation fails, those Python needs
 to raise and handle the MemoryError included, and CPython with glibc's malloc can then spin in
@@ -43,14 +44,19 @@ def data_in_use() -> int | None:
         return None
 
 
-def ceiling() -> int | None:
-    """RLIMIT_DATA's soft limit, None when there is none."""
+def data_limits() -> tuple[int | None, int | None]:
+    """RLIMIT_DATA's soft and hard limits, each None when unlimited or unknown."""
     try:
         import resource
     except ImportError:
-        return None
-    soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
-    return None if soft == resource.RLIM_INFINITY else soft
+        return None, None
+    soft, hard = resource.getrlimit(resource.RLIMIT_DATA)
+    return (None if soft == resource.RLIM_INFINITY else soft, None if hard == resource.RLIM_INFINITY else hard)
+
+
+def ceiling() -> int | None:
+    """RLIMIT_DATA's soft limit, None when there is none."""
+    return data_limits()[0]
 
 
 def near_ceiling() -> bool:

@@ -127,12 +127,8 @@ def memory_ceiling(option: str | None, environ: Mapping[str, str]) -> int | None
 
 def _hard_limit() -> int | None:
     """RLIMIT_DATA's hard limit, None when unlimited or unknown."""
-    try:
-        import resource
-    except ImportError:
-        return None
-    hard = resource.getrlimit(resource.RLIMIT_DATA)[1]
-    return None if hard == resource.RLIM_INFINITY else hard
+    from ..memory import data_limits
+    return data_limits()[1]
 
 
 def apply_memory_ceiling(ceiling: int | None) -> int | None:
