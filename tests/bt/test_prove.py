@@ -220,3 +220,20 @@ def test_flattening_a_reactive_sequence_into_a_sequence_is_not_sound():
     # the inner ReactiveSequence re-ticks A; a flat Sequence would resume at B
     v = prove(n("Sequence", n("ReactiveSequence", A, B), C), n("Sequence", A, B, C))
     assert not v.equal and v.counterexample.choices == (SUCCESS, RUNNING)
+
+
+def test_a_proof_says_when_runs_end_in_an_error_both_trees_throw():
+    # Repeat without num_cycles: BT.CPP's tick throws "Missing parameter"; equal, and said so
+    bare = n("Repeat", act("A"))
+    v = prove(n("Sequence", bare), bare)
+    assert v.equal and v.complete
+    assert "Missing parameter [num_cycles] in RepeatNode" in v.thrown and "end in an error" in v.reason
+    assert prove(act("A"), n("Sequence", act("A"))).thrown == ""
+
+
+def test_by_parts_carries_a_part_s_error_into_its_verdict():
+    from schemalog.bt.prove import prove_by_parts
+    a = doc(n("Sequence", n("Sequence", n("Sleep")), act("B")))
+    b = doc(n("Sequence", n("Sleep"), act("B")))
+    v = prove_by_parts(a, b, max_states=10_000, max_events_per_tick=64)
+    assert v.equal and v.complete and "Missing parameter [msec] in SleepNode" in v.reason

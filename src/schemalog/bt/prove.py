@@ -56,6 +56,7 @@ class Verdict:
     states: int
     reason: str
     counterexample: Counterexample | None = None
+    thrown: str = ""                  # an error both trees throw in some run (BT.CPP's tick would)
 
 
 def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
@@ -112,6 +113,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     seen: set = set()
     queue = deque([start])
     limit = ""
+    thrown = ""                        # an error both trees' ticks throw (BT.CPP's would too)
     while queue:
         node = queue.popleft()
         phase, ca, cb = node
@@ -143,6 +145,8 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
                            _NONE if sa.options == (None,) else o) for o in sa.options]
         elif sa.limited or sb.limited:
             limit = limit or sa.error or sb.error
+        elif sa.status is None and sa.error:
+            thrown = thrown or sa.error
         elif sa.status is RUNNING:
             successors = [((_TICK, sa.config, sb.config), _ROOT)]
             if contextual:
@@ -160,8 +164,11 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}")
     where = "in every context and " if contextual else ""
+    # equal, errors included; but a run that ends in an error is no run a robot finishes
+    errors = f"; in both, some runs end in an error, as BT.CPP's tick throws: {thrown}" if thrown else ""
     return Verdict(True, True, explored,
-                   f"equal {where}under every environment ({explored} pairs of states, exhausted)")
+                   f"equal {where}under every environment ({explored} pairs of states, exhausted){errors}",
+                   thrown=thrown)
 
 
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
@@ -404,11 +411,13 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     if ids_a == ids_b and a.main == b.main and _same_kinds(a, b, rules):
         parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None)]
         proved = True
+        thrown = ""
         for na, nb, parent in parts:
             v = prove_equal(_part(a, na), _part(b, nb), max_states=max_states - spent,
                             max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
                             unreset=_unreset(parent, rules))
             spent += v.states
+            thrown = thrown or v.thrown
             if not (v.equal and v.complete):
                 proved = False
                 break
@@ -416,7 +425,10 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
             what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
                     f"context its parent can make and under every environment" if parts
                     else "the documents' trees are identical")
-            return Verdict(True, True, spent, f"equal by parts: {what} ({spent} pairs of states, exhausted)")
+            errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
+                      f"{thrown}" if thrown else "")
+            return Verdict(True, True, spent, f"equal by parts: {what} ({spent} pairs of states, exhausted){errors}",
+                           thrown=thrown)
     whole = prove_equal(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
     if not spent:
         return whole
