@@ -171,3 +171,36 @@ def test_compress_does_not_remove_the_sequence_that_resets_a_guarded_condition(t
                      '<IsX _skipIf="c"/><A/><B/></WhileDoElse></BehaviorTree></root>\n')
     v = run("verify", tree, small)
     assert v.returncode == 1 and "check _skipIf `c`" in v.stdout, v.stdout + v.stderr
+
+
+def test_verify_of_compress_output_read_without_the_nodes_file_says_why_it_differs(tmp_path):
+    """compress -o writes --nodes' models into its output; read without them, the original's
+    GoalUpdated is an unknown leaf (may be RUNNING) and the output's a Condition: a real
+    difference, and the refutation says where it comes from."""
+    original = NAV2 / "navigate_w_routing_global_planning_and_control_w_recovery.xml"
+    small = tmp_path / "small.xml"
+    assert run("compress", original, "--nodes", NODES, "-o", small).returncode == 0
+    differ = run("verify", original, small)
+    assert differ.returncode == 1
+    assert "GoalUpdated (a: an Action, b: a Condition); read both with the same --nodes file" in differ.stdout
+    assert run("verify", original, small, "--nodes", NODES).returncode == 0
+
+
+def test_xml_mistakes_a_user_makes_are_said_with_the_line_and_what_to_do(tmp_path):
+    empty = tmp_path / "empty.xml"
+    empty.write_text("")
+    r = run("compress", empty)
+    assert r.returncode == 1 and "empty.xml:1:1: error: the file is empty" in r.stderr
+    broken = tmp_path / "broken.xml"
+    broken.write_text('<root BTCPP_format="4">\n  <BehaviorTree ID="M">\n    <Sequence>\n      <A x="1 && 2">\n'
+                      '    </Sequence>\n  </BehaviorTree>\n</root>\n')
+    r = run("compress", broken)
+    assert r.returncode == 1 and "broken.xml:5:" in r.stderr and "\n        </Sequence>\n" in r.stderr
+    assert r.stderr.rstrip().endswith("^") and "Traceback" not in r.stderr
+    typo = tmp_path / "typo.xml"
+    typo.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence nmae="x"><A/></Sequence>'
+                    '</BehaviorTree></root>')
+    r = run("compress", typo)
+    assert r.returncode == 1 and "port with name [nmae]" in r.stderr and "did you mean name?" in r.stderr
+    r = run("compress", NODES)
+    assert r.returncode == 1 and "a nodes file (give it with --nodes)" in r.stderr

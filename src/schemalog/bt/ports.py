@@ -35,6 +35,7 @@ from __future__ import annotations
 import re
 import sys
 from collections.abc import Mapping
+from difflib import get_close_matches
 from fractions import Fraction
 from types import MappingProxyType
 
@@ -167,6 +168,9 @@ BUILTIN_PORTS: Mapping[str, Mapping[str, str]] = MappingProxyType({
 })
 TYPE_NAMES = {"int": "int", "unsigned": "unsigned int", "bool": "bool", "double": "double",
                "status": "BT::NodeStatus", "text": "std::string"}
+_EXAMPLES = {"int": "e.g. 3, or -1 where it means for ever", "unsigned": "milliseconds, e.g. 500",
+             "bool": "true or false", "double": "e.g. 0.5", "queue:int": "e.g. 1;2;3", "queue:bool": "e.g. true;false",
+             "queue:double": "e.g. 0.5;1.5", "queue:text": "e.g. a;b"}
 RESERVED = frozenset({"name", "ID", "_autoremap", "_failureIf", "_successIf", "_skipIf", "_while",
                       "_onSuccess", "_onFailure", "_onHalted", "_post"})
 
@@ -218,12 +222,14 @@ def attribute_error(node_type: str, key: str, value: str) -> str | None:
         return None
     ports = BUILTIN_PORTS.get(node_type, {})
     if key not in ports:
+        near = get_close_matches(key, [*ports, *sorted(RESERVED)], n=1, cutoff=0.6)
         return (f"a port with name [{key}] is found in the XML (<{node_type}>) but not in the providedPorts() "
                 f"of its registered node type (BT.CPP; {node_type} declares "
-                f"{', '.join(ports) if ports else 'no port'})")
+                f"{', '.join(ports) if ports else 'no port'}){f'; did you mean {near[0]}?' if near else ''}")
     port_type = ports[key]
     # an enum (NodeStatus) has no converter (GetAnyFromStringFunctor): read only when ticked
     if port_type == "status" or is_blackboard(value) or convert(port_type, value) is not None:
         return None
     wanted = f"a queue of {TYPE_NAMES[port_type[6:]]}" if port_type.startswith("queue:") else TYPE_NAMES[port_type]
-    return f"The port with name \"{key}\" and value \"{value}\" can not be converted to {wanted} (BT.CPP)"
+    return (f"The port with name \"{key}\" and value \"{value}\" can not be converted to {wanted} (BT.CPP; "
+            f"{_EXAMPLES[port_type]})")

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import random
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from collections.abc import Mapping
 
 from schemalog.bt.model import Document, Node, walk
@@ -83,6 +83,10 @@ def _end(s: RootTicked) -> str:
 
 def _options(options: tuple) -> str:
     return "/".join(_outcome(o) for o in options)
+
+
+def _pairs(count: int) -> str:
+    return f"{count} pair{'' if count == 1 else 's'} of states"
 
 
 def _outcome(o: object) -> str:
@@ -167,7 +171,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     # equal, errors included; but a run that ends in an error is no run a robot finishes
     errors = f"; in both, some runs end in an error, as BT.CPP's tick throws: {thrown}" if thrown else ""
     return Verdict(True, True, explored,
-                   f"equal {where}under every environment ({explored} pairs of states, exhausted){errors}",
+                   f"equal {where}under every environment ({_pairs(explored)}, exhausted){errors}",
                    thrown=thrown)
 
 
@@ -387,17 +391,25 @@ def _part(document: Document, node: Node) -> Document:
     return Document(document.trees + ((key, node),), key, document.models, document.includes)
 
 
-def _same_kinds(a: Document, b: Document, rules: Mapping[str, Rule] | None) -> bool:
-    """Whether every node of either document gets the same rule in both: a node type may be a
-    Condition in one document's TreeNodesModel and an Action in the other's, and then two
+def _kind_differences(a: Document, b: Document, rules: Mapping[str, Rule] | None) -> list[str]:
+    """The node types that get another rule in each document, as "T (a: .., b: ..)": a type may
+    be a Condition in one document's TreeNodesModel and unknown in the other's, and then two
     identical subtrees do not run alike (a part compared in one document is not in the other)."""
     table = {**RULES, **(rules or {})}
+    words = {"<action>": "an Action", "<condition>": "a Condition", "<opaque>": "opaque"}
 
     def key(n: Node, d: Document) -> str:
         k = _rule_key(n, d, table)
         return "<action>" if k == "<opaque>" and not n.children else k   # the same rule for a leaf
 
-    return all(key(n, a) == key(n, b) for d in (a, b) for _, root in d.trees for n in walk(root))
+    differ: dict[str, str] = {}
+    for d in (a, b):
+        for _, root in d.trees:
+            for n in walk(root):
+                ka, kb = key(n, a), key(n, b)
+                if ka != kb and n.type not in differ:
+                    differ[n.type] = f"{n.type} (a: {words.get(ka, ka)}, b: {words.get(kb, kb)})"
+    return list(differ.values())
 
 
 def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
@@ -408,7 +420,8 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     a refutation is always one of the whole trees."""
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
-    if ids_a == ids_b and a.main == b.main and _same_kinds(a, b, rules):
+    differ = _kind_differences(a, b, rules)
+    if ids_a == ids_b and a.main == b.main and not differ:
         parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None)]
         proved = True
         thrown = ""
@@ -427,9 +440,15 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
                     else "the documents' trees are identical")
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")
-            return Verdict(True, True, spent, f"equal by parts: {what} ({spent} pairs of states, exhausted){errors}",
+            return Verdict(True, True, spent, f"equal by parts: {what} ({_pairs(spent)}, exhausted){errors}",
                            thrown=thrown)
     whole = prove_equal(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
+    if differ and not whole.equal:
+        # the usual cause: one file carries a TreeNodesModel (compress -o writes --nodes' models
+        # into its output) and the other is read without it
+        note = (f" (the two documents give node types different rules: {', '.join(differ[:3])}"
+                f"{', ...' if len(differ) > 3 else ''}; read both with the same --nodes file)")
+        whole = replace(whole, reason=whole.reason + note)
     if not spent:
         return whole
     reason = whole.reason

@@ -703,7 +703,11 @@ def parse_xml(text: str, file: str) -> XNode:
         root = parser.close()
     except ParseError as err:
         line, column = err.position
-        raise SchemalogError(f"malformed XML: {_expat_reason(str(err))}", SourcePos(file, line, column + 1)) from None
+        if not text.strip():
+            raise SchemalogError("the file is empty: no XML element", SourcePos(file, 1, 1)) from None
+        lines = text.splitlines()
+        raise SchemalogError(f"malformed XML: {_expat_reason(str(err))}", SourcePos(file, line, column + 1),
+                             source_line=lines[line - 1] if 0 < line <= len(lines) else None) from None
     except DefusedXmlException as err:
         p = parser.parser
         what = f"the entity {getattr(err, 'name', '')}" if getattr(err, "name", None) else "a DTD"

@@ -261,7 +261,12 @@ def _tolerant(text: str) -> tuple[str, list[tuple[Attrs, str]]]:
 def _parse(text: str, file: str) -> _Element:
     """Parse `text` into elements, well-formedness and limits checked by parse_xml."""
     strict, tags = _tolerant(text)
-    root = parse_xml(strict, file)
+    try:
+        root = parse_xml(strict, file)
+    except SchemalogError as err:
+        if err.source_line is not None and err.line:      # the line as written, not as made strict
+            err.source_line = text.splitlines()[err.line - 1]
+        raise
     order: list[XNode] = []
     stack = [root]
     while stack:
@@ -580,7 +585,9 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     reader = _Reader(read, tuple(models))
     root = reader.document(text, file, (os.path.normpath(file),))
     if not reader.trees:
-        _fail(root, "the document defines no <BehaviorTree>")
+        hint = (": it holds a <TreeNodesModel> only, a nodes file (give it with --nodes)"
+                if any(c.tag == "TreeNodesModel" for c in root.children) else "")
+        _fail(root, f"the document defines no <BehaviorTree>{hint}")
     _tree_id_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
     asked = main or None                # createTree("") is createTree(): the default main tree
