@@ -455,7 +455,7 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     if whole.equal and not whole.complete and "(max_states)" in reason:
         reason = (f"no difference found, but not a proof: {max_states} states explored (max_states; "
                   f"{spent} on the differing parts in every context, {whole.states} on the whole trees)")
-    return Verdict(whole.equal, whole.complete, spent + whole.states, reason, whole.counterexample)
+    return replace(whole, states=spent + whole.states, reason=reason)
 
 
 def compress_proved(document: Document, *, max_states: int, max_events_per_tick: int,
