@@ -104,3 +104,18 @@ def test_a_sub_task_by_name():
     kb = schemalog.load(COFFEE)
     coffee = kb.task("preparecoffee")
     assert coffee.name == "preparecoffee" and len(coffee) < len(kb.task())
+
+
+@pytest.mark.parametrize("path", [MIX, COFFEE])
+def test_a_compressed_file_compressed_again_is_proved_against_its_original(path, tmp_path):
+    """What a user who iterates does: compress, save, load, compress and prove (issue 46: an
+    internal error). The proof is against the original the file was compressed from."""
+    task = schemalog.load(path).task()
+    saved = tmp_path / "small.pl"
+    task.compress().save(saved)
+    again = schemalog.load(saved).task()
+    report = schemalog.verify(again, again.compress())
+    assert report.proved
+    assert len(report.tasks[0]) == len(task)           # the rebuilt original, not the merged tree
+    assert any("is itself compressed" in n for n in report.notes)
+    assert again.compress().original.tree == task.tree

@@ -922,3 +922,14 @@ def test_the_readmes_commands_write_each_output_once():
     assert len(outputs) > 15 and "fig2.png" in outputs
     twice = [name for name, n in collections.Counter(outputs).items() if n > 1]
     assert twice == []
+
+
+def test_compress_verify_of_a_compressed_file(tmp_path):
+    """compress -o, then compress --verify of what it wrote (issue 46: internal error, exit 70)."""
+    small = tmp_path / "small.pl"
+    assert run("compress", MIX, "-o", small).returncode == 0
+    r = run("compress", small, "--verify")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "original 12 behaviours, compressed 6" in r.stdout
+    assert "subtask(take,spoon)" in r.stdout        # its original, rebuilt from the provenance
+    assert "result: the compressed tree is sound and complete (exit 0)" in r.stdout

@@ -179,8 +179,14 @@ def _verify(original: Task, compressed: Task, states, method: str, max_states: i
         raise SchemalogError("max_states and max_bdd_nodes must be positive")
     if sample is not None and not 1 <= sample <= defaults.MAX_SAMPLE:
         raise SchemalogError(f"sample: from 1 to {defaults.MAX_SAMPLE:,} runs, not {sample:,}")
-    first, second = original.tree, compressed.tree
     notes: list[str] = []
+    if original.compressed:
+        # A compressed task's tree runs merged leaves, so its actions and its world are not the
+        # original's: the proof is against the tree it was compressed from (its provenance).
+        notes.append(f"note: {original.name} is itself compressed; the proof is against the original it "
+                     f"was compressed from ({len(original.original)} behaviours, rebuilt from its provenance)")
+        original = original.original
+    first, second = original.tree, compressed.tree
     if compressed.knowledge is not original.knowledge and compressed.provenance:
         if (second.label, second.post) != (first.label, first.post):
             raise SchemalogError(

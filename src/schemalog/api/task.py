@@ -149,7 +149,8 @@ class Task:
         figures = Compression(result.propagate, result.nodes_before, result.nodes_after, result.depth_before,
                               result.depth_after, result.reduction_degree, tuple(result.notes),
                               result.simplifier.calls, result.simplifier.sympy_calls)
-        return Task(result.tree, self.knowledge, self, figures, tuple(f"note: {n}" for n in result.notes))
+        # a compressed task compressed again still stands for the tree it was compressed from
+        return Task(result.tree, self.knowledge, self.original, figures, tuple(f"note: {n}" for n in result.notes))
 
     def decompress(self) -> Task:
         """The original tree rebuilt from the provenance (origins/2) a compressed file carries;

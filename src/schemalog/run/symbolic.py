@@ -93,7 +93,9 @@ class SymbolicModel:
         atoms: dict[Term, None] = {}
         for tree in (original, compressed):
             for node in walk(tree):                       # pre-order: a sub-task's atoms together
-                for c in (node.post, node.pre):
+                # a merged leaf's constituents too: compressing a compressed task gives leaves
+                # whose steps set atoms (a1.done) that no node's own conditions mention
+                for c in (node.post, node.pre, *(o.post for o in node.origins)):
                     atoms.update((lit.atom, None) for lit in cond.literals(c))
         atoms.update((a, None) for a in world.known_atoms)
         atoms.update((a, None) for a in extra_atoms)
