@@ -36,10 +36,7 @@ def readable_name(name: str | bytes | os.PathLike) -> str:
     """A file name as text any output can hold and a reader can follow back to the file: bytes
     that are not UTF-8 as `\\xff`, control characters (a newline, an escape) as `\\n`, `\\x1b`,
     so a name never breaks a message's line or a written file's comment, nor drives a terminal."""
-    text = os.fsdecode(name)
-    if text.isprintable():                            # nearly every name: as it is
-        return text
-    return "".join(c if c.isprintable() else _escape(c) for c in text)
+    return visible(os.fsdecode(name))
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,7 +76,8 @@ class SchemalogError(Exception):
         return self.pos.column if self.pos else None
 
     def __str__(self) -> str:
-        head = f"{self.pos}: error: {self.message}" if self.pos else f"error: {self.message}"
+        message = "\n".join(map(visible, self.message.split("\n")))
+        head = f"{self.pos}: error: {message}" if self.pos else f"error: {message}"
         if self.source_line is None or self.pos is None:
             return head
         line = self.source_line.rstrip("\n").expandtabs(1)
@@ -89,7 +87,24 @@ class SchemalogError(Exception):
             caret_at = self.pos.column - 1 - start
         else:
             caret_at = self.pos.column - 1
-        return f"{head}\n    {line}\n    {' ' * max(0, caret_at)}^"
+        # control characters and NULs as escapes: a line shown must not drive the terminal, and
+        # the caret stays under the character it points at
+        caret_at = len(visible(line[:max(0, caret_at)]))
+        return f"{head}\n    {visible(line)}\n    {' ' * caret_at}^"
+
+
+def visible(text: str) -> str:
+    """Text as a message shows it: what is not printable (a NUL, an escape, a carriage return)
+    as its escape, as readable_name writes a file name."""
+    return text if text.isprintable() else "".join(c if c.isprintable() else _escape(c) for c in text)
+
+
+def unquoted(pos: SourcePos, what: str, via: str) -> SchemalogError:
+    """An error in a file the command line does not name (reached through an <include> or a
+    consult, `via`): its place and `what` it is not, and nothing of its text, which may be any
+    file this process can read (/etc/passwd, /proc/self/environ)."""
+    return SchemalogError(f"{what}; {via}, and a file not named on the command line is never quoted "
+                          f"(name it to see its text)", pos)
 
 
 class UsageError(SchemalogError):

@@ -44,7 +44,7 @@ import re
 from dataclasses import dataclass, field
 
 from .. import defaults
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, unquoted, visible
 from ..logic.terms import Atom, Float, Int, Str, Struct, Term, is_ground, list_items, make_list, quote_atom, term_to_text
 from ..task import conditions as cond
 from ..task.conditions import Condition
@@ -654,6 +654,10 @@ class XNode:
     children: list["XNode"] = field(default_factory=list)
     file: str = ""
 
+    @property
+    def pos(self) -> SourcePos:
+        return SourcePos(self.file, self.line, self.column)
+
 
 class _Target:
     def __init__(self, parser_ref: list, file: str) -> None:
@@ -688,6 +692,14 @@ class _Target:
         return self.root
 
 
+class MalformedXML(SchemalogError):
+    """Text that is not well-formed XML; `reason` is expat's, which quotes nothing of the text."""
+
+    def __init__(self, message: str, reason: str, pos: SourcePos, source_line: str | None = None) -> None:
+        super().__init__(message, pos, source_line)
+        self.reason = reason
+
+
 def parse_xml(text: str, file: str) -> XNode:
     """Parse XML with defusedxml: entities and external references refused, positions kept."""
     from defusedxml import DefusedXmlException
@@ -704,10 +716,14 @@ def parse_xml(text: str, file: str) -> XNode:
     except ParseError as err:
         line, column = err.position
         if not text.strip():
-            raise SchemalogError("the file is empty: no XML element", SourcePos(file, 1, 1)) from None
+            raise MalformedXML("the file is empty: no XML element", "the file is empty",
+                               SourcePos(file, 1, 1)) from None
         lines = text.splitlines()
-        raise SchemalogError(f"malformed XML: {_expat_reason(str(err))}", SourcePos(file, line, column + 1),
-                             source_line=lines[line - 1] if 0 < line <= len(lines) else None) from None
+        reason = _expat_reason(str(err))
+        # expat's reasons are fixed words, but ElementTree's "undefined entity &name;" quotes the text
+        bare = "undefined entity" if reason.startswith("undefined entity") else reason
+        raise MalformedXML(f"malformed XML: {reason}", bare, SourcePos(file, line, column + 1),
+                           source_line=lines[line - 1] if 0 < line <= len(lines) else None) from None
     except DefusedXmlException as err:
         p = parser.parser
         what = f"the entity {getattr(err, 'name', '')}" if getattr(err, "name", None) else "a DTD"
@@ -717,6 +733,25 @@ def parse_xml(text: str, file: str) -> XNode:
     if root is None:
         raise SchemalogError("the XML has no element", SourcePos(file, 1, 1))
     return root
+
+
+def read_included(parse, text: str, file: str, path: str, via: SourcePos):
+    """The root that `parse(text, file)` makes of a file an <include path=...> at `via` names,
+    or an error that gives its place and what it is not, never its text: BT.CPP follows any
+    path, so the file may be any the process can read. Once it is a <root> document, it is a
+    behaviour tree, and messages about it quote it as they quote any tree."""
+    try:
+        root = parse(text, file)
+    except MalformedXML as err:
+        pos, what = err.pos, f"not XML ({err.reason})"
+    except SchemalogError as err:
+        pos, what = err.pos, "not XML as BT.CPP reads it"
+    else:
+        if root.tag == "root":
+            return root
+        pos, what = root.pos, "XML, but not a BT.CPP document (its root element is not <root>)"
+    raise unquoted(pos or SourcePos(file, 1, 1), what,
+                   f"it is read through <include path=\"{visible(path)}\"> at {via}") from None
 
 
 def _expat_reason(text: str) -> str:
@@ -852,7 +887,8 @@ class _Importer:
                     text = self.read(target)
                 except SchemalogError as err:
                     fail(child, f"<include path={path!r}>: {err.message}")
-                self._collect(parse_xml(text, target), target, [*chain, target])
+                self._collect(read_included(parse_xml, text, target, path, self.pos(child)), target,
+                              [*chain, target])
             else:
                 fail(child, f"unknown element <{child.tag}> under <root>")
 

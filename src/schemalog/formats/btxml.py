@@ -81,7 +81,7 @@ from xml.sax.saxutils import escape
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
 from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
 from ..errors import SchemalogError, SourcePos
-from .btcpp import XNode, parse_xml
+from .btcpp import XNode, parse_xml, read_included
 from .quoting import Unquotable, xml_attribute
 
 MAX_INCLUDE_DEPTH = 16
@@ -382,9 +382,10 @@ class _Reader:
                 return m.kind
         return form or None
 
-    def document(self, text: str, file: str, chain: tuple[str, ...]) -> _Element:
-        """Read one file: its includes first (as BT.CPP does), then its models and trees."""
-        root = _parse(text, file)
+    def document(self, text: str, file: str, chain: tuple[str, ...], via: _Element | None = None) -> _Element:
+        """Read one file: its includes first (as BT.CPP does), then its models and trees; a file
+        reached through an <include> (`via`) is quoted only once it is a BT.CPP <root> document."""
+        root = _parse(text, file) if via is None else read_included(_parse, text, file, via.get("path"), via.pos)
         _check_root(root)
         if len(chain) == 1 and root.get("BTCPP_format") is None:
             self.v3_hint = True
@@ -429,7 +430,7 @@ class _Reader:
         except OSError as err:
             _fail(element, f"<include path={path!r}>: {err.strerror or err}")
         self.includes.append(target)
-        self.document(text, target, (*chain, target))
+        self.document(text, target, (*chain, target), element)
 
     def tree(self, element: _Element, elements: int) -> None:
         """Register one <BehaviorTree>."""

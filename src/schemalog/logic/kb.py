@@ -35,7 +35,7 @@ from pathlib import Path
 
 from .. import defaults
 from ..cache import remembered
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, unquoted
 from ..inputs import missing
 from . import dcg
 from .compile import COMPILE_AFTER, activate_by_copy, activate_ground, compile_clause, compile_copy
@@ -660,9 +660,17 @@ class KnowledgeBase:
 
     # -- consulting -----------------------------------------------------------
     def consult_text(self, text: str, file: str = "<string>", base: Path | None = None,
-                     run_directives: bool = True) -> None:
-        """Add every clause of `text`; directives declare, include or run goals."""
-        for item in parse_text(text, file, self.operators):
+                     run_directives: bool = True, via: str | None = None) -> None:
+        """Add every clause of `text`; directives declare, include or run goals. `via` says how
+        a file the command line does not name was reached: what is not Prolog text in it is
+        then placed, never quoted (the file may be any the process can read)."""
+        try:
+            items = parse_text(text, file, self.operators)
+        except SchemalogError as err:
+            if via is None:
+                raise
+            raise unquoted(err.pos or SourcePos(file, 1, 1), "not Prolog text schemalog reads", via) from None
+        for item in items:
             if isinstance(item, Clause):
                 self.add_clause(item.head, item.body, item.pos)
             elif run_directives:
@@ -702,8 +710,10 @@ class KnowledgeBase:
         if max_steps is not None:
             self.max_steps = max_steps
         p = Path(path)
+        how = "included" if included else "consulted"
         with self.reading(p, pos, included):
-            self.consult_text(read_source(p, max_bytes), str(path), base=p.parent)
+            self.consult_text(read_source(p, max_bytes), str(path), base=p.parent,
+                              via=f"it is {how} at {pos}" if pos is not None else f"it is {how} by consult/1")
 
     def run_directive(self, d: Directive, base: Path | None = None) -> None:
         """Declare (dynamic), include (consult) or run the goal of a directive."""
