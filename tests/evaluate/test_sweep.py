@@ -71,6 +71,14 @@ def test_the_grid_has_its_cells_and_the_shipped_grids_read(grid):
     ("shapes: [4x2\n", "g.yaml:2:1", "YAML syntax error"),
     ("shapes: [12x10]\n", "g.yaml:1:10", "over 2,000,000 behaviours"),
     ("runs: 3\n", "g.yaml:1:1", "no cells"),
+    # issue 46: a 5,000-digit shape was an internal error (int() stops at 4,300 digits), Unicode
+    # digits were read as numbers, and whole numbers were printed with %g
+    ("shapes: [" + "9" * 5000 + "x2]\n", "g.yaml:1:10", "(5,000 digits)x2 is over 2,000,000 behaviours"),
+    ("shapes: [[" + "9" * 5000 + ", 2]]\n", "g.yaml:1:10", "(5,000 digits)x2 is over 2,000,000 behaviours"),
+    ("shapes: [4x2]\nseeds: [" + "9" * 5000 + "]\n", "g.yaml:2:9", "not 99999999999999999999...9999999999"),
+    ("shapes: [\u0663x\u0662]\n", "g.yaml:1:10", "depth x children"),
+    ("shapes: [4x2]\nreductions: [\u0660.5]\n", "g.yaml:2:14", "must be a number"),
+    ("shapes: [4x2]\nseeds: [99999999999]\n", "g.yaml:2:9", "between 0 and 4294967295, not 99999999999"),
 ])
 def test_a_bad_grid_is_told_with_its_place(text, where, message):
     with pytest.raises(SchemalogError) as err:
@@ -210,3 +218,61 @@ def test_a_runtimes_grid_writes_bench_runtimes_tables(tmp_path):
     assert [p.name for p in written] == ["sweep.md", "runtimes.csv", "runtimes.md"]
     assert "| 3x2 RD 0.5 | 7 -> " in (tmp_path / "runtimes.md").read_text()
     assert non_timing(store.rows["generated/3x2/rd0.5/seed1/full"])["ticks"]["btcpp/original"] > 0
+
+
+def test_a_link_in_the_output_folder_is_replaced_never_written_through(tmp_path):
+    """--out's files are the run's: sweep.md or results.parquet linked to a file elsewhere are
+    replaced by the files, and the file the link named is untouched (issue 46)."""
+    from schemalog.api import sweep as api
+    from schemalog.evaluate.sweep import Serial, run_sweep, write_reports
+
+    out = tmp_path / "out"
+    out.mkdir()
+    victim = tmp_path / "victim.txt"
+    victim.write_text("victim\n")
+    for name in ("sweep.md", "results.parquet", "results.jsonl"):
+        (out / name).symlink_to(victim)
+    g = grid_from_yaml("shapes: [2x2]\nreductions: [0.5]\nmeasures: [compress]\n", "g.yaml")
+    store = api.store(out, g, fresh=True)
+    stats = run_sweep(g, store, Serial())
+    write_reports(g, store, out, "test", stats)
+    assert victim.read_text() == "victim\n"
+    assert not (out / "sweep.md").is_symlink() and "schemalog sweep" in (out / "sweep.md").read_text()
+    assert not store.path.is_symlink() and store.saved == 1
+
+
+def test_a_name_that_is_not_utf8_holds_the_results(tmp_path):
+    """--out $'\\xff': pyarrow refused the name (UnicodeEncodeError, an internal error, after
+    "1 cells stored"); the results are written, and read back by a rerun."""
+    from schemalog.api import sweep as api
+    from schemalog.evaluate.sweep import Serial, run_sweep
+
+    out = tmp_path / os.fsdecode(b"\xff")
+    out.mkdir()
+    g = grid_from_yaml("shapes: [2x2]\nreductions: [0.5]\nmeasures: [compress]\n", "g.yaml")
+    store = api.store(out, g)
+    run_sweep(g, store, Serial())
+    assert store.saved == 1 and api.store(out, g).done(g.cells()[0].key)
+
+
+def test_stopped_says_how_many_cells_the_file_holds_not_how_many_ran(tmp_path):
+    from schemalog.api import sweep as api
+    from schemalog.errors import CannotWrite
+    from schemalog.evaluate.sweep import Serial, run_sweep
+
+    out = tmp_path / "gone"
+    out.mkdir()
+    g = grid_from_yaml("shapes: [2x2]\nreductions: [0.5]\nmeasures: [compress]\n", "g.yaml")
+    store = api.store(out, g)
+    out.rmdir()                              # the results file can no longer be written
+    with pytest.raises(CannotWrite):
+        run_sweep(g, store, Serial())
+    assert len(store.rows) == 1 and store.saved == 0
+
+
+def test_a_folder_named_after_a_shipped_grid_does_not_shadow_it(tmp_path, monkeypatch):
+    from schemalog.evaluate.grid import read_grid
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "paper").mkdir()
+    assert read_grid("paper") == named_grid("paper")

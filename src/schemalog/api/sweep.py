@@ -19,7 +19,7 @@ from ..evaluate import bench as _bench
 from ..evaluate import sweep as _sweep
 from ..evaluate.grid import Grid, named_grid, override, read_grid
 from ..evaluate.proofs import ProofOptions, exit_status, prove_file
-from ..formats.documents import write_atomically
+from ..formats.documents import write_atomically, write_in_folder
 
 
 def grid(path_or_name: str) -> Grid:
@@ -76,8 +76,8 @@ def runtimes_report(g: Grid, s, out: Path, command: str) -> str:
 
     rows = _sweep.runtime_rows(s.in_order(g.cells()))
     table = runtimes_markdown(rows, command)
-    write_atomically(out / "runtimes.csv", runtimes_csv(rows))
-    write_atomically(out / "runtimes.md", table)
+    write_in_folder(out / "runtimes.csv", runtimes_csv(rows))
+    write_in_folder(out / "runtimes.md", table)
     return table
 
 

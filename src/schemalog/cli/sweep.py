@@ -55,8 +55,8 @@ def run(args: argparse.Namespace) -> int:
         with where, progress_display(f"sweep {grid.name}", len(grid.cells())) as show:
             stats = api.sweep(grid, store, where, show)
     except BaseException:
-        if store.path is not None and store.rows:
-            print(f"stopped: {len(store.rows)} cells stored in {store.path}; the same command resumes the sweep",
+        if store.path is not None and store.saved:      # what the file holds, not what was computed
+            print(f"stopped: {store.saved} cells stored in {store.path}; the same command resumes the sweep",
                   file=sys.stderr)
         raise
     written = api.reports(grid, store, out, command, stats)

@@ -40,7 +40,7 @@ from typing import Callable
 
 from ..task import conditions as cond
 from ..task.compress import compress
-from ..formats.documents import document_from_text, write_atomically
+from ..formats.documents import document_from_text, write_in_folder
 from ..errors import SchemalogError
 from ..run.execute import Executive
 from .generate import TOLERANCE, generate, node_count, scene_for, shortfall
@@ -820,7 +820,7 @@ def write_results(results: Results, out: Path, command: str) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     written = []
     for name, text in (("results.csv", to_csv(results)), ("results.md", to_markdown(results, command))):
-        write_atomically(out / name, text)
+        write_in_folder(out / name, text)
         written.append(out / name)
     written += figures.figure4(results, out)
     written += figures.selectors_by_size(results, out)

@@ -10,9 +10,8 @@ Each figure is written as PNG and SVG, atomically (a temporary file renamed into
 
 from __future__ import annotations
 
+import io
 import math
-import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -25,7 +24,7 @@ from matplotlib import ticker  # noqa: E402
 from matplotlib.text import Text  # noqa: E402
 
 from ..task.compress import compress  # noqa: E402
-from ..formats.documents import file_mode, write_atomically  # noqa: E402
+from ..formats.documents import write_atomically, write_in_folder  # noqa: E402
 from .generate import generate  # noqa: E402
 from ..formats.render import compare_dot  # noqa: E402
 from ..logic.terms import term_to_text  # noqa: E402
@@ -43,18 +42,9 @@ def save(fig, out: Path, stem: str) -> list[Path]:
 
 
 def _write(fig, target: Path) -> Path:
-    """Write `fig` to `target` atomically, in the format of its suffix."""
+    """Write `fig` to `target` atomically, in the format of its suffix (write_in_folder)."""
     fmt = target.suffix.lstrip(".").lower() or "png"
-    fd, temporary = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".{fmt}", dir=target.parent)
-    os.close(fd)
-    try:
-        fig.savefig(temporary, format=fmt, dpi=150, bbox_inches="tight")
-        os.chmod(temporary, file_mode(target))
-        os.replace(temporary, target)
-    finally:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-    return target
+    return write_in_folder(target, lambda handle: fig.savefig(handle, format=fmt, dpi=150, bbox_inches="tight"))
 
 
 def _log_axis(ax, which: str) -> None:
@@ -192,7 +182,7 @@ def figure3(out: Path, depth: int = 4, children: int = 2, rd: float = 0.5, seed:
     result = compress(tree)
     written = []
     dot = out / "figure3.dot"
-    write_atomically(dot, compare_dot(result.original, result.tree, "figure3", result.propagate))
+    write_in_folder(dot, compare_dot(result.original, result.tree, "figure3", result.propagate))
     written.append(dot)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 6.5), layout="constrained")
     _draw_tree(top, result.original, f"Generated: depth {depth}, {children} children, RD {rd:g} asked "
@@ -210,7 +200,11 @@ def demonstration_figure(lesson, path: Path) -> Path:
     """Write demonstration_plot's figure atomically, in the format of `path`'s suffix."""
     fig = demonstration_plot(lesson)
     try:
-        return _write(fig, Path(path))
+        # a -o style output, not a folder's file: written as -o writes (through a link, into a FIFO)
+        picture = io.BytesIO()
+        fig.savefig(picture, format=Path(path).suffix.lstrip(".").lower() or "png", dpi=150, bbox_inches="tight")
+        write_atomically(path, picture.getvalue())
+        return Path(path)
     finally:
         plt.close(fig)
 

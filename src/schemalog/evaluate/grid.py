@@ -20,8 +20,9 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from .. import defaults
-from ..errors import SchemalogError, SourcePos, UsageError
+from ..errors import SchemalogError, SourcePos, UsageError, shown_number
 from ..inputs import compose_yaml, read_limited
+from ..logic.terms import int_of_digits
 from .generate import node_count
 
 Shape = tuple[int, int]
@@ -123,7 +124,9 @@ def shipped_grids() -> list[str]:
 
 def read_grid(path: str, max_bytes: int = defaults.MAX_BYTES) -> Grid:
     """A grid file, or the name of a shipped grid (paper, quick, runtimes)."""
-    if not Path(path).exists() and "/" not in path and not path.endswith((".yaml", ".yml")):
+    # a bare word names a shipped grid unless a file has that name (a folder `paper` does not
+    # shadow it); ./paper names the file
+    if "/" not in path and not path.endswith((".yaml", ".yml")) and not Path(path).is_file():
         return named_grid(path)
     data = read_limited(path, max_bytes, f"grid {path}")
     try:
@@ -159,16 +162,22 @@ def grid_from_yaml(text: str, file: str = "<grid>") -> Grid:
 
     def number(node, what: str, kind=float, low: float | None = None, high: float | None = None):
         raw = scalar(node, what).replace("_", "").lower()
-        try:
-            value = kind(raw) if kind is int else float(raw)
-        except ValueError:
-            raise fail(f"{what} must be {'a whole number' if kind is int else 'a number'}, not {node.value!r}",
-                       node) from None
+        shown = shown_number(str(node.value))
+        # ASCII only: int() and float() read any Unicode digit (`٣` is 3), and int() refuses
+        # past 4,300 digits with a ValueError of its own
+        value = _decimal(raw) if kind is int else None
+        if kind is float and raw.isascii():
+            try:
+                value = float(raw)
+            except ValueError:
+                pass
+        if value is None:
+            raise fail(f"{what} must be {'a whole number' if kind is int else 'a number'}, not {shown}", node)
         if kind is float and not math.isfinite(value):
             raise fail(f"{what} must be finite", node)
         if (low is not None and value < low) or (high is not None and value > high):
-            bounds = f"at least {low:g}" if high is None else f"between {low:g} and {high:g}"
-            raise fail(f"{what} must be {bounds}, not {value:g}", node)
+            bounds = f"at least {_shown(low)}" if high is None else f"between {_shown(low)} and {_shown(high)}"
+            raise fail(f"{what} must be {bounds}, not {shown}", node)
         return value
 
     def optional(node, what: str, **kw):
@@ -187,16 +196,19 @@ def grid_from_yaml(text: str, file: str = "<grid>") -> Grid:
     def shape(node, what: str) -> Shape:
         if isinstance(node, yaml.SequenceNode) and len(node.value) == 2:
             depth, children = (number(n, f"{what}'s depth and children", int, 1) for n in node.value)
+            texts = [str(n.value).strip() for n in node.value]
         else:
-            raw = scalar(node, what).lower().split("x")
-            if len(raw) != 2 or not all(r.strip().isdigit() for r in raw):
-                raise fail(f"{what} is depth x children, like 4x2 or [4, 2], not {node.value!r}", node)
-            depth, children = int(raw[0]), int(raw[1])
+            texts = [r.strip() for r in scalar(node, what).lower().split("x")]
+            raw = [_decimal(r) for r in texts]
+            if len(raw) != 2 or None in raw or min(raw) < 0:
+                raise fail(f"{what} is depth x children, like 4x2 or [4, 2], not {shown_number(str(node.value))}",
+                           node)
+            depth, children = raw
         if depth < 1 or children < 1:
             raise fail(f"{what}: depth and children must be at least 1", node)
         if depth > 64 or (children > 1 and (depth - 1) * math.log(children) > math.log(MAX_GRID_NODES) + 1) \
                 or node_count(depth, children) > MAX_GRID_NODES:
-            raise fail(f"{what} {depth}x{children} is over {MAX_GRID_NODES:,} behaviours", node)
+            raise fail(f"{what} {'x'.join(map(shown_number, texts))} is over {MAX_GRID_NODES:,} behaviours", node)
         return depth, children
 
     def distinct(items: list, nodes: list, what: str) -> tuple:
@@ -281,6 +293,21 @@ def grid_from_yaml(text: str, file: str = "<grid>") -> Grid:
     if len(grid.cells()) > MAX_CELLS:
         raise SchemalogError(f"grid: {len(grid.cells()):,} cells, over {MAX_CELLS:,}", SourcePos(file, 1, 1))
     return grid
+
+
+def _decimal(text: str) -> int | None:
+    """The integer an ASCII decimal (an optional sign, then digits) writes, else None; any
+    length (int() stops at 4,300 digits: a longer one is read by parts)."""
+    digits = text[1:] if text[:1] in "+-" else text
+    if not digits or not (digits.isascii() and digits.isdigit()):
+        return None
+    value = int_of_digits(digits)
+    return -value if text[:1] == "-" else value
+
+
+def _shown(value: float) -> str:
+    """A bound as a message writes it: a whole number whole (4294967295, not 4.29497e+09)."""
+    return str(int(value)) if float(value).is_integer() and abs(value) < 1e18 else f"{value:g}"
 
 
 def override(grid: Grid, **changes) -> Grid:

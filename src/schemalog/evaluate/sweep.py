@@ -18,7 +18,10 @@ from __future__ import annotations
 import json
 import math
 import os
+import shutil
+import signal
 import socket
+import sys
 import tempfile
 import time
 from dataclasses import asdict, dataclass, field
@@ -26,6 +29,7 @@ from pathlib import Path
 from typing import Callable, Iterator
 
 from ..errors import SchemalogError, UsageError
+from ..formats.documents import write_in_folder
 from . import bench
 from .grid import CellSpec, Grid
 
@@ -162,6 +166,7 @@ class Store:
     def __init__(self, path: Path | None, settings: str, rows: dict | None = None) -> None:
         self.path, self.settings = path, settings
         self.rows: dict[str, dict] = rows or {}
+        self.saved = 0                      # rows the results file holds: read back, or last written
         self._dirty, self._flushed = False, 0.0
 
     @staticmethod
@@ -179,6 +184,7 @@ class Store:
                 raise UsageError(f"{path} holds results measured with other settings (runs, measures, limits) "
                                  f"than this grid's: use another --out, or --fresh to measure again")
             store.rows[row["key"]] = row
+        store.saved = len(store.rows)
         return store
 
     def done(self, key: str) -> bool:
@@ -200,11 +206,11 @@ class Store:
 
             schema = pa.schema([(name, getattr(pa, kind)()) for name, kind in COLUMNS.items()])
             table = pa.Table.from_pylist([{c: r.get(c) for c in COLUMNS} for r in rows], schema=schema)
-            _atomically(self.path, lambda tmp: pq.write_table(table, tmp))
+            write_in_folder(self.path, lambda handle: pq.write_table(table, handle))
         else:
-            text = "".join(json.dumps({c: r.get(c) for c in COLUMNS}) + "\n" for r in rows)
-            _atomically(self.path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+            write_in_folder(self.path, "".join(json.dumps({c: r.get(c) for c in COLUMNS}) + "\n" for r in rows))
         self._dirty, self._flushed = False, time.monotonic()
+        self.saved = len(rows)
 
     def in_order(self, cells: list[CellSpec]) -> list[dict]:
         """The stored rows of these cells, in the cells' order."""
@@ -216,32 +222,12 @@ def _read_rows(path: Path) -> list[dict]:
         if path.suffix == ".parquet":
             import pyarrow.parquet as pq
 
-            return pq.read_table(path).to_pylist()
+            with open(path, "rb") as handle:          # pyarrow takes only UTF-8 names; Python any name
+                return pq.read_table(handle).to_pylist()
         return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines() if line.strip()]
     except (OSError, ValueError, UnicodeDecodeError, Exception) as err:   # pyarrow's errors are its own
         raise SchemalogError(f"cannot read {path} as a sweep's results ({type(err).__name__}: {err}): remove it, "
                              f"or use another --out") from None
-
-
-def _atomically(path: Path, write: Callable[[str], None]) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        write(tmp)
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 # ---------------------------------------------------------------------------
@@ -271,6 +257,40 @@ class Serial:
         return min(1, left)
 
 
+SCRATCH = "schemalog-dask-"       # + the pid of the sweep that owns the folder
+
+
+def _remove_orphaned_scratch() -> None:
+    """Remove the scratch folders of sweeps that were killed (SIGKILL leaves no chance to): a
+    folder of this user's whose process is gone."""
+    base = Path(tempfile.gettempdir())
+    for folder in base.glob(f"{SCRATCH}*-*"):
+        pid = folder.name[len(SCRATCH):].split("-", 1)[0]
+        try:
+            if not pid.isdigit() or folder.is_symlink() or folder.stat().st_uid != os.getuid():
+                continue
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except (OSError, OverflowError):
+            continue
+
+
+def _start_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker, which the cluster's processes share, before
+    SIGINT is blocked: starting it unblocks SIGINT (resource_tracker.ensure_running), and the
+    processes made after that would take Ctrl-C again. It removes the semaphores of processes that were
+    killed (a SIGKILL of the sweep) and then warns about each "leaked" one on stderr; it takes
+    its warning filters from this process's -W options when it starts, so it is told to do the
+    cleaning quietly."""
+    from multiprocessing import resource_tracker
+
+    quiet = "ignore:resource_tracker:UserWarning"
+    if quiet not in sys.warnoptions:
+        sys.warnoptions.append(quiet)
+    resource_tracker.ensure_running()
+
+
 class DaskEngine:
     """A dask.distributed Client: on a LocalCluster of `workers` single-threaded worker processes
     (default one per core), or on the scheduler at `scheduler` (tcp://host:8786)."""
@@ -282,11 +302,13 @@ class DaskEngine:
             raise UsageError(f"this needs Dask: {INSTALL} (or run in this process with --serial)") from None
         self.requested, self.scheduler = workers, scheduler
         self.client = self.cluster = None
+        self.scratch: str | None = None
         self._keys: set = set()
 
     def __enter__(self) -> "DaskEngine":
         import logging
 
+        import dask.config
         from distributed import Client, LocalCluster
 
         if self.scheduler:
@@ -294,13 +316,30 @@ class DaskEngine:
                 self.client = Client(self.scheduler, timeout="20s")
             except (OSError, TimeoutError, ValueError) as err:
                 raise SchemalogError(f"cannot reach the Dask scheduler at {self.scheduler}: {err}") from None
-        else:
+            return self
+        # Ctrl-C at a terminal reaches every process of the group: a worker still starting (before
+        # IgnoreInterrupt reaches it) died with a traceback. The processes are made while this
+        # thread blocks SIGINT, and a child keeps a blocked signal across exec, so they never
+        # take it; this process still does (Python runs its handler in the main thread whichever
+        # thread the signal reaches). Their files go in a folder of this run's, removed as it
+        # ends (Dask's default is $TMPDIR/dask-scratch-space, left behind).
+        _remove_orphaned_scratch()
+        self.scratch = tempfile.mkdtemp(prefix=f"{SCRATCH}{os.getpid()}-")
+        self._config = dask.config.set({"temporary-directory": self.scratch})   # the scheduler's too
+        _start_resource_tracker()
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
             self.cluster = LocalCluster(n_workers=self.requested or local_cores(), threads_per_worker=1,
                                         processes=True, dashboard_address=None, silence_logs=logging.ERROR)
             self.client = Client(self.cluster)
             from .workers import IgnoreInterrupt
 
             self.client.register_plugin(IgnoreInterrupt())
+        except BaseException:
+            self.__exit__()
+            raise
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)      # a Ctrl-C held back arrives now
         return self
 
     def __exit__(self, *exc) -> None:
@@ -310,6 +349,10 @@ class DaskEngine:
                     closing.close(timeout=10) if closing is self.cluster else closing.close()
                 except Exception:          # already gone: nothing left to close
                     pass
+        if self.scratch is not None:
+            self._config.__exit__(None, None, None)
+            shutil.rmtree(self.scratch, ignore_errors=True)
+            self.scratch = None
 
     @property
     def workers(self) -> int:
@@ -476,19 +519,17 @@ def sweep_markdown(grid: Grid, rows: list[dict], command: str, stats: SweepStats
 
 def write_reports(grid: Grid, store: Store, out: Path, command: str, stats: SweepStats) -> list[Path]:
     """sweep.md; with `time`, bench's results.csv, results.md and figures; with `runtimes`, its tables."""
-    from ..formats.documents import write_atomically
-
     rows = store.in_order(grid.cells())
     written = [out / "sweep.md"]
-    write_atomically(out / "sweep.md", sweep_markdown(grid, rows, command, stats))
+    write_in_folder(out / "sweep.md", sweep_markdown(grid, rows, command, stats))
     if grid.timed and any(r["status"] == "done" for r in rows):
         written += bench.write_results(bench_results(grid, rows, stats.seconds), out, command)
     if "runtimes" in grid.measures:
         from .runtimes import runtimes_csv, runtimes_markdown
 
         table = runtime_rows(rows)
-        write_atomically(out / "runtimes.csv", runtimes_csv(table))
-        write_atomically(out / "runtimes.md", runtimes_markdown(table, command))
+        write_in_folder(out / "runtimes.csv", runtimes_csv(table))
+        write_in_folder(out / "runtimes.md", runtimes_markdown(table, command))
         written += [out / "runtimes.csv", out / "runtimes.md"]
     return written
 

@@ -26,9 +26,11 @@ import functools
 import os
 import stat
 import tempfile
+from collections.abc import Callable
 from contextlib import nullcontext
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import BinaryIO
 
 from ..inputs import check_yaml_nesting
 from ..errors import READABLE, CannotWrite, SchemalogError, SourcePos
@@ -308,9 +310,14 @@ def file_mode(target: Path) -> int:
     try:
         return target.stat().st_mode & 0o7777
     except OSError:
-        mask = os.umask(0)
-        os.umask(mask)
-        return 0o666 & ~mask
+        return new_file_mode()
+
+
+def new_file_mode() -> int:
+    """The mode a new file gets: what umask allows of 0666."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
 
 
 @dataclass(frozen=True)
@@ -401,6 +408,40 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
         if isinstance(err, OSError):
             raise CannotWrite(path, err.strerror or str(err)) from None
         raise
+
+
+def write_in_folder(target: Path, content: str | bytes | Callable[[BinaryIO], None]) -> Path:
+    """Write one file of an output folder (sweep's and bench's --out) through a temporary file
+    in the folder and a rename onto `target`: never partial, and a link found there is replaced,
+    never written through (the folder is the user's to name; what is in it is the run's, so a
+    `sweep.md` linked to a file elsewhere cannot make the run write outside the folder).
+    `content` is text, bytes, or a function that writes into the open binary file."""
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    except OSError as err:
+        raise CannotWrite(str(target), err.strerror or str(err)) from None
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            if callable(content):
+                content(handle)        # pyarrow and matplotlib take the handle: a name need not be UTF-8
+            else:
+                handle.write(content.encode("utf-8", READABLE) if isinstance(content, str) else content)
+        try:
+            info = os.lstat(target)
+            mode = stat.S_IMODE(info.st_mode) if stat.S_ISREG(info.st_mode) else None
+        except OSError:
+            mode = None
+        os.chmod(tmp, mode if mode is not None else new_file_mode())
+        os.replace(tmp, target)
+    except BaseException as err:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(err, OSError):
+            raise CannotWrite(str(target), err.strerror or str(err)) from None
+        raise
+    return target
 
 
 def write_together(files: list[tuple[str, bytes]]) -> None:
