@@ -107,6 +107,24 @@ def test_bad_limits_are_usage_errors():
     task.compress()                     # without a timeout, any thread may call (no signal)
 
 
+def test_a_ceiling_past_what_the_system_takes_is_the_largest_it_takes():
+    """max_memory=10**30 raised OverflowError, and `--max-memory 999999999T` was "a number is too
+    large to process" (issue 46): no process can hold that much, so it is the largest ceiling
+    RLIMIT_DATA takes, which holds as trivially."""
+    import resource
+
+    from schemalog.api.limits import MAX_CEILING, parse_size
+
+    task = schemalog.load(COFFEE).task()
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    assert len(task.compress(max_memory=10**30)) == 33
+    assert resource.getrlimit(resource.RLIMIT_DATA) == before
+    assert parse_size("999999999T", "--max-memory") == parse_size("9" * 5000, "--max-memory") == MAX_CEILING
+    assert parse_size("1.5G", "--max-memory") == 3 * 2**29
+    with pytest.raises(schemalog.UsageError, match=r"max_memory=-10\*\*30 or less: at least"):
+        task.compress(max_memory=-10**40)
+
+
 def test_a_ceiling_under_what_the_process_already_holds_stops_the_call_at_once():
     """RLIMIT_DATA is the process's: a long-lived process (a notebook, this test run) may hold
     more than the ceiling a call asks for. Then every allocation would fail, and CPython can

@@ -190,6 +190,42 @@ def test_the_ceiling_named_is_the_one_in_force_not_the_default():
     assert r.returncode == 2 and r.stderr.strip() == out_of_memory("1.5 GiB"), r.stderr
 
 
+NO_PROOF = ("error: out of memory: the 90 MiB ceiling was reached (raise it with --max-memory or "
+            "SCHEMALOG_MAX_MEMORY, or set it to off): no proof (exit 3)")
+
+
+@pytest.fixture(scope="module")
+def wide_task(tmp_path_factory):
+    """1,365 behaviours that explored whole (--no-split) need far more than 90 MiB."""
+    path = tmp_path_factory.mktemp("wide") / "g6.pl"
+    r = run("generate", "--depth", "6", "--children", "4", "--rd", "0.3", "--seed", "2", "-o", path)
+    assert r.returncode == 0, r.stderr
+    return path
+
+
+@pytest.mark.parametrize("method", ["explicit", "symbolic"])
+def test_a_proof_out_of_memory_is_no_proof_not_a_counterexample(wide_task, method):
+    """verify exited 1, the status of a counterexample, when memory ran out (issue 46); the
+    prover stops near the ceiling, and CUDD is held under it, so nothing but the message shows."""
+    r = run("verify", wide_task, "--method", method, "--no-split", "--max-memory", "90M",
+            "--max-states", 10**8, "--max-bdd-nodes", 10**8)
+    assert r.returncode == 3 and clean(r), r.stderr
+    assert r.stderr.strip() == NO_PROOF
+
+
+def test_a_tree_proof_out_of_memory_is_no_proof(tmp_path):
+    nav2 = ROOT / "tests" / "bt" / "corpus" / "nav2"
+    original = (nav2 / "navigate_on_route_graph_w_recovery.xml").read_text()
+    start = original.index(">", original.index("<BehaviorTree")) + 1
+    end = original.index("</BehaviorTree>")
+    wrapped = tmp_path / "wrapped.xml"                 # the whole tree in a Sequence of one child
+    wrapped.write_text(original[:start] + "<Sequence>" + original[start:end] + "</Sequence>" + original[end:])
+    r = run("verify", nav2 / "navigate_on_route_graph_w_recovery.xml", wrapped, "--nodes",
+            nav2 / "nav2_tree_nodes.xml", "--max-memory", "90M", "--max-states", 10**8)
+    assert r.returncode == 3 and clean(r), r.stderr
+    assert r.stderr.strip() == NO_PROOF
+
+
 def test_memory_running_out_outside_the_engine_names_the_ceiling(tmp_path):
     # generate builds a 5**9-behaviour tree in Python, not in the engine: the process's handler speaks
     r = run("generate", "--depth", "9", "--children", "5", "-o", tmp_path / "big.pl", "--max-memory", "200M")

@@ -29,6 +29,7 @@ from __future__ import annotations
 import os
 import re
 import signal
+from fractions import Fraction
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
@@ -36,7 +37,7 @@ import threading
 import time
 
 from .. import defaults
-from ..errors import SchemalogError, UsageError
+from ..errors import SchemalogError, UsageError, shown_number
 
 TIMEOUT_EXIT = 124          # as GNU timeout(1) exits
 
@@ -78,6 +79,9 @@ def time_limit(seconds: float | None) -> Iterator[None]:
 
 
 _UNITS = {"": 1, "b": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
+# The largest ceiling RLIMIT_DATA takes (a C long): one above it holds as trivially as this one,
+# since no process can hold 8 EiB, so a larger ceiling asked for is this one
+MAX_CEILING = 2**63 - 1
 _OFF = ("off", "none", "unlimited")
 
 
@@ -87,10 +91,13 @@ def parse_size(text: str, source: str) -> int | None:
     cleaned = text.strip().lower()
     if cleaned in _OFF:
         return None
-    found = re.fullmatch(r"(\d+(?:\.\d+)?)\s*([kmgt]?)(?:i?b)?", cleaned)
+    found = re.fullmatch(r"([0-9]+(?:\.[0-9]+)?)\s*([kmgt]?)(?:i?b)?", cleaned)
     if not found:
-        raise UsageError(f"{source} {text!r} is not a size: write bytes, or e.g. 512M, 4G, or off")
-    value = int(float(found.group(1)) * _UNITS[found.group(2)])
+        raise UsageError(f"{source} {shown_number(text)!r} is not a size: write bytes, or e.g. 512M, 4G, or off")
+    number = found.group(1)
+    # digits past 30 are past any ceiling (a float of them is inf, int() refuses 4,300)
+    value = MAX_CEILING if len(number) > 30 else \
+        min(MAX_CEILING, int(Fraction(number) * _UNITS[found.group(2)]))
     if value < defaults.MIN_MEMORY:
         raise UsageError(f"{source} {text!r}: at least {size_text(defaults.MIN_MEMORY)} "
                          f"(Python and the engine need that much to start)")
@@ -231,9 +238,10 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
     if isinstance(max_memory, bool) or not isinstance(max_memory, (int, str, type(None))):
         raise UsageError(f"max_memory={max_memory!r}: bytes, a size such as '2G', or None")
     if isinstance(max_memory, int):
-        ceiling: int | None = max_memory
+        ceiling: int | None = min(max_memory, MAX_CEILING)
         if ceiling < defaults.MIN_MEMORY:
-            raise UsageError(f"max_memory={ceiling}: at least {size_text(defaults.MIN_MEMORY)}")
+            shown = str(max_memory) if max_memory > -10**30 else "-10**30 or less"
+            raise UsageError(f"max_memory={shown}: at least {size_text(defaults.MIN_MEMORY)}")
     elif max_memory == DEFAULT:
         ceiling = memory_ceiling(None, os.environ) if not nested else None
     elif max_memory is None:

@@ -24,6 +24,7 @@ from dataclasses import dataclass, replace
 from collections.abc import Mapping
 
 from schemalog.bt.model import Document, Node, walk
+from schemalog.memory import CeilingReached, near_ceiling
 from schemalog.bt.semantics import (RESETTING_PARENTS, RULES, RUNNING, Await, Config, Event, Program, RootTicked, Rule,
                                     Status, _rule_key, advance, halt_step, initial, program, step)
 
@@ -130,6 +131,8 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
             limit = limit or f"{max_states} states explored (max_states)"
             break
         seen.add(key)
+        if len(seen) & 1023 == 0 and near_ceiling():    # stop while there is room to say so
+            raise CeilingReached("near the memory ceiling")
         diff = _difference(sa, sb)
         if diff:
             if contextual:

@@ -65,6 +65,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+NO_PROOF = 3     # verify, compress --verify: no counterexample, and no proof
+
 # What the statuses returned below (and by the commands) mean; `schemalog --help` ends with it.
 EXIT_STATUS = f"""\
 exit status:
@@ -73,7 +75,8 @@ exit status:
        or bad input (a message with file:line:column), or out of memory
   2    a wrong command line (the command's usage follows); query and repl: also a bad
        query or file, or input that ends inside a query
-  3    verify, compress --verify: no counterexample, but no proof (a limit, --sample)
+  3    verify, compress --verify: no counterexample, but no proof (a limit, memory
+       included, or --sample)
   70   an internal error (please report it; SCHEMALOG_DEBUG=1 shows the traceback)
   {TIMEOUT_EXIT:<4} --timeout ran out (as timeout(1))
   130  interrupted (Ctrl-C); 128+N for signal N (143 SIGTERM, 129 SIGHUP)
@@ -138,11 +141,14 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     from ..api.failures import PrologError
 
     ceiling = None
-    said = (out_of_memory_text(None) + "\n").encode()
+    # A proof that runs out of memory is no proof, not a counterexample: exit 3, as at --max-states
+    proving = args.command == "verify" or (args.command == "compress" and getattr(args, "verify", False))
+    no_proof = ": no proof (exit 3)" if proving else ""
+    said = (out_of_memory_text(None) + no_proof + "\n").encode()
     try:
         ceiling = apply_memory_ceiling(memory_ceiling(getattr(args, "max_memory", None), os.environ))
         # Made now: when memory has run out, even this message may find none to be made in.
-        said = (out_of_memory_text(ceiling) + "\n").encode()
+        said = (out_of_memory_text(ceiling) + no_proof + "\n").encode()
         # The timer is disarmed as the command returns, before any handler below prints.
         # governed: the API calls the command makes run under these limits, adding none of their own
         with time_limit(getattr(args, "timeout", None)), governed():
@@ -161,7 +167,7 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
         print("error: the input nests too deeply to process", file=sys.stderr)
         return 1
     except MemoryError:     # not bound: the frames holding the memory go with the traceback
-        return _out_of_memory(said)
+        return _out_of_memory(said, NO_PROOF if proving else 1)
     except OverflowError as err:
         print(f"error: a number is too large to process ({err})", file=sys.stderr)
         return 1
@@ -172,7 +178,7 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     except Exception as err:  # an internal error must still not dump a traceback on users
         cause = _wrapped_stop(err)
         if isinstance(cause, MemoryError):
-            return _out_of_memory(said)
+            return _out_of_memory(said, NO_PROOF if proving else 1)
         if cause is not None:
             return _stopped(cause)
         if os.environ.get("SCHEMALOG_DEBUG"):
@@ -228,10 +234,11 @@ def _leave_on_signals() -> None:
             signal.signal(number, _leave)
 
 
-def _out_of_memory(said: bytes) -> int:
-    """Say that memory ran out, with the words set aside for it: the handler may have no memory
-    left to make a string in (a MemoryError raised here printed a traceback). The ceiling is
-    lifted first, so that what follows (flushing, leaving) can allocate; main() restores it."""
+def _out_of_memory(said: bytes, status: int) -> int:
+    """Say that memory ran out, with the words set aside for it, and return `status`: the handler
+    may have no memory left to make a string in (a MemoryError raised here printed a traceback).
+    The ceiling is lifted first, so that what follows (flushing, leaving) can allocate; main()
+    restores it."""
     try:
         import resource
 
@@ -247,7 +254,7 @@ def _out_of_memory(said: bytes) -> int:
         os.write(2, said)
     except OSError:
         pass
-    return 1
+    return status
 
 
 def run() -> None:

@@ -17,10 +17,12 @@ explicit model (verify.Model), so each is a real run of both trees.
 from __future__ import annotations
 
 import weakref
-
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from ..errors import SchemalogError
+from ..memory import CeilingReached, ceiling, data_in_use, headroom, near_ceiling
 from ..logic.terms import Term, term_to_text
 from ..task import conditions as cond
 from ..task.conditions import Condition
@@ -30,6 +32,27 @@ from .world import World, effect_of
 
 MEMORY_PER_ATOM = 32 * 2**10    # bytes CUDD sizes its tables for at first, per atom (it grows past
 MEMORY_ESTIMATE = (2**20, 256 * 2**20)     # them), within these bounds: a small part stays small
+
+
+def room_below_ceiling() -> int | None:
+    """The bytes this process may still take before the headroom below its memory ceiling (None:
+    no ceiling, or no way to tell)."""
+    limit, used = ceiling(), data_in_use()
+    if limit is None or used is None:
+        return None
+    return max(0, limit - headroom(limit) - used)
+
+
+@contextmanager
+def memory_guard() -> Iterator[None]:
+    """Decision diagrams past their memory: CUDD returns NULL for a node it may not make, which
+    dd raises as a ValueError; that is the memory ceiling (CeilingReached), not a fault."""
+    try:
+        yield
+    except ValueError as err:
+        if "`NULL` pointer" in str(err):
+            raise CeilingReached("the decision diagrams reached the memory ceiling") from None
+        raise
 
 
 class Unsupported(Exception):
@@ -102,9 +125,20 @@ class SymbolicModel:
         self.atoms = list(atoms)
         self.index = {a: i for i, a in enumerate(self.atoms)}
         low, high = MEMORY_ESTIMATE
-        estimate = min(high, max(low, MEMORY_PER_ATOM * len(self.atoms)))
+        room = room_below_ceiling()
+        # CUDD sizes its tables and grows them by what it is told it may use: under a ceiling, a
+        # part of the room left (a table doubled at once past the ceiling fails in CUDD's own
+        # malloc, which prints to stderr)
+        estimate = min(high, max(low, MEMORY_PER_ATOM * len(self.atoms)), *([max(low, room // 4)] if room else []))
         self.bdd = cudd.BDD(memory_estimate=estimate, initial_cache_size=max(2**12, estimate // 256))
         self.bdd.configure(reordering=False)
+        if room is not None:
+            # CUDD's own hard limit, under the process's ceiling: past it CUDD refuses a node (a
+            # NULL, raised by dd as ValueError; memory_guard) where malloc failing at the ceiling
+            # inside CUDD would not unwind; and its cache (32-byte entries) kept to an eighth of
+            # the room, since it grows by doubling, in one allocation
+            cache = min(self.bdd.configure()["max_cache_hard"], max(2**12, room // 256))
+            self.bdd.configure(max_memory=max(room, low), max_cache_hard=cache)
         names = []
         for i in range(len(self.atoms)):
             names += [f"x{i}", f"y{i}"]                   # after next to before: small relations
@@ -123,12 +157,14 @@ class SymbolicModel:
 
     # -- building ---------------------------------------------------------------
     def check(self, what: str) -> None:
-        """Stop at the node limit, saying what was being computed."""
+        """Stop at the node limit, saying what was being computed, and near the memory ceiling."""
         nodes = len(self.bdd)
         self.peak = max(self.peak, nodes)
         if nodes > self.max_nodes:
             raise OutOfNodes(f"the decision diagrams grew past {self.max_nodes:,} nodes while {what} "
                              f"(--max-bdd-nodes): no proof")
+        if near_ceiling():
+            raise CeilingReached(f"near the memory ceiling while {what}")
 
     def condition(self, c: Condition):
         found = self._conds.get(c)

@@ -27,6 +27,7 @@ from .. import defaults
 from ..task import conditions as cond
 from ..task.conditions import Condition
 from ..errors import SchemalogError
+from ..memory import CeilingReached, near_ceiling
 from .execute import Executive, Plan, blocked_reasons, enabled_indices
 from . import parts
 from .scene import NO_SCENE, Scene
@@ -64,12 +65,20 @@ class Meter:
         self.work = 0
         self.limit = limit       # None: counting, never stopping (the diagnostics after exploring)
         self.spent = False       # the budget ran out at least once
+        self._look = MEMORY_EVERY
 
     def spend(self, units: int) -> None:
         self.work += units
         if self.limit is not None and self.work > self.limit:
             self.spent = True
             raise OutOfWork
+        if self.work >= self._look:       # near the memory ceiling: stop while there is room to say so
+            self._look = self.work + MEMORY_EVERY
+            if near_ceiling():
+                raise CeilingReached("near the memory ceiling")
+
+
+MEMORY_EVERY = 1 << 16          # units of work between two looks at the memory in use
 
 
 # ---------------------------------------------------------------------------
@@ -1391,14 +1400,15 @@ def prove(original: Behaviour, compressed: Behaviour, world: World, initial: lis
     elif method != "explicit":
         try:
             report = None
-            if split:
-                try:
-                    report = verify_by_parts(original, compressed, world, initial, scene, task, max_states,
-                                             "symbolic", max_nodes)
-                except symbolic.Unsupported:     # a part's root (its children's posts) may not settle
-                    report = None               # monotonically while the whole does
-            return report or verify_symbolic(original, compressed, world, initial, scene, task, max_nodes,
-                                             max_states)
+            with symbolic.memory_guard():
+                if split:
+                    try:
+                        report = verify_by_parts(original, compressed, world, initial, scene, task, max_states,
+                                                 "symbolic", max_nodes)
+                    except symbolic.Unsupported:     # a part's root (its children's posts) may not settle
+                        report = None               # monotonically while the whole does
+                return report or verify_symbolic(original, compressed, world, initial, scene, task, max_nodes,
+                                                 max_states)
         except symbolic.Unsupported as why:
             if method == "symbolic":
                 from ..errors import UsageError      # the request, not the input, is at fault: exit 2
