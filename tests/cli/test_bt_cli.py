@@ -204,3 +204,31 @@ def test_xml_mistakes_a_user_makes_are_said_with_the_line_and_what_to_do(tmp_pat
     assert r.returncode == 1 and "port with name [nmae]" in r.stderr and "did you mean name?" in r.stderr
     r = run("compress", NODES)
     assert r.returncode == 1 and "a nodes file (give it with --nodes)" in r.stderr
+
+
+def test_a_tree_too_deep_through_its_subtrees_is_refused_where_it_passes_the_limit(tmp_path):
+    """A chain of 10,000 SubTrees was "error: the input nests too deeply to process", no place
+    (issue 46): the tree BT.CPP would create is refused at the node that passes 256 levels."""
+    trees = [f'<BehaviorTree ID="t{i}"><Inverter><SubTree ID="t{i + 1}"/></Inverter></BehaviorTree>'
+             for i in range(10_000)]
+    for leaf, name in (("a", "a.xml"), ("b", "b.xml")):
+        (tmp_path / name).write_text('<root BTCPP_format="4" main_tree_to_execute="t0">\n' + "\n".join(trees) +
+                                     f'\n<BehaviorTree ID="t10000"><Action ID="{leaf}"/></BehaviorTree></root>\n')
+    for args in (("verify", "a.xml", "b.xml"), ("compress", "a.xml")):
+        r = run(*args, cwd=tmp_path)
+        assert r.returncode == 1 and "Traceback" not in r.stderr, r.stderr
+        assert "a.xml:130:35: error: the tree BT.CPP creates nests deeper than 256 levels here, through t0 -> " \
+               "t1 -> t2 -> ... -> t126 -> t127 -> t128 (128 SubTrees)" in r.stdout + r.stderr, r.stdout + r.stderr
+
+
+@pytest.mark.parametrize("value, said", [("&#x1;", "U+0001"), ("&#xD800;", "U+D800 (a surrogate, no character)")])
+def test_a_value_xml_cannot_hold_is_refused_at_its_node(tmp_path, value, said):
+    """tinyxml2 reads p="&#x1;" as BT.CPP does; written back it has no XML 1.0 form: the refusal
+    names the node's place and the character (a surrogate was named U+DCED, issue 46)."""
+    (tmp_path / "t.xml").write_text('<root BTCPP_format="4">\n  <BehaviorTree ID="m">\n'
+                                    f'    <Sequence><Action ID="a" p="{value}"/><Action ID="a"/></Sequence>\n'
+                                    '  </BehaviorTree>\n</root>\n')
+    r = run("compress", "t.xml", "-o", "out.xml", cwd=tmp_path)
+    assert r.returncode == 1 and not (tmp_path / "out.xml").exists()
+    assert r.stderr.strip() == (f't.xml:3:15: error: <Action ID="a"> cannot be written back: the value of p: '
+                                f'{said} cannot be written in XML 1.0 (it has no character reference either)')

@@ -135,7 +135,21 @@ def test_conditions_survive_the_scripting_language(c):
 def test_literal_keys_are_identifiers_that_name_their_atom(atom):
     key = literal_key(atom)
     assert key.isidentifier() and key not in ("acted", "true", "false")
+    assert not key.startswith(("true", "false"))     # BT.CPP's script reads `truex` as true, then x
     assert key_atom(key) == atom
+
+
+def test_an_entry_named_after_a_keyword_runs_in_bt_cpps_script():
+    """`true.done` was the entry true__done, which BT.CPP 4.8's script refuses ("expected ';'"):
+    the export of a task with such atoms runs in BT.CPP."""
+    import behaviortreepy
+
+    for atom in ("true.done", "falsey.x", "trueish"):
+        key = literal_key(parse_term(atom))
+        assert key.startswith("q__") and key_atom(key) == parse_term(atom)
+        xml = f'<root BTCPP_format="4"><BehaviorTree ID="m"><Script code="{key} := false"/></BehaviorTree></root>'
+        tree = behaviortreepy.BehaviorTreeFactory().create_tree_from_text(xml)
+        assert tree.tick_while_running() == behaviortreepy.NodeStatus.SUCCESS
 
 
 def read(path):

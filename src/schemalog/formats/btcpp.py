@@ -102,7 +102,9 @@ _PIECE = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _RESERVED_KEYS = {ACTED, "true", "false"}
 FAILURES = "failures__"          # failures__N: how often action element N failed in a row (an int)
-_RESERVED_PREFIXES = ("q__", FAILURES)
+# BT.CPP 4.8's script reads a name that starts with a keyword (`truex`, `true__done`, `falsey`) as
+# the keyword and then a stray name, a parse error: such entries take the q__ form too
+_RESERVED_PREFIXES = ("q__", FAILURES, "true", "false")
 
 
 def _pieces(atom: Term) -> list[str] | None:

@@ -60,7 +60,9 @@ every model of the ID, as loadSubtreeModel merges them; one whose name no attrib
 declare, a literal that does not convert or without a port its constructor needs (bt/ports.py).
 Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
 include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
-recurses without end), and two trees with one ID (BT.CPP keeps the last silently).
+recurses without end), a created tree (SubTrees expanded) deeper than MAX_TREE_DEPTH levels, and
+two trees with one ID (BT.CPP keeps the last silently). A file an <include> reaches is quoted in no
+message until it is a <root> document (btcpp.read_included: it may be any file the process reads).
 
 write_bt writes every tree (in order), main_tree_to_execute and a <TreeNodesModel> with the
 document's models, then a model for every other custom node type used (infer_models: kind from
@@ -85,6 +87,7 @@ from .btcpp import XNode, parse_xml, read_included
 from .quoting import Unquotable, xml_attribute
 
 MAX_INCLUDE_DEPTH = 16
+MAX_TREE_DEPTH = 256             # levels of the tree BT.CPP creates, SubTrees expanded (defaults.MAX_DEPTH)
 GENERIC = ("Action", "Condition", "Control", "Decorator")
 PORT_TAGS = {"input_port": "input", "output_port": "output", "inout_port": "inout"}
 PORT_TAG_OF = {v: k for k, v in PORT_TAGS.items()}
@@ -511,11 +514,20 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
         into = ports.setdefault(m.type, {})
         for direction in ("input", "output", "inout"):
             into.update((p.name, p) for p in m.ports if p.direction == direction)
-    done: set[str] = set()
+    done: dict[str, int] = {}          # a tree checked whole, and the depth it was checked at
 
-    def visit(tree_id: str, path: tuple[str, ...]) -> None:
-        for n in walk(trees[tree_id].root):
+    def visit(tree_id: str, path: tuple[str, ...], depth: int) -> None:
+        stack = [(trees[tree_id].root, depth)]
+        while stack:
+            n, level = stack.pop()
+            stack.extend((c, level + 1) for c in reversed(n.children))
             where = SourcePos(n.file or trees[tree_id].element.pos.file, n.line, n.column)
+            if level > MAX_TREE_DEPTH:
+                # BT.CPP has no limit; the semantics and the provers recurse over the created tree
+                chain = " -> ".join(path) if len(path) <= 8 else \
+                    f"{' -> '.join(path[:3])} -> ... -> {' -> '.join(path[-3:])} ({len(path) - 1:,} SubTrees)"
+                raise SchemalogError(f"the tree BT.CPP creates nests deeper than {MAX_TREE_DEPTH} levels here, "
+                                     f"through {chain}: beyond schemalog's limit", where)
             if not n.form and n.type != "SubTree" and n.attr("ID") is not None:
                 raise SchemalogError(f"Attribute [ID] is not allowed in <{n.type}> (BT.CPP): only <Action>, "
                                      f"<Condition>, <Control>, <Decorator> and <SubTree> have one", where)
@@ -546,11 +558,11 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
                         raise SchemalogError(f"In the <TreeNodesModel> the <Subtree ID=\"{target}\"> is defining a "
                                              f"mandatory port called [{port.name}], but you are not remapping it",
                                              where)
-            if target not in done:          # checked whole once: no cycle below it either
-                visit(target, (*path, target))
-        done.add(tree_id)
+            if done.get(target, -1) < level + 1:     # checked whole once at this depth or deeper: enough
+                visit(target, (*path, target), level + 1)
+        done[tree_id] = depth
 
-    visit(main, (main,))
+    visit(main, (main,), 0)
 
 
 def _tree_id_checks(reader: _Reader) -> None:
@@ -661,17 +673,33 @@ def _text(text: str) -> str:
 
 def _attrs(pairs) -> str:
     """Write attributes, each value quoted by xml_attribute."""
-    return "".join(f" {_name(k, 'the attribute name')}={xml_attribute(v)}" for k, v in pairs)
+    return "".join(f" {_name(k, 'the attribute name')}={_value(k, v)}" for k, v in pairs)
+
+
+def _value(name: str, value: str) -> str:
+    """An attribute's value quoted, or Unquotable naming the attribute."""
+    try:
+        return xml_attribute(value)
+    except Unquotable as err:
+        raise Unquotable(f"the value of {name}: {err.message}") from None
 
 
 def _node(n: Node, indent: str) -> list[str]:
-    """Write the element of `n` and its children, one line each."""
-    if n.form:
-        head = f"{indent}<{_name(n.form, 'the form')} ID={xml_attribute(n.type)}{_attrs(n.attrs)}"
-        tag = n.form
-    else:
-        tag = _name(n.type, "the node type")
-        head = f"{indent}<{tag}{_attrs(n.attrs)}"
+    """Write the element of `n` and its children, one line each; what XML cannot hold is refused
+    at the node's place in the file it was read from (tinyxml2 reads `p="&#x1;"`, XML has no U+0001)."""
+    try:
+        if n.form:
+            head = f"{indent}<{_name(n.form, 'the form')} ID={xml_attribute(n.type)}{_attrs(n.attrs)}"
+            tag = n.form
+        else:
+            tag = _name(n.type, "the node type")
+            head = f"{indent}<{tag}{_attrs(n.attrs)}"
+    except Unquotable as err:
+        if not n.line or err.pos is not None:
+            raise
+        element = f"<{n.form} ID=\"{n.type}\">" if n.form else f"<{n.type}>"
+        raise Unquotable(f"{element} cannot be written back: {err.message}",
+                         SourcePos(n.file, n.line, n.column)) from None
     if not n.children:
         return [head + "/>"]
     lines = [head + ">"]

@@ -48,9 +48,26 @@ def xml_attribute(text: str) -> str:
     """`text` as a quoted attribute value (quotes, <, &, tab and newlines as references)."""
     bad = _NOT_XML.search(text)
     if bad:
-        raise Unquotable(f"U+{ord(bad.group()):04X} cannot be written in XML 1.0 (it has no character "
+        raise Unquotable(f"{_character(text, bad.start())} cannot be written in XML 1.0 (it has no character "
                          f"reference either)")
     return quoteattr(text, {"\t": "&#9;", "\n": "&#10;", "\r": "&#13;"})
+
+
+def _character(text: str, at: int) -> str:
+    """The character at `at` as a message names it. A run of lone surrogates stands for bytes
+    that are not UTF-8 (surrogateescape): `&#xD800;` decoded as tinyxml2 decodes it is the bytes
+    ED A0 80, the UTF-8 form of the surrogate U+D800, which is named so, not as U+DCED."""
+    if not 0xDC80 <= ord(text[at]) <= 0xDCFF:
+        return f"U+{ord(text[at]):04X}"
+    end = at
+    while end < len(text) and 0xDC80 <= ord(text[end]) <= 0xDCFF:
+        end += 1
+    raw = text[at:end].encode("utf-8", "surrogateescape")
+    try:
+        code = ord(raw[:3].decode("utf-8", "surrogatepass"))
+        return f"U+{code:04X} (a surrogate, no character)"
+    except (UnicodeDecodeError, TypeError):
+        return f"the byte{'s' if len(raw) > 1 else ''} {raw.hex(' ').upper()} (not UTF-8)"
 
 
 def xml_comment(text: str) -> str:
