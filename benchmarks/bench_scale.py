@@ -20,6 +20,8 @@ scaled to a 10x step).
 - ychain N: YAML, a releaser `a0.done and a1.done and ...` of N literals that nothing makes true
             (N findings on one line)
 - yor N:    YAML, a releaser `a0.done ; a1.done ; ...` of N literals, all true initially
+- gen N:    `generate --depth 2 --children N`: a task of N + 1 behaviours written as knowledge
+            (a command holding {n} and {path} gets them in place, and no file appended)
 
 With `--before SRC` (the src/ directory of another checkout, its grammar/ and kb/ beside it,
 e.g. `git archive 9719e15 src grammar kb | tar -x -C /tmp/old`), each command also runs with
@@ -87,6 +89,10 @@ def yor(n: int) -> str:
     return _yaml(n, ";", True)
 
 
+def gen(n: int) -> str:
+    return ""                 # generate makes its own task: the file is only where it writes
+
+
 SHAPES = {
     "wide": (wide, (1_000, 10_000, 50_000), ("check", "compress", "run", "verify --max-states 3000")),
     "flat": (flat, (1_000, 2_000, 5_000, 10_000), ("run", "verify --max-states 3000", "verify --states all")),
@@ -96,10 +102,11 @@ SHAPES = {
                                               "verify --max-states 3000")),
     "ychain": (ychain, (10_000, 20_000, 50_000, 100_000), ("check",)),
     "yor": (yor, (10_000, 20_000, 50_000, 100_000), ("check", "verify --max-states 3000")),
+    "gen": (gen, (10_000, 30_000, 100_000), ("generate --depth 2 --children {n} -o {path}",)),
 }
 SUFFIX = {"ychain": ".yaml", "yor": ".yaml"}
 QUICK = {"wide": (1_000, 10_000), "flat": (1_000, 10_000), "chain": (1_000, 10_000), "binary": (20, 40), "cond": (1_000, 10_000),
-         "ychain": (10_000, 20_000), "yor": (10_000, 20_000)}
+         "ychain": (10_000, 20_000), "yor": (10_000, 20_000), "gen": (10_000, 30_000)}
 
 
 def timed(argv: list[str], timeout: float, src: Path | None = None) -> tuple[float, int, str]:
@@ -143,7 +150,8 @@ def main() -> int:
                 for version, src in versions:
                     times = []
                     for n in sizes:
-                        argv = [sys.executable, "-m", "schemalog", *command.split(), str(paths[n])]
+                        words = [w.format(n=n, path=paths[n]) for w in command.split()]
+                        argv = [sys.executable, "-m", "schemalog", *words, *([] if "{" in command else [str(paths[n])])]
                         started = time.perf_counter()
                         cpu, code, err = timed(argv, args.timeout, src)
                         wall = time.perf_counter() - started

@@ -232,3 +232,28 @@ def test_a_value_xml_cannot_hold_is_refused_at_its_node(tmp_path, value, said):
     assert r.returncode == 1 and not (tmp_path / "out.xml").exists()
     assert r.stderr.strip() == (f't.xml:3:15: error: <Action ID="a"> cannot be written back: the value of p: '
                                 f'{said} cannot be written in XML 1.0 (it has no character reference either)')
+
+
+def test_semantics_files_read_as_one_and_builtins_refused(tmp_path):
+    """--semantics twice kept one file silently; `Fallback: Sequence` proved Fallback(a, b) equal
+    to Sequence(a, b), a program no robot can register (issue 46, issue 48)."""
+    (tmp_path / "s1.yaml").write_text("MyRec: RecoveryNode\n")
+    (tmp_path / "s2.yaml").write_text("Other: Condition\nMyRec: Sequence\n")
+    (tmp_path / "bad.yaml").write_text("Fallback: Sequence\n")
+    tree = NAV2 / "follow_point.xml"
+    r = run("verify", tree, tree, "--semantics", "s1.yaml", "--semantics", "s2.yaml", cwd=tmp_path)
+    assert r.returncode == 1 and r.stderr.startswith("s2.yaml:2:1: error: MyRec is given its semantics twice: "
+                                                     "first at s1.yaml:1:1"), r.stderr
+    r = run("verify", tree, tree, "--semantics", "bad.yaml", cwd=tmp_path)
+    assert r.returncode == 1 and r.stderr.startswith("bad.yaml:1:1: error: Fallback is a node type of BT.CPP's "
+                                                     "own"), r.stderr
+    (tmp_path / "s3.yaml").write_text("Other: Condition\n")
+    r = run("verify", tree, tree, "--semantics", "s1.yaml", "--semantics", "s3.yaml", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+
+
+def test_nodes_and_semantics_for_task_knowledge_are_refused():
+    r = run("compress", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--nodes", NODES)
+    assert r.returncode == 2 and "--nodes applies to BT.CPP trees" in r.stderr, r.stderr
+    r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--semantics", NODES)
+    assert r.returncode == 2 and "--semantics applies to BT.CPP trees" in r.stderr, r.stderr

@@ -276,3 +276,21 @@ def test_a_folder_named_after_a_shipped_grid_does_not_shadow_it(tmp_path, monkey
     monkeypatch.chdir(tmp_path)
     (tmp_path / "paper").mkdir()
     assert read_grid("paper") == named_grid("paper")
+
+
+def test_a_timed_grid_without_original_trees_draws_no_empty_figure(tmp_path):
+    """measures: [time] without an RD 0 cell printed matplotlib's "No artists with labels found"
+    with its source path, over an empty selectors figure (issue 46)."""
+    import warnings
+
+    from schemalog.api import sweep as api
+    from schemalog.evaluate.sweep import Serial, run_sweep, write_reports
+
+    g = grid_from_yaml("shapes: [3x2]\nreductions: [0.5]\nmeasures: [time]\nruns: 1\nticks: 1\n", "g.yaml")
+    store = api.store(tmp_path, g)
+    stats = run_sweep(g, store, Serial())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        written = write_reports(g, store, tmp_path, "test", stats)
+    assert {p.name for p in written} >= {"figure4.png", "results.md"}
+    assert not (tmp_path / "selectors.png").exists()

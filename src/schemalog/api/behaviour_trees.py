@@ -107,20 +107,31 @@ def _name_pairs(path: str | Path, max_bytes: int, what: str, entry: str):
         yield key, value, fail
 
 
-def read_semantics(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> dict:
-    """A user's node semantics: a YAML mapping from a custom node type to the type whose rule it
-    follows, a node of the table (`RecoveryNode`, `Sequence`) or a leaf kind (`Action`,
-    `StatefulAction`, `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`."""
+def read_semantics(paths, max_bytes: int = defaults.MAX_BYTES) -> dict:
+    """A user's node semantics, from one file or several read as one: a YAML mapping from a custom
+    node type to the type whose rule it follows, a node of the table (`RecoveryNode`, `Sequence`)
+    or a leaf kind (`Action`, `StatefulAction`, `Condition`), e.g. `MyRecovery: RecoveryNode` or
+    `IsBatteryOk: Condition`. A type given twice, or one of BT.CPP's own (no program can register
+    a builtin's ID again, so a proof under another rule would be about no robot), is refused."""
+    from ..bt.ports import BUILTIN
     from ..bt.semantics import ACTION, CONDITION, RULES, STATEFUL_ACTION
 
     leaves = {"Action": ACTION, "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
     rules: dict = {}
-    for key, value, fail in _name_pairs(path, max_bytes, "node semantics", "MyType: KnownType"):
-        rule = leaves.get(value.value) or RULES.get(value.value)
-        if rule is None:
-            known = ", ".join(sorted({*leaves, *RULES}))
-            raise fail(f"{value.value!r} is not a node type whose semantics schemalog knows; one of: {known}", value)
-        rules[key.value] = rule
+    given: dict[str, SourcePos] = {}
+    for path in [paths] if isinstance(paths, (str, Path)) else paths:
+        for key, value, fail in _name_pairs(path, max_bytes, "node semantics", "MyType: KnownType"):
+            if key.value in BUILTIN:
+                raise fail(f"{key.value} is a node type of BT.CPP's own: its semantics is BT.CPP's, and no robot "
+                           f"can register it under another", key)
+            if key.value in given:
+                raise fail(f"{key.value} is given its semantics twice: first at {given[key.value]}", key)
+            rule = leaves.get(value.value) or RULES.get(value.value)
+            if rule is None:
+                known = ", ".join(sorted({*leaves, *RULES}))
+                raise fail(f"{value.value!r} is not a node type whose semantics schemalog knows; one of: {known}", value)
+            rules[key.value] = rule
+            given[key.value] = SourcePos(str(path), key.start_mark.line + 1, key.start_mark.column + 1)
     return rules
 
 

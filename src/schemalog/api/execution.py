@@ -153,7 +153,22 @@ def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple
     if found is NO_SCENE:
         notes.append("note: no --scene: every behaviour gets the neutral lambda, so emphasis follows "
                      "progress alone")
+    if selector == "scan":
+        # The paper's full traversal visits every behaviour at every decision: a cost that grows
+        # with the square of a wide task (10,000 sub-tasks of one schema: over a minute)
+        from ..task.tree import walk
+
+        nodes = sum(1 for _ in walk(task.tree))
+        leaves = sum(1 for n in walk(task.tree) if not n.children)
+        if nodes * leaves > SCAN_NOTE_VISITS:
+            notes.append(f"note: the scan selector visits all {nodes:,} behaviours at each decision, and a run "
+                         f"here takes about {leaves:,} decisions (one per action): some {nodes * leaves:,} visits, "
+                         f"which takes a while (the incremental selector takes the same decisions; "
+                         f"--max-decisions bounds the run)")
     return Run(executive, task, initial, notes)
+
+
+SCAN_NOTE_VISITS = 10**7        # about 10 s of the scan selector: past it a run says what it will cost
 
 
 def _failures(task: Task, fail: tuple[str, ...], fail_times, notes: list[str]) -> dict:

@@ -38,10 +38,11 @@ def run(args: argparse.Namespace) -> int:
     from .common import emit, inputs_of, load_knowledge, said, task_of
     from .output import PICTURES, emit_picture, output_format, print_rich, FORMAT_WORDS
 
-    from .trees import run_compress, tree_route
+    from .trees import run_compress, schema_route, tree_route
 
     if tree_route(args):               # a BT.CPP tree: BT.CPP's semantics (cli/trees.py)
         return run_compress(args)
+    schema_route(args)
     fmt = output_format(args)          # a picture asked for without Graphviz: say so before any work
     knowledge = load_knowledge(args)
     inputs = inputs_of(args, knowledge.files)

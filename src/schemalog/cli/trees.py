@@ -23,6 +23,15 @@ def tree_route(args: argparse.Namespace) -> bool:
         and not any(is_own_export(f, args.max_bytes) for f in files)
 
 
+def schema_route(args: argparse.Namespace) -> None:
+    """Refuse --nodes and --semantics for task knowledge, which they would not change."""
+    given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics)) if v]
+    if given:
+        raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
+                         f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
+                         f"(a BT.CPP tree file ends in .xml, and is not a tree schemalog exported)")
+
+
 def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> None:
     """--nodes FILE: a TreeNodesModel file (Nav2's nav2_tree_nodes.xml) for BT.CPP trees; with
     `max_states`, the prover's --max-states too (compress proves what it rewrote)."""
@@ -33,10 +42,10 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
         p.add_argument("--max-states", type=positive, default=defaults.MAX_STATES, metavar="N",
                        help=f"BT.CPP trees: stop proving the compressed tree after N pairs of states; the "
                             f"result then says it is no proof and exits 3 (default {defaults.MAX_STATES:,})")
-    p.add_argument("--semantics", metavar="FILE",
+    p.add_argument("--semantics", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a YAML file giving custom node types the semantics of known ones, "
                         "`MyRecovery: RecoveryNode`, `IsBatteryOk: Condition` (docs/behaviour_trees.md); "
-                        "other custom types are opaque")
+                        "repeatable, the files read as one; other custom types are opaque")
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
@@ -66,7 +75,7 @@ def _inputs(args: argparse.Namespace, document) -> list[str]:
 
 def _given(args: argparse.Namespace) -> list[str]:
     """The files named on the command line: trees, --nodes, --semantics."""
-    return [*args.files, *args.nodes, *([args.semantics] if args.semantics else [])]
+    return [*args.files, *args.nodes, *args.semantics]
 
 
 def _rules(args: argparse.Namespace):

@@ -77,10 +77,11 @@ def run(args: argparse.Namespace) -> int:
         return run_each(args)
     import schemalog
     from .common import check_output, emit, inputs_of, said
-    from .trees import run_verify, tree_route
+    from .trees import run_verify, schema_route, tree_route
 
     if tree_route(args):               # BT.CPP trees: BT.CPP's semantics (cli/trees.py)
         return run_verify(args)
+    schema_route(args)
     check_output(args.output, inputs_of(args))   # before anything is read
     original, compressed, inputs = _verify_inputs(args)
     tty = bool(args.sample) and sys.stderr.isatty()

@@ -112,6 +112,8 @@ def selectors_by_size(results, out: Path) -> list[Path]:
         points["scan"].append((r.behaviours, r.scan_us))
         if not math.isnan(r.py_trees_us):
             points["py_trees"].append((r.behaviours, r.py_trees_us))
+    if not any(points.values()):    # no original tree timed (no RD 0 cell, no sizes): no figure, not an empty one
+        return []
     fig, ax = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
     styles = {"scan": ("#d62728", "scan selector (every behaviour, every decision)"),
               "incremental": ("#2ca02c", "incremental selector"),

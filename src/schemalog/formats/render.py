@@ -569,7 +569,7 @@ def tree_document(root: Behaviour, file: str = "<tree>", carried: list[Clause] =
     order: list[Term] = []
     agents: dict[Term, str] = {}
     objects_of: dict[Term, tuple[Term, ...]] = {}
-    all_objects: list[Term] = []
+    all_objects: dict[Term, None] = {}       # in order met: an ordered set (a list's `in` was quadratic)
     provenance: dict[Term, Term] = {}
     with_origins = bool(root.origins)
     for node in walk(root):
@@ -585,12 +585,10 @@ def tree_document(root: Behaviour, file: str = "<tree>", carried: list[Clause] =
         if node.agent != DEFAULT_AGENT:
             agents[node.label] = node.agent
         objects_of[node.label] = node.objects
-        for o in node.objects:
-            if o not in all_objects:
-                all_objects.append(o)
+        all_objects.update(dict.fromkeys(node.objects))
     clauses: list[Clause] = [Clause(Struct("task", (root.label,)), TRUE, None)]
     clauses += [Clause(Struct("object", (o,)), TRUE, None) for o in all_objects]
-    object_set = set(all_objects)
+    object_set = all_objects
     for label in order:
         derived = tuple(a for a in (label.args if isinstance(label, Struct) else ()) if a in object_set)
         if derived != objects_of[label]:
