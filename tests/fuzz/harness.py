@@ -97,6 +97,7 @@ class Outcome:
     died: str = ""                                  # a signal that killed a subprocess, a crash
     inputs_changed: tuple[str, ...] = ()
     leftovers: tuple[str, ...] = ()                 # *.tmp and hidden (staged) files in the case directory
+    outside: tuple[str, ...] = ()                   # files made or changed that the command line did not name
     output_after: bytes | None = None
     output_kind: str = ""                           # 'file', 'missing', 'fifo', 'chardev', 'dir', ...
     extra: dict = field(default_factory=dict)
@@ -227,6 +228,7 @@ def invoke(case: Case, seconds: float = 10.0) -> Outcome:
         directory = Path(tmp)
         _make_files(directory, case)
         before = _hashes(directory, inputs_of(case))
+        files_before = snapshot(directory)
         STDOUT.target, STDERR.target = io.StringIO(), io.StringIO()
         STDIN.target = io.StringIO(case.stdin.decode("utf-8", "replace"))
         saved = sys.stdout, sys.stderr, sys.stdin
@@ -259,7 +261,7 @@ def invoke(case: Case, seconds: float = 10.0) -> Outcome:
             sys.setrecursionlimit(limit)
             os.chdir(cwd)
         return _outcome(directory, case, before, status, STDOUT.target.getvalue(),
-                        STDERR.target.getvalue() + died, hung=hung, died=died)
+                        STDERR.target.getvalue() + died, hung=hung, died=died, files_before=files_before)
 
 
 def spawn(case: Case, seconds: float = 30.0, directory: Path | None = None, prepare=None,
@@ -273,6 +275,7 @@ def spawn(case: Case, seconds: float = 30.0, directory: Path | None = None, prep
         if prepare is not None:
             prepare(directory)
         before = _hashes(directory, inputs_of(case))
+        files_before = snapshot(directory)
         env = {**os.environ, "PYTHONPATH": f"{SRC}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
         env.pop("SCHEMALOG_DEBUG", None)
         process = subprocess.Popen([sys.executable, "-m", "schemalog", *case.argv], cwd=directory, env=env,
@@ -291,7 +294,7 @@ def spawn(case: Case, seconds: float = 30.0, directory: Path | None = None, prep
         status = process.returncode
         died = f"killed by {signal.Signals(-status).name}" if status is not None and status < 0 else ""
         return _outcome(directory, case, before, None if hung else status, out.decode("utf-8", "replace"),
-                        err.decode("utf-8", "replace"), hung=hung, died=died, extra=extra)
+                        err.decode("utf-8", "replace"), hung=hung, died=died, extra=extra, files_before=files_before)
 
 
 OUTPUT_OPTIONS = {"-o", "--output", "--plot", "--motions", "--out"}
@@ -324,7 +327,8 @@ def _make_files(directory: Path, case: Case) -> None:
         (directory / case.output).write_bytes(case.old_output)
 
 
-def _outcome(directory, case, before, status, stdout, stderr, hung=False, died="", extra=None) -> Outcome:
+def _outcome(directory, case, before, status, stdout, stderr, hung=False, died="", extra=None,
+             files_before=None) -> Outcome:
     after = _hashes(directory, before)
     changed = tuple(n for n in before if after.get(n) != before[n])
     made = {name for name, _ in case.files}     # a case's own file may be named `.x.pl`
@@ -338,7 +342,39 @@ def _outcome(directory, case, before, status, stdout, stderr, hung=False, died="
         if output_kind == "file":
             output_after = target.read_bytes()
     return Outcome(status, stdout, stderr, hung=hung, died=died, inputs_changed=changed, leftovers=leftovers,
-                   output_after=output_after, output_kind=output_kind, extra=extra or {})
+                   output_after=output_after, output_kind=output_kind, extra=extra or {},
+                   outside=_outside(directory, case, files_before or {}))
+
+
+def snapshot(directory: Path) -> dict[str, str]:
+    """Every regular file under `directory` (links not followed) and its hash."""
+    return {os.path.normpath(str(p.relative_to(directory))): sha(p) for p in directory.rglob("*")
+            if kind_of(p) == "file"}
+
+
+def _outside(directory: Path, case: Case, files_before: dict[str, str]) -> tuple[str, ...]:
+    """Regular files in the case directory, made or changed by the run, that no output option
+    names: the -o file (and a picture's pages, NAME-1.png ...), or anything inside an --out folder."""
+    argv = list(case.argv)
+    named = [os.path.normpath(argv[i + 1]) for i, a in enumerate(argv[:-1])
+             if a in OUTPUT_OPTIONS or (a == "--scene" and argv[0] == "generate")]   # generate writes its scene
+    real = os.path.realpath(directory)
+    for n in list(named):          # an -o link is followed: the file it names is named too
+        target = os.path.realpath(directory / n)
+        if target.startswith(real + os.sep):
+            named.append(os.path.relpath(target, real))
+    found = []
+    for name, digest in snapshot(directory).items():
+        if files_before.get(name) == digest:
+            continue
+        pages = [re.fullmatch(re.escape(os.path.splitext(n)[0]) + r"-\d+" + re.escape(os.path.splitext(n)[1]), name)
+                 for n in named]
+        if name in named or any(name.startswith(n + os.sep) for n in named) or any(pages):
+            continue
+        if Path(name).name.endswith(".tmp") or Path(name).name.startswith("."):
+            continue                                   # counted as a leftover
+        found.append(name)
+    return tuple(sorted(found))
 
 
 def output_format(name: str, argv) -> str:
@@ -359,8 +395,9 @@ def complete(data: bytes, name: str, argv=()) -> bool:
     kind = output_format(name, argv)
     if argv and argv[0] in ("run", "verify") and "--json" not in argv:
         return True   # a report in text: run and verify take JSON from --json only, not from -o's suffix
-    if argv and argv[0] != "export" and kind in ("xml", "py"):
-        kind = "pl"   # only export writes XML or Python; convert writes schema text under any other suffix
+    bt_route = bool(argv) and argv[0] == "compress" and str(argv[1]).lower().endswith(".xml")
+    if argv and argv[0] != "export" and kind in ("xml", "py") and not bt_route:
+        kind = "pl"   # only export (and compress of a BT.CPP tree) writes XML; convert writes schema text
     if kind == "json":
         try:
             json.loads(text)
@@ -375,11 +412,14 @@ def complete(data: bytes, name: str, argv=()) -> bool:
             return False
         return True
     if kind in ("xml", "btcpp"):
-        # an export must be well-formed and import back (convert reads it)
         from schemalog.errors import SchemalogError
         from schemalog.formats.btcpp import import_btcpp
+        from schemalog.formats.btxml import read_bt
         try:
-            import_btcpp(data.decode("utf-8"), name)
+            if bt_route:
+                read_bt(data.decode("utf-8"), name)       # a BT.CPP tree compressed: BT.CPP's reading of it
+            else:
+                import_btcpp(data.decode("utf-8"), name)  # an export must import back (convert reads it)
         except (SchemalogError, UnicodeDecodeError):
             return False
         return True
@@ -424,6 +464,8 @@ def violations(case: Case, outcome: Outcome, statuses=EXIT_STATUSES) -> list[str
         found.append(f"shipped files changed: {', '.join(changed_shipped)}")
     if outcome.leftovers:
         found.append(f"temporary files left: {', '.join(outcome.leftovers)}")
+    if outcome.outside and not outcome.hung:
+        found.append(f"written outside what the command line named: {', '.join(outcome.outside)}")
     if case.output is not None and not outcome.hung:
         found += _output_violations(case, outcome)
     return found

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from hypothesis import strategies as st
 
-from harness import COFFEE, KITCHEN, MIX, MIX_SCENE, SEED, STRUCTURE
+from harness import COFFEE, KITCHEN, MIX, MIX_SCENE, ROOT, SEED, STRUCTURE
 
 KNOWLEDGE_SEEDS = {p.name: p.read_bytes() for p in (MIX, COFFEE, STRUCTURE, SEED)}
 SCENE_SEEDS = {p.name: p.read_bytes() for p in (KITCHEN, MIX_SCENE)}
@@ -307,3 +307,67 @@ def file_names(draw, suffix: str = ".pl", long: bool = False):
     name = "".join(parts[:1]) + "n" + "".join(parts[1:]) + suffix
     name = name.replace("/", "_").replace("\x00", "_")
     return "_" + name if name.startswith(".") else name
+
+
+# --- behaviour trees (BT.CPP XML), their models and semantics files, sweep grids -------------
+
+_CORPUS = ROOT / "tests" / "bt" / "corpus"
+BT_SEEDS = {p.name: p.read_bytes() for p in (
+    _CORPUS / "nav2" / "follow_point.xml", _CORPUS / "nav2" / "navigate_to_pose_w_replanning_and_recovery.xml",
+    _CORPUS / "nav2" / "navigate_w_replanning_and_round_robin_recovery.xml",
+    _CORPUS / "btcpp" / "tutorials" / "t09_scripting.xml", _CORPUS / "btcpp" / "tutorials" / "t14_subtree_model_1.xml")}
+NODES_SEED = (_CORPUS / "nav2" / "nav2_tree_nodes.xml").read_bytes()
+SECRET_MARKER = "S3CRETMARKER0123"      # in secret.txt beside every tree: never shown (tests/fuzz/test_secrets.py)
+
+XML_TOKENS = [
+    b'<include path="secret.txt"/>', b'<include path="/etc/passwd"/>', b'<include path="/proc/self/environ"/>',
+    b'<include path="t.xml"/>', b'<include path="missing.xml"/>', b'<include ros_pkg="x" path="y"/>', b"<include/>",
+    b'&#x1;', b'&#xD800;', b'&#0;', b'&#x110000;', b'&#99999999999999999999;', b"&amp;&&", b"&lt;", b"&bogus;",
+    b'<SubTree ID="MainTree"/>', b'<SubTree ID="nowhere"/>', b'<SubTree ID="x" _autoremap="maybe"/>',
+    b'<BehaviorTree ID="x"><AlwaysSuccess/></BehaviorTree>', b'<BehaviorTree>', b"</BehaviorTree>", b"</root>",
+    b'<root BTCPP_format="3">', b'<root BTCPP_format="4" main_tree_to_execute="nowhere">', b"<TreeNodesModel/>",
+    b'<!DOCTYPE r [<!ENTITY a "aaaaaaaa">]>', b'<?xml version="1.0"?>', b"<!-- -- -->", b"<![CDATA[x]]>",
+    b'num_attempts="-1"', b'num_attempts="99999999999999999999"', b'num_cycles="2.9"', b'msec="-1"', b'msec="1e400"',
+    b'name=""', b'ID=""', b'_skipIf="x &gt; 1"', b'_while="{a}"', b'code="x := 1"', b'code="{c}"', b'port="{}"',
+    b"<Sequence>", b"</Sequence>", b"<Inverter>", b"</Inverter>", b"<Fallback/>", b"<ReactiveSequence>",
+    b"<Action ID=\"A\"/>", b"<Condition ID=\"C\"/>", b"<Control ID=\"K\"/>", b"<Decorator ID=\"D\"/>",
+    b"<RetryUntilSuccessful num_attempts=\"-1\">", b"<Repeat>", b"<SequenceStar>", b"<Switch2 case_1=\"1\"/>",
+    b"\x00", b"\xff", "é".encode(), b"\x1b[2J", b"\r", b"\t", b" " * 10, b'"', b"'", b"<", b">", b"/>", b"=",
+    nest("<Inverter>", "<AlwaysSuccess/>", "</Inverter>", 100), nest("<Sequence>", "<AlwaysSuccess/>", "</Sequence>", 300),
+]
+
+SEMANTICS_SEED = b"MyRecovery: RecoveryNode\nIsBatteryOk: Condition\nMyAction: StatefulAction\n"
+SEMANTICS_TOKENS = [b"Fallback: Sequence\n", b"Sequence: Sequence\n", b"X: Nothing\n", b"X: RecoveryNode\n",
+                    b"MyRecovery: Condition\n", b"- a\n", b"[a, b]\n", b"a: [1]\n", b"a: {b: c}\n", b"? x\n", b"\xff",
+                    b"*a", b"&a b", b"x: !!python/object/apply:os.system ['true']\n", b"\t", b"'", b'"', b":", b"\n"]
+
+GRID_SEEDS = {"small.yaml": b"name: small\nshapes: [3x2, [2, 3]]\nreductions: [0, 0.5]\nseeds: [1, 2]\n"
+                            b"propagate: [full, none]\nmeasures: [compress, prove]\nlimits:\n  max_states: 200\n"
+                            b"  cell_seconds: 2\n",
+              "timed.yaml": b"shapes: [3x2]\nreductions: [0.5]\nmeasures: [time, runtimes]\nruns: 1\nticks: 1\n"
+                            b"selectors: [incremental, scan]\ncoffee: false\n"}
+GRID_TOKENS = [b"9" * 5000, "\u0663x\u0662".encode(), b"999999999999x2", b"1e400", b"-1",
+               b"nan", b"inf", b"0x10", b"[]", b"{}", b"~", b"4x2", b"12x10", b"[64, 2]", b"coffee: true\n",
+               b"sizes: [6x4]\n", b"seeds: [4294967296]\n", b"runs: 0\n", b"name: ../../x\n", b"name: \"\"\n",
+               b"measures: [plot]\n", b"limits: {max_states: 0}\n", b"shapes: 3x2\n", b"\xff", b"\t", b"'", b"- ",
+               b"&a [1]", b"*a", b"x: !!python/name:os.system\n"] + YAML_TOKENS
+
+
+def bt_trees():
+    """Mutated BT.CPP documents: (seed name, bytes)."""
+    return edited(BT_SEEDS, XML_TOKENS, delimiters=b'<>"= /\n')
+
+
+def bt_nodes():
+    """A mutated TreeNodesModel file (Nav2's): bytes."""
+    return edited({"nav2_tree_nodes.xml": NODES_SEED}, XML_TOKENS, delimiters=b'<>"= /\n').map(lambda d: d[1])
+
+
+def semantics_files():
+    """A mutated --semantics YAML: bytes."""
+    return edited({"semantics.yaml": SEMANTICS_SEED}, SEMANTICS_TOKENS, delimiters=b": \n").map(lambda d: d[1])
+
+
+def grids():
+    """Mutated sweep grids: (seed name, bytes)."""
+    return edited(GRID_SEEDS, GRID_TOKENS, delimiters=b"[],:\n x")

@@ -24,7 +24,7 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 import mutations as m
-from harness import (COFFEE, KITCHEN, MIX, MIX_SCENE, SEED, SIGNAL_STATUSES, STRUCTURE, Case,
+from harness import (COFFEE, EXIT_STATUSES, KITCHEN, MIX, MIX_SCENE, ROOT, SEED, SIGNAL_STATUSES, STRUCTURE, Case,
                      assert_kept, invoke, kind_of, spawn, violations)
 
 pytestmark = pytest.mark.fuzz
@@ -812,6 +812,97 @@ def test_hostile_file_names(case_):
                                  "reproduce with:", case.reproducer()])
 
 
+# --- behaviour trees: mutated BT.CPP documents, models and semantics; sweep grids -------------
+
+NAV2_NODES = ROOT / "tests" / "bt" / "corpus" / "nav2" / "nav2_tree_nodes.xml"
+BT_LIMITS = ("--max-states", "2000", "--max-bytes", "2000000")
+BT_COMMANDS = {
+    "compress": ["compress", "t.xml", *BT_LIMITS],
+    "compress-xml": ["compress", "t.xml", *BT_LIMITS, "-o", "out.xml"],
+    "compress-json": ["compress", "t.xml", *BT_LIMITS, "--json", "-o", "out.json"],
+    "verify": ["verify", "t.xml", "u.xml", *BT_LIMITS],
+    "verify-json": ["verify", "t.xml", "u.xml", *BT_LIMITS, "--json"],
+    "verify-self": ["verify", "t.xml", *BT_LIMITS],
+    "convert": ["convert", "t.xml", "-o", "out.pl"],
+    "lint": ["lint", "t.xml", "--json"],
+}
+SECRET = ("secret.txt", f"HOME=/root\0TOKEN={m.SECRET_MARKER}\n".encode())
+
+
+def probe_bt_trees(command, tree, other, nodes):
+    """A mutated BT.CPP document (and a second one for verify), with Nav2's models or without;
+    secret.txt lies beside them, and a mutation may include it."""
+    argv = [*BT_COMMANDS[command], *(["--nodes", "nodes.xml"] if nodes and command.startswith(("compress", "verify"))
+                                     else [])]
+    files = (("t.xml", tree[1]), ("u.xml", other[1]), ("nodes.xml", NAV2_NODES.read_bytes()), SECRET)
+    case = Case(tuple(argv), files=files, output=output_of(argv))
+    return case, invoke(case, GUARD)
+
+
+def secret_kept(case, outcome, **_) -> list[str]:
+    """The promises, and nothing of secret.txt, which only an <include> can reach, on the screen
+    or in what was written."""
+    found = violations(case, outcome)
+    shown = outcome.stdout + outcome.stderr + (outcome.output_after or b"").decode("utf-8", "replace")
+    if m.SECRET_MARKER in shown:
+        found.append("leak: the content of a file the command line does not name was shown")
+    return found
+
+
+BT_TREES = dict(command=st.sampled_from(sorted(BT_COMMANDS)), tree=m.bt_trees(), other=m.bt_trees(),
+                nodes=st.booleans())
+
+
+@profile(40)
+@given(**BT_TREES)
+def test_mutated_behaviour_trees(command, tree, other, nodes):
+    found = secret_kept(*probe_bt_trees(command, tree, other, nodes))
+    assert not found, "\n".join(found)
+
+
+def probe_bt_models(nodes, semantics, command):
+    """A BT.CPP tree read with a mutated --nodes file and a mutated --semantics file."""
+    tree = ROOT / "tests" / "bt" / "corpus" / "nav2" / "navigate_to_pose_w_replanning_and_recovery.xml"
+    argv = [*BT_COMMANDS[command], "--nodes", "nodes.xml", "--semantics", "semantics.yaml"]
+    files = (("t.xml", tree.read_bytes()), ("u.xml", tree.read_bytes()), ("nodes.xml", nodes),
+             ("semantics.yaml", semantics), SECRET)
+    case = Case(tuple(argv), files=files, output=output_of(argv))
+    return case, invoke(case, GUARD)
+
+
+BT_MODELS = dict(nodes=m.bt_nodes(), semantics=m.semantics_files(),
+                 command=st.sampled_from(["compress", "verify", "verify-json", "compress-xml"]))
+
+
+@profile(25)
+@given(**BT_MODELS)
+def test_mutated_models_and_semantics(nodes, semantics, command):
+    found = secret_kept(*probe_bt_models(nodes, semantics, command))
+    assert not found, "\n".join(found)
+
+
+def probe_grids(grid):
+    """A mutated grid swept in this process into --out o, bounded by --timeout (exit 124)."""
+    argv = ["sweep", "g.yaml", "--serial", "--out", "o", "--timeout", "6"]
+    case = Case(tuple(argv), files=(("g.yaml", grid[1]),))
+    return case, invoke(case, GUARD + 4)
+
+
+def grid_kept(case, outcome, **_) -> list[str]:
+    """The promises (--timeout's 124 among the statuses), and no file written outside o/."""
+    return violations(case, outcome, EXIT_STATUSES | {124})
+
+
+GRIDS = dict(grid=m.grids())
+
+
+@profile(15)
+@given(**GRIDS)
+def test_mutated_grids(grid):
+    found = grid_kept(*probe_grids(grid))
+    assert not found, "\n".join(found)
+
+
 # name -> (the strategies of its arguments, the probe, the check): what benchmarks/fuzz.py runs.
 PROBES = {
     "knowledge": (KNOWLEDGE, probe_knowledge, kept),
@@ -825,4 +916,7 @@ PROBES = {
     "exports": (EXPORTS, probe_exports, export_kept),
     "includes": (INCLUDES, probe_includes, includes_kept),
     "file-names": (FILE_NAMES, probe_file_names, check_file_names),
+    "bt-trees": (BT_TREES, probe_bt_trees, secret_kept),
+    "bt-models": (BT_MODELS, probe_bt_models, secret_kept),
+    "grids": (GRIDS, probe_grids, grid_kept),
 }
