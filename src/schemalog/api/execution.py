@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Iterator
 from .. import defaults
 from ..errors import SchemalogError, UsageError
 from ..logic.terms import Term, term_to_text
-from .arguments import read_scene_for, state_atoms
+from .arguments import checked, read_scene_for, state_atoms
 
 if TYPE_CHECKING:
     from .task import Task
@@ -100,6 +100,7 @@ class Run:
         """What `schemalog run --json` prints."""
         return run_json(self.finish().executive, self.task.label, self.task.kind, self.initial)
 
+    @checked
     def words(self, fmt: str) -> str:
         """What a run written to a file holds, for `wrote FILE: ...`."""
         ex = self.executive
@@ -136,8 +137,6 @@ def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple
 
     if selector not in defaults.SELECTORS:
         raise UsageError(f"selector {selector!r}: choose {' or '.join(defaults.SELECTORS)}")
-    if retries < 0 or (fail_times is not None and fail_times < 1) or (max_decisions is not None and max_decisions < 1):
-        raise UsageError("retries must be 0 or more, fail_times and max_decisions positive")
     notes: list[str] = []
     found = read_scene_for(task, scene, seed, jitter, task.knowledge._max_bytes)
     world = World(task.original.tree)

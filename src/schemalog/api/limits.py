@@ -224,9 +224,8 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
     if nested and timeout is None and max_memory == DEFAULT:
         yield
         return
+    # timeout's and max_memory's types are checked where the API is called (arguments.checked)
     if timeout is not None:
-        if isinstance(timeout, bool) or not isinstance(timeout, (int, float)):
-            raise UsageError(f"timeout={timeout!r}: a number of seconds, or None")
         if not (defaults.MIN_TIMEOUT <= timeout <= defaults.MAX_TIMEOUT):
             raise UsageError(f"timeout={timeout!r}: from {defaults.MIN_TIMEOUT} to {defaults.MAX_TIMEOUT:,} seconds")
         if threading.current_thread() is not threading.main_thread():
@@ -235,8 +234,6 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
         if hasattr(signal, "getitimer") and signal.getitimer(signal.ITIMER_REAL)[0] > 0:
             raise UsageError("timeout= needs the interval timer (ITIMER_REAL), and a timer of this process "
                              "is already running on it: stop that timer, or leave timeout= out")
-    if isinstance(max_memory, bool) or not isinstance(max_memory, (int, str, type(None))):
-        raise UsageError(f"max_memory={max_memory!r}: bytes, a size such as '2G', or None")
     if isinstance(max_memory, int):
         ceiling: int | None = min(max_memory, MAX_CEILING)
         if ceiling < defaults.MIN_MEMORY:
