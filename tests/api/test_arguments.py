@@ -8,9 +8,9 @@ import pathlib
 
 import numpy
 import pytest
+from conftest import MIX
 
 import schemalog
-from conftest import MIX
 
 
 @pytest.fixture(scope="module")
@@ -50,8 +50,8 @@ WRONG = [
     (lambda kb, t: kb.query("true", output=[]), "Knowledge.query(): output is a list; pass a function or None"),
     (lambda kb, t: t.compress(timeout=True), "Task.compress(): timeout is a bool (True); pass a number of seconds or None"),
     (lambda kb, t: t.compress(max_memory=1.5), "max_memory is a float (1.5); pass a size (bytes as an int, or a str"),
-    (lambda kb, t: t.compress(propagat="pre"), "Task.compress(): got an unexpected keyword argument 'propagat' "
-                                               "(it takes propagate, sympy_budget, timeout, max_memory)"),
+    (lambda kb, t: t.compress(propagat="pre"), ("Task.compress(): got an unexpected keyword argument 'propagat' "
+                                                "(it takes propagate, sympy_budget, timeout, max_memory)")),
     (lambda kb, t: t.verify(kb), "Task.verify(): compressed is a Knowledge; pass a Task or None"),
     (lambda kb, t: t.run(fail="a1(spoon)"), "Task.run(): fail is a str ('a1(spoon)'); pass a list of str"),
     (lambda kb, t: t.run(state=["hand.free", 1]), "Task.run(): state holds an int (1); each of its items must be a str"),

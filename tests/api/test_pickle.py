@@ -8,9 +8,9 @@ import multiprocessing
 import pickle
 
 import pytest
+from conftest import COFFEE, MIX
 
 import schemalog
-from conftest import COFFEE, MIX
 from schemalog.api.knowledge import QueryError
 from schemalog.logic.parse import parse_term
 from schemalog.testing import NotProved, assert_equivalent
@@ -67,7 +67,7 @@ def test_a_run_pickles_before_during_and_after(kb):
     first = next(iter(started))
     copy = round_trip(started)
     assert repr(round_trip(small.start())).endswith("not started>")
-    assert copy.completed and [d.behaviour for d in copy.decisions][0] == first.behaviour
+    assert copy.completed and copy.decisions[0].behaviour == first.behaviour
     assert copy.trace == finished.trace
 
 

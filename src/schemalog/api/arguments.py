@@ -20,8 +20,9 @@ import numbers
 import os
 import reprlib
 import sys
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Union
+from typing import TYPE_CHECKING, Any
 
 from .. import defaults
 from ..errors import SchemalogError, UsageError
@@ -32,11 +33,11 @@ if TYPE_CHECKING:
     from .task import Task
 
 # What the annotations of public calls name, for type checkers; KINDS says what each takes.
-Path = Union[str, "os.PathLike[str]"]     # a file name
+Path = str | os.PathLike[str]             # a file name
 Name = str                                # a name that may be shown as a file's: no NUL
 Count = int                               # a limit on how many: 1 or more
 Times = int                               # how often: 0 or more
-Size = Union[int, str]                    # bytes, or '2G'; a memory ceiling
+Size = int | str                          # bytes, or '2G'; a memory ceiling
 Seconds = float                           # a time limit
 
 
@@ -63,18 +64,6 @@ def _typed(*types: type) -> Callable[[Any], Any]:
             return value
         raise _Refused
     return take
-
-
-def _none(value):
-    if value is None:
-        return None
-    raise _Refused
-
-
-def _bool(value):
-    if isinstance(value, bool):
-        return value
-    raise _Refused
 
 
 def _int(value) -> int:
@@ -160,8 +149,8 @@ def _api_class(module: str, name: str) -> Callable[[Any], Any]:
 
 
 KINDS: dict[str, Kind] = {
-    "None": Kind("None", _none),
-    "bool": Kind("True or False", _bool),
+    "None": Kind("None", _typed(type(None))),
+    "bool": Kind("True or False", _typed(bool)),
     "int": Kind("an int", _int),
     "Count": Kind("an int of 1 or more", _at_least(1)),
     "Times": Kind("an int of 0 or more", _at_least(0)),
