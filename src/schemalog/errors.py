@@ -4,6 +4,7 @@ names are shown, in messages and in what is written (readable_name, the READABLE
 from __future__ import annotations
 
 import codecs
+import copyreg
 import os
 from dataclasses import dataclass
 
@@ -61,6 +62,12 @@ class SchemalogError(Exception):
         self.pos = pos
         self.source_line = source_line
         self.exit_code = exit_code
+
+    def __reduce__(self):
+        """Rebuild from the attributes, as pickle rebuilds any object: an exception is
+        otherwise unpickled by calling its class with `args`, the message alone, which the
+        subclasses that take more (LimitExceeded's limit, QueryError's term) refuse."""
+        return copyreg.__newobj__, (type(self), *self.args), self.__dict__
 
     @property
     def file(self) -> str | None:

@@ -6,6 +6,7 @@ import resource
 import signal
 import threading
 import time
+from types import SimpleNamespace
 
 import pytest
 
@@ -40,19 +41,55 @@ def test_a_memory_ceiling_stops_a_query_and_is_lifted_after():
     assert resource.getrlimit(resource.RLIMIT_DATA) == before
 
 
-def test_a_timer_of_yours_is_never_touched():
-    fired = []
-    previous = signal.signal(signal.SIGALRM, lambda *_: fired.append(True))
-    try:
-        signal.setitimer(signal.ITIMER_REAL, 30, 0.5)
-        with pytest.raises(schemalog.UsageError, match="already running"):
-            schemalog.load(COFFEE, timeout=5)
-        schemalog.load(COFFEE)                         # without timeout=, no timer is needed
-        left, interval = signal.getitimer(signal.ITIMER_REAL)
-        assert 25 < left <= 30 and interval == 0.5 and not fired
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+@pytest.fixture
+def your_timer():
+    """A SIGALRM handler of the caller's, as a program of yours installs one: `.fired` holds
+    the signals it got; set the timer with signal.setitimer. Both are stopped after the test."""
+    timer = SimpleNamespace(fired=[])
+    timer.handler = lambda signum, frame: timer.fired.append(signum)
+    previous = signal.signal(signal.SIGALRM, timer.handler)
+    yield timer
+    signal.setitimer(signal.ITIMER_REAL, 0)
+    signal.signal(signal.SIGALRM, previous)
+
+
+def test_a_timeout_under_a_timer_of_yours_leaves_it_as_it_was(your_timer):
+    """kb.query("true", timeout=5) was a UsageError while a timer of the caller ran (issue 46);
+    docs/api.md says that timer goes on afterwards with what it had left."""
+    signal.setitimer(signal.ITIMER_REAL, 30, 0.5)
+    kb = schemalog.load(COFFEE, timeout=5)
+    assert list(kb.query("true", timeout=5)) == [{}]
+    with pytest.raises(schemalog.LimitExceeded, match="time limit of 0.2 s"):
+        list(schemalog.loads("loop :- loop.\n").query("loop", timeout=0.2, max_steps=10**12))
+    left, interval = signal.getitimer(signal.ITIMER_REAL)
+    assert 25 < left <= 30 and interval == 0.5 and not your_timer.fired
+    assert signal.getsignal(signal.SIGALRM) is your_timer.handler
+
+
+def test_your_timer_expiring_during_a_call_reaches_your_handler_then_and_after(your_timer):
+    signal.setitimer(signal.ITIMER_REAL, 0.02, 0.02)     # every 20 ms, through a call stopped at 300 ms
+    with pytest.raises(schemalog.LimitExceeded, match="time limit of 0.3 s"):
+        list(schemalog.loads("loop :- loop.\n").query("loop", timeout=0.3, max_steps=10**12))
+    during = len(your_timer.fired)
+    assert during >= 1
+    assert signal.getitimer(signal.ITIMER_REAL)[1] == 0.02 and signal.getsignal(signal.SIGALRM) is your_timer.handler
+    time.sleep(0.5)                         # and it goes on ticking after the call
+    assert len(your_timer.fired) > during
+
+
+def test_your_deadline_before_the_calls_ends_the_call_with_your_exception(your_timer):
+    class YourDeadline(Exception):
+        pass
+
+    def give_up(signum, frame):
+        raise YourDeadline
+
+    signal.signal(signal.SIGALRM, give_up)
+    signal.setitimer(signal.ITIMER_REAL, 0.1)
+    with pytest.raises(YourDeadline):
+        list(schemalog.loads("loop :- loop.\n").query("loop", timeout=600, max_steps=10**12))
+    assert signal.getsignal(signal.SIGALRM) is give_up and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+    schemalog.load(COFFEE)                         # without timeout=, no timer is needed
 
 
 def test_ceilings_of_calls_in_threads_are_all_lifted_after():

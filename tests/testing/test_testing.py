@@ -417,3 +417,56 @@ def test_a_timeout_fails_the_item_saying_how_to_raise_it(project):
 def test_a_wrong_limit_is_a_usage_error(project, args, expected):
     out = pytest_in(project, "--schemalog-tasks", "tasks", *args)
     assert out.returncode == 4 and expected in out.stderr, out.stdout + out.stderr
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="FIFOs and /dev/zero are POSIX")
+def test_files_that_cannot_be_read_are_named_with_what_they_are_and_never_read(project):
+    """A FIFO, a link loop, a link to /dev/zero or to nothing under a task folder were skipped
+    without a word (issue 46); a FIFO named alone gave 'no task to prove' and nothing else.
+    Reading any of them would wait for a writer, never end, or fail."""
+    tasks = project / "tasks"
+    os.mkfifo(tasks / "pipe.pl")
+    (tasks / "loop.pl").symlink_to("loop.pl")
+    (tasks / "zero.pl").symlink_to("/dev/zero")
+    (tasks / "gone.pl").symlink_to("missing.pl")
+    out = pytest_in(project, "-q", "--schemalog-tasks", "tasks")
+    assert out.returncode == 0 and "3 passed" in out.stdout, out.stdout + out.stderr
+    for line in ("schemalog: tasks/pipe.pl: a FIFO (reading it would wait for a writer): skipped",
+                 "schemalog: tasks/loop.pl: a link loop: skipped",
+                 "schemalog: tasks/zero.pl: a link to /dev/zero, a device: skipped",
+                 "schemalog: tasks/gone.pl: a link to missing.pl, which does not exist: skipped"):
+        assert line in out.stdout.splitlines(), out.stdout
+    (project / "pipes").mkdir()
+    os.mkfifo(project / "pipes" / "only.pl")
+    out = pytest_in(project, "--schemalog-tasks", "pipes")
+    assert out.returncode == 4 and "pipes: no task files (*.pl, *.prolog) in this folder: no task to prove; " \
+        "pipes/only.pl: a FIFO (reading it would wait for a writer): skipped" in out.stderr, out.stderr
+    out = pytest_in(project, "--schemalog-tasks", "tasks/loop.pl")
+    assert out.returncode == 2 and "tasks/loop.pl: a link loop: skipped" in out.stdout, out.stdout + out.stderr
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root reads any file")
+def test_a_file_this_process_may_not_read_is_named(project):
+    secret = project / "tasks" / "secret.pl"
+    shutil.copy(MIX, secret)
+    secret.chmod(0)
+    out = pytest_in(project, "-q", "--schemalog-tasks", "tasks")
+    assert out.returncode == 0 and "3 passed" in out.stdout, out.stdout + out.stderr
+    assert "schemalog: tasks/secret.pl: cannot be read (Permission denied): skipped" in out.stdout.splitlines()
+
+
+def test_a_file_the_system_refuses_to_open_is_named_with_its_reason(tmp_path, monkeypatch):
+    # what the test above shows where it runs; as root (CI containers) a refused open stands in
+    from schemalog.testing import plugin
+
+    secret = tmp_path / "secret.pl"
+    shutil.copy(MIX, secret)
+    opened = os.open
+
+    def refuse(path, flags, *args):
+        if Path(path) == secret:
+            raise PermissionError(13, "Permission denied")
+        return opened(path, flags, *args)
+
+    monkeypatch.setattr(os, "open", refuse)
+    assert list(plugin.task_files([tmp_path])) == [(secret, "cannot be read (Permission denied): skipped")]

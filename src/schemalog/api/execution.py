@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Iterator
 from .. import defaults
 from ..errors import SchemalogError, UsageError
 from ..logic.terms import Term, term_to_text
-from .arguments import read_scene_for, state_atoms
+from .arguments import checked, read_scene_for, state_atoms
 
 if TYPE_CHECKING:
     from .task import Task
@@ -31,14 +31,20 @@ class Run:
         self.task = task
         self.initial = initial
         self.notes: tuple[str, ...] = tuple(notes)
-        self._decisions: Iterator[Decision] | None = None
+        # A flag, not the executive's generator: a run, started or not, is pickled whole.
+        self._started = False
 
     def __iter__(self) -> Iterator[Decision]:
         """The decisions still to come, as the executive takes them (a run is taken once:
         iterating again goes on where the last iteration stopped)."""
-        if self._decisions is None:
-            self._decisions = iter(self.executive)
-        return self._decisions
+        self._started = True
+        return self
+
+    def __next__(self) -> Decision:
+        decision = self.executive.step()
+        if decision is None:
+            raise StopIteration
+        return decision
 
     def finish(self) -> Run:
         """Run to the end (what is left of it)."""
@@ -73,7 +79,7 @@ class Run:
         from ..run.scene import NO_SCENE
 
         ex = self.executive
-        scene = "no scene (neutral distances)" if ex.scene is NO_SCENE else f"scene {ex.scene.name}"
+        scene = "no scene (neutral distances)" if ex.scene == NO_SCENE else f"scene {ex.scene.name}"
         return [f"run {self.task.name}: {self.task.kind} tree of {len(self.task)} behaviours; "
                 f"selector {ex.selector_name}; {scene}",
                 f"initial state: {', '.join(term_to_text(a) for a in self.initial) or '(nothing true)'}"]
@@ -94,13 +100,14 @@ class Run:
         """What `schemalog run --json` prints."""
         return run_json(self.finish().executive, self.task.label, self.task.kind, self.initial)
 
+    @checked
     def words(self, fmt: str) -> str:
         """What a run written to a file holds, for `wrote FILE: ...`."""
         ex = self.executive
         return f"the run of {self.task.name}, {len(ex.decisions)} decisions, {ex.outcome.status.value} ({fmt})"
 
     def __repr__(self) -> str:
-        if self._decisions is None:
+        if not self._started:
             return f"<Run {self.task.name}: not started>"
         return f"<Run {self.task.name}: {self.status}, {len(self.executive.trace)} actions>"
 
@@ -110,7 +117,7 @@ class Run:
 
         from .notebook import run_html
 
-        if self._decisions is None:       # showing a run does not start it
+        if not self._started:              # showing a run does not start it
             return f"<pre>{html.escape(repr(self))}</pre>"
         return run_html(self, summary_lines(self.finish().executive))
 
@@ -118,7 +125,7 @@ class Run:
         """The tree that ran, each behaviour numbered by the decisions that took it; None without `dot`."""
         from .notebook import run_svg
 
-        return run_svg(self) if self._decisions is not None else None
+        return run_svg(self) if self._started else None
 
 
 def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple[str, ...], fail_times,
@@ -130,8 +137,6 @@ def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple
 
     if selector not in defaults.SELECTORS:
         raise UsageError(f"selector {selector!r}: choose {' or '.join(defaults.SELECTORS)}")
-    if retries < 0 or (fail_times is not None and fail_times < 1) or (max_decisions is not None and max_decisions < 1):
-        raise UsageError("retries must be 0 or more, fail_times and max_decisions positive")
     notes: list[str] = []
     found = read_scene_for(task, scene, seed, jitter, task.knowledge._max_bytes)
     world = World(task.original.tree)
@@ -150,7 +155,7 @@ def start_run(task: Task, scene, seed, jitter, state, selector: str, fail: tuple
     failures = _failures(task, fail, fail_times, notes)
     executive = Executive(task.tree, world, found, robot=RobotManager(found, failures), selector=selector,
                           retries=retries, max_decisions=max_decisions, recovery=recovery)
-    if found is NO_SCENE:
+    if found == NO_SCENE:
         notes.append("note: no --scene: every behaviour gets the neutral lambda, so emphasis follows "
                      "progress alone")
     if selector == "scan":

@@ -22,13 +22,13 @@ from ..logic.kb import KnowledgeBase
 from ..logic.opread import parse_term
 from ..logic.terms import Atom, Float, Int, Str, Struct, Term, term_to_text
 from .choosing import choose_task, choose_tasks, defines, root_candidates, task_term  # noqa: F401 (the API layer's)
+from .arguments import Count, Name, Path, Seconds, Size, checked
 
 if TYPE_CHECKING:
     from ..run.lint import Finding
     from .check import Checked
     from .task import Task
 
-Path = Union[str, "os.PathLike[str]"]
 Value = Union[int, float, str, list, Term]
 
 
@@ -60,16 +60,18 @@ class Knowledge:
 
         return [term_to_text(t) for t, _ in task_declarations(self._kb)]
 
-    def task(self, name: str | None = None, *, max_depth: int = defaults.MAX_DEPTH,
-             max_nodes: int = defaults.MAX_NODES, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Task:
+    @checked
+    def task(self, name: str | None = None, *, max_depth: Count = defaults.MAX_DEPTH,
+             max_nodes: Count = defaults.MAX_NODES, timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Task:
         """The task's tree, instantiated from its schemas (name None: the first task/1)."""
         from .task import Task
 
         with within(timeout, max_memory):
             return Task.instantiated(self, choose_task(self._kb, name), max_depth, max_nodes)
 
-    def query(self, goal: str, *, first: bool = False, max_steps: int | None = None, propagate: str = "full",
-              output: Callable[[str], None] | None = None, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Iterator[dict[str, Value]]:
+    @checked
+    def query(self, goal: str, *, first: bool = False, max_steps: Count | None = None, propagate: str = "full",
+              output: Callable[[str], None] | None = None, timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Iterator[dict[str, Value]]:
         """Each answer of a Prolog query over the knowledge and its tasks' relations
         (docs/queries.md: merged/3, sequential/2, ...), as a dict of Python values; what the
         query writes (write/1, format/2) goes to `output` (default: standard output).
@@ -116,8 +118,9 @@ class Knowledge:
             if first:
                 return
 
-    def lint(self, task: str | None = None, *, max_depth: int = defaults.MAX_DEPTH,
-             max_nodes: int = defaults.MAX_NODES, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> list[Finding]:
+    @checked
+    def lint(self, task: str | None = None, *, max_depth: Count = defaults.MAX_DEPTH,
+             max_nodes: Count = defaults.MAX_NODES, timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> list[Finding]:
         """Every finding of `schemalog lint` about these files (task None: every task/1)."""
         from ..run.lint import lint_kb
 
@@ -125,8 +128,9 @@ class Knowledge:
         with within(timeout, max_memory):
             return list(lint_kb(self._kb, max_depth, max_nodes, tasks))
 
-    def check(self, task: str | None = None, *, lint: bool = True, max_depth: int = defaults.MAX_DEPTH,
-              max_nodes: int = defaults.MAX_NODES, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Checked:
+    @checked
+    def check(self, task: str | None = None, *, lint: bool = True, max_depth: Count = defaults.MAX_DEPTH,
+              max_nodes: Count = defaults.MAX_NODES, timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Checked:
         """What `schemalog check` does: every schema read, the tasks instantiated (task None:
         every task/1), then linted; .schemas, .tasks, .findings, .errors."""
         from .check import check
@@ -162,15 +166,17 @@ def query_error(err: PrologError, max_memory) -> SchemalogError:
     return QueryError(error_text(err, "max_steps=").removeprefix("error: "), ball)
 
 
-def load(*paths: Path, max_bytes: int = defaults.MAX_BYTES, max_steps: int = defaults.MAX_STEPS,
-         timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Knowledge:
+@checked
+def load(*paths: Path, max_bytes: Count = defaults.MAX_BYTES, max_steps: Count = defaults.MAX_STEPS,
+         timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Knowledge:
     """Read knowledge files as one program: schema text (.pl), SEED (.prolog), YAML, BT.CPP XML."""
     with within(timeout, max_memory):
         return _load(paths, max_bytes, max_steps)
 
 
-def loads(text: str, name: str = "<text>", *, max_steps: int = defaults.MAX_STEPS,
-          timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Knowledge:
+@checked
+def loads(text: str, name: Name = "<text>", *, max_steps: Count = defaults.MAX_STEPS,
+          timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Knowledge:
     """Read knowledge from a string of schema text (or SEED knowledge)."""
     with within(timeout, max_memory):
         kb, files = _read(((name, text),), defaults.MAX_BYTES, max_steps, nullcontext)

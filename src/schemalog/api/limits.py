@@ -26,6 +26,7 @@ Nothing here loads the engine; signal and resource are built into the interprete
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import signal
@@ -57,25 +58,76 @@ class TimeLimitExceeded(BaseException):
 @contextmanager
 def time_limit(seconds: float | None) -> Iterator[None]:
     """Raise TimeLimitExceeded in the main thread once `seconds` of wall-clock time have passed
-    inside the context; disarmed on leaving it, so it never fires after the work is done."""
+    inside the context; disarmed on leaving it, so it never fires after the work is done.
+
+    The process has one ITIMER_REAL timer. One already running (a caller's, or an outer
+    time_limit's) is shared, not refused: the context runs under the earlier of the two
+    deadlines, an expiry of the caller's timer inside it goes to the caller's handler when it
+    falls due (which may raise, and so end the call), and on leaving, the caller's handler and
+    timer are put back with what they have left and their interval; an expiry due by then
+    (it fell with ours) is delivered at once."""
     if seconds is None or not hasattr(signal, "setitimer"):
         yield
         return
+    previous = signal.getsignal(signal.SIGALRM)
+    if previous is None:         # a handler set outside Python: signal() could not put it back
+        raise UsageError("timeout= needs SIGALRM, and a handler installed outside Python holds it: "
+                         "leave timeout= out, or bound the work with max_steps/max_states")
+    left, interval = signal.getitimer(signal.ITIMER_REAL)
+    now = time.monotonic()
+    ours = now + seconds
+    theirs = [now + left] if left > 0 else []      # the caller's next expiry, if any
     armed = [True]
 
+    def arm() -> None:
+        due = min([ours, *theirs])
+        signal.setitimer(signal.ITIMER_REAL, max(due - time.monotonic(), _SOON))
+
     def expire(signum, frame) -> None:
-        if armed[0]:             # a signal already pending as the context closes does nothing
+        if not armed[0]:         # a signal already pending as the context closes does nothing
+            return
+        now = time.monotonic() + _SLACK
+        ours_due = ours <= now
+        theirs_due = bool(theirs) and theirs[0] <= now
+        if theirs_due:
+            # its next expiry; late, a timer skips the periods it missed (one signal)
+            theirs[:] = [theirs[0] + interval * math.ceil((now - theirs[0]) / interval + 1e-9)] \
+                if interval > 0 else []
+        if not ours_due:
+            arm()
+        if theirs_due or not ours_due:
+            # the caller's timer fell due, or a SIGALRM came from kill, not from a timer: the
+            # caller's handler gets it now, as it would have (it may raise: the call ends)
+            _deliver(previous, signum, frame)
+        if ours_due:
             armed[0] = False
             raise TimeLimitExceeded(seconds)
 
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.signal(signal.SIGALRM, expire)
+    arm()
     try:
         yield
     finally:
         armed[0] = False
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+        if theirs:
+            # an expiry already due (it fell with ours, or while we closed) comes at once
+            signal.setitimer(signal.ITIMER_REAL, max(theirs[0] - time.monotonic(), _SOON), interval)
+
+
+_SOON = 1e-6       # setitimer's 0 disarms: the shortest time that arms
+_SLACK = 1e-3      # an expiry within this of a deadline is that deadline's (the clocks differ)
+
+
+def _deliver(handler, signum: int, frame) -> None:
+    """What the process would have done with the signal under `handler`: call it, ignore the
+    signal, or (SIG_DFL, SIGALRM's default) end the process."""
+    if callable(handler):
+        handler(signum, frame)
+    elif handler == signal.SIG_DFL:
+        signal.signal(signum, signal.SIG_DFL)
+        signal.raise_signal(signum)
 
 
 _UNITS = {"": 1, "b": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
@@ -217,26 +269,20 @@ def within(timeout: float | None = None, max_memory: int | str | None = DEFAULT)
     """Run one API call under a time limit (seconds; None: none) and a memory ceiling (bytes,
     a size such as '2G', None or 'off' for none, DEFAULT for the command line's), both put
     back as they were when it ends. A call inside another's limits adds none of its own unless
-    given some. The time limit is the interval timer's signal: it needs the main thread and no
-    other ITIMER_REAL timer running. The ceiling is the process's: calls in several threads
+    given some. The time limit is the interval timer's signal: it needs the main thread, and
+    shares the timer with one already running (time_limit). The ceiling is the process's: calls in several threads
     share the lowest of theirs, and the last to end puts back what was there before the first."""
     nested = getattr(_inside, "depth", 0) > 0
     if nested and timeout is None and max_memory == DEFAULT:
         yield
         return
+    # timeout's and max_memory's types are checked where the API is called (arguments.checked)
     if timeout is not None:
-        if isinstance(timeout, bool) or not isinstance(timeout, (int, float)):
-            raise UsageError(f"timeout={timeout!r}: a number of seconds, or None")
         if not (defaults.MIN_TIMEOUT <= timeout <= defaults.MAX_TIMEOUT):
             raise UsageError(f"timeout={timeout!r}: from {defaults.MIN_TIMEOUT} to {defaults.MAX_TIMEOUT:,} seconds")
         if threading.current_thread() is not threading.main_thread():
             raise UsageError("timeout= needs the main thread (it is a signal): limit the call from there, "
                              "or bound its work with max_steps/max_states")
-        if hasattr(signal, "getitimer") and signal.getitimer(signal.ITIMER_REAL)[0] > 0:
-            raise UsageError("timeout= needs the interval timer (ITIMER_REAL), and a timer of this process "
-                             "is already running on it: stop that timer, or leave timeout= out")
-    if isinstance(max_memory, bool) or not isinstance(max_memory, (int, str, type(None))):
-        raise UsageError(f"max_memory={max_memory!r}: bytes, a size such as '2G', or None")
     if isinstance(max_memory, int):
         ceiling: int | None = min(max_memory, MAX_CEILING)
         if ceiling < defaults.MIN_MEMORY:

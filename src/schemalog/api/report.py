@@ -15,10 +15,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable, Iterable
 
 from .. import defaults
-from ..errors import SchemalogError
+from ..errors import SchemalogError, UsageError
 from ..logic.terms import Term, term_to_text
 from .limits import DEFAULT, within
-from .arguments import read_scene_for, state_atoms
+from .arguments import Count, Path, Seconds, Size, checked, read_scene_for, state_atoms
 
 if TYPE_CHECKING:
     from .task import Task
@@ -131,6 +131,7 @@ class Report:
         """What `schemalog verify --json` prints."""
         return verify_json(self.raw, self.how, self.nodes_before, self.nodes_after, self.vacuity)
 
+    @checked
     def words(self, fmt: str) -> str:
         """What a verification written to a file says, for `wrote FILE: ...`."""
         return verdict_words(self.raw, fmt, self.vacuity)
@@ -151,11 +152,12 @@ class Report:
         return report_svg(self)
 
 
+@checked
 def verify(original: Task, compressed: Task, *, states: str | Iterable[str] = "default", method: str = "auto",
-           max_states: int = defaults.MAX_STATES, max_bdd_nodes: int = 5_000_000, split: bool = True,
-           scene=None, sample: int | None = None, seed: int = 0,
-           progress: Callable[[int, int], None] | None = None, timeout: float | None = None,
-           max_memory: int | str | None = DEFAULT) -> Report:
+           max_states: Count = defaults.MAX_STATES, max_bdd_nodes: Count = 5_000_000, split: bool = True,
+           scene: Path | None = None, sample: Count | None = None, seed: int = 0,
+           progress: Callable[[int, int], None] | None = None, timeout: Seconds | None = None,
+           max_memory: Size | None = DEFAULT) -> Report:
     """Prove `compressed` against `original` from the covered initial states: "default"
     (initial/1), "all" (every assignment of the free atoms allowed by constraint/1), or one
     state, 'hand.free, spoon.taken'. sample=RUNS checks random runs instead (no proof).
@@ -174,11 +176,9 @@ def _verify(original: Task, compressed: Task, states, method: str, max_states: i
     from ..task.compress import original_of
 
     if method not in ("auto", "symbolic", "explicit"):
-        raise SchemalogError(f"method {method!r}: choose auto, symbolic or explicit")
-    if max_states < 1 or max_bdd_nodes < 1:
-        raise SchemalogError("max_states and max_bdd_nodes must be positive")
+        raise UsageError(f"method {method!r}: choose auto, symbolic or explicit")
     if sample is not None and not 1 <= sample <= defaults.MAX_SAMPLE:
-        raise SchemalogError(f"sample: from 1 to {defaults.MAX_SAMPLE:,} runs, not {sample:,}")
+        raise UsageError(f"sample: from 1 to {defaults.MAX_SAMPLE:,} runs, not {sample:,}")
     notes: list[str] = []
     if original.compressed:
         # A compressed task's tree runs merged leaves, so its actions and its world are not the

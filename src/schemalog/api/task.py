@@ -19,13 +19,13 @@ from ..logic.terms import Term, term_to_text
 from ..task.tree import Behaviour, count_nodes, depth
 
 from .limits import DEFAULT, within
-from .arguments import read_scene_for, refuse_overwriting, state_atoms
+from .arguments import Count, Path, Seconds, Size, Times, checked, read_scene_for, refuse_overwriting, state_atoms
 
 if TYPE_CHECKING:
     from ..run.scene import Scene
     from ..run.world import World
     from .execution import Run
-    from .knowledge import Knowledge, Path
+    from .knowledge import Knowledge
     from .report import Report
 
 # -o's suffix, save()'s too: the format written.
@@ -131,8 +131,9 @@ class Task:
         return f"<Task {self.name}: {self.kind}, {len(self)} behaviours, depth {self.depth}>"
 
     # -- what it does ------------------------------------------------------------------
-    def compress(self, propagate: str = "full", *, sympy_budget: int = defaults.SYMPY_BUDGET,
-                 timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Task:
+    @checked
+    def compress(self, propagate: str = "full", *, sympy_budget: Times = defaults.SYMPY_BUDGET,
+                 timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Task:
         """Merge sequential behaviours (Definition 1, Algorithm 1) into a new Task."""
         from ..task.compress import compress, protected_labels
         from ..task.conditions import Simplifier
@@ -161,7 +162,8 @@ class Task:
             (f"note: {self.name} carries no provenance (origins/2): it is shown as it is",)
         return Task(decompress(self.tree), self.knowledge, notes=notes)
 
-    def verify(self, compressed: Task | None = None, *, timeout: float | None = None, max_memory: int | str | None = DEFAULT, **options) -> Report:
+    @checked
+    def verify(self, compressed: Task | None = None, *, timeout: Seconds | None = None, max_memory: Size | None = DEFAULT, **options) -> Report:
         """Prove `compressed` (default: this task if it is compressed, else this task
         compressed with propagate full) against this task's original: schemalog.verify's options."""
         from .report import verify
@@ -171,10 +173,11 @@ class Task:
                 compressed = self if self.compressed else self.compress()
             return verify(self.original, compressed, **options)
 
+    @checked
     def run(self, scene: Path | None = None, *, seed: int | None = None, jitter: float | None = None,
             state: str | Iterable[str] | None = None, selector: str = "incremental", fail: Iterable[str] = (),
-            fail_times: int | None = None, retries: int = defaults.RETRIES, recovery: str = defaults.RECOVERIES[0],
-            max_decisions: int | None = None, timeout: float | None = None, max_memory: int | str | None = DEFAULT) -> Run:
+            fail_times: Count | None = None, retries: Times = defaults.RETRIES, recovery: str = defaults.RECOVERIES[0],
+            max_decisions: Count | None = None, timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> Run:
         """Execute with the attentional executive against an emulated robot, to the end."""
         with within(timeout, max_memory):
             run = self.start(scene, seed=seed, jitter=jitter, state=state, selector=selector, fail=fail,
@@ -182,10 +185,11 @@ class Task:
             run.finish()
         return run
 
+    @checked
     def start(self, scene: Path | None = None, *, seed: int | None = None, jitter: float | None = None,
               state: str | Iterable[str] | None = None, selector: str = "incremental", fail: Iterable[str] = (),
-              fail_times: int | None = None, retries: int = defaults.RETRIES,
-              recovery: str = defaults.RECOVERIES[0], max_decisions: int | None = None) -> Run:
+              fail_times: Count | None = None, retries: Times = defaults.RETRIES,
+              recovery: str = defaults.RECOVERIES[0], max_decisions: Count | None = None) -> Run:
         """A run not yet started: iterate it for its decisions as the executive takes them."""
         from .execution import start_run
 
@@ -211,20 +215,23 @@ class Task:
         """The tree as a Graphviz graph, coloured in the initial state."""
         return self.text("dot")
 
-    def to_btcpp(self, state: str | Iterable[str] | bool | None = None, *, retries: int = defaults.RETRIES,
-                 node_types: dict | None = None) -> str:
+    @checked
+    def to_btcpp(self, state: str | Iterable[str] | bool | None = None, *, retries: Times = defaults.RETRIES,
+                 node_types: dict | Path | None = None) -> str:
         """BehaviorTree.CPP v4 XML that runs this tree, each failed action retried `retries`
         times; the robot writes the state (default), or the first tick writes `state` (True:
         initial/1). `node_types`: functor -> NodeType (or a YAML file, read_node_types)."""
         return self.text("btcpp", state, retries=retries, node_types=node_types)
 
-    def to_py_trees(self, state: str | Iterable[str] | bool | None = None, *, retries: int = defaults.RETRIES) -> str:
+    @checked
+    def to_py_trees(self, state: str | Iterable[str] | bool | None = None, *, retries: Times = defaults.RETRIES) -> str:
         """A Python module that builds and runs this tree in py_trees (INITIAL: `state`, printed by
         `python module.py`; True: initial/1)."""
         return self.text("py_trees", state, retries=retries)
 
+    @checked
     def text(self, fmt: str, state: str | Iterable[str] | bool | None = None, *, header: str | None = None,
-             retries: int = defaults.RETRIES, node_types: dict | str | os.PathLike | None = None) -> str:
+             retries: Times = defaults.RETRIES, node_types: dict | Path | None = None) -> str:
         """This task written in one format: pl, yaml, seed, json, dot, btcpp, py_trees
         (header: the comment pl and seed start with, default header())."""
         from ..formats.render import carried_clauses, show_json, to_dot, tree_document
@@ -242,6 +249,7 @@ class Task:
             return self._exported(fmt, state, retries, node_types)
         raise UsageError(f"no text format {fmt!r}: choose pl, yaml, seed, json, dot, btcpp or py_trees")
 
+    @checked
     def save(self, path: Path, format: str | None = None) -> str:
         """Write this task to `path` atomically (format: from the suffix), never over a file
         the knowledge was read from; the format written."""
@@ -279,8 +287,6 @@ class Task:
         from ..formats.quoting import Unquotable
         from ..run.world import World, initial_state
 
-        if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
-            raise UsageError(f"retries must be 0 or more, not {retries!r}")
         if node_types is not None and target != "btcpp":
             raise UsageError("node types are for BehaviorTree.CPP exports (a py_trees action is called by its label)")
         if isinstance(node_types, (str, os.PathLike)):
@@ -326,7 +332,8 @@ class Task:
             return None
         return f"<pre>{html.escape(self.tree_text())}</pre>"
 
-    def tree_text(self, width: int = 120) -> str:
+    @checked
+    def tree_text(self, width: Count = 120) -> str:
         """The tree as `schemalog show` prints it to a file."""
         from ..formats.render import rich_tree
 

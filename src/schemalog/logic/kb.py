@@ -86,6 +86,20 @@ class StoredClause:
     def __post_init__(self) -> None:
         self.key = first_arg_key(self.head.args[0]) if isinstance(self.head, Struct) else None
 
+    # The compiled copier and activations are code made with exec (compile.py), which pickle
+    # cannot write, and a cache: an unpickled clause compiles them again when first called.
+    _COMPILED = ("_copier", "_activation", "_by_copy", "_calls")
+
+    def __getstate__(self) -> dict:
+        """Its clause and where it came from, without the compiled code (a cache)."""
+        return {name: getattr(self, name) for name in self.__slots__ if name not in self._COMPILED}
+
+    def __setstate__(self, state: dict) -> None:
+        for name in self._COMPILED:
+            setattr(self, name, 0 if name == "_calls" else None)
+        for name, value in state.items():
+            setattr(self, name, value)
+
     def renamed(self) -> tuple[Term, Term]:
         """A copy of (head, body) with fresh variables; a clause without variables is its
         own copy (retract and clause/2 of a fact compile nothing)."""

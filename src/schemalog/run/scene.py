@@ -75,7 +75,7 @@ class Scene:
         return replace(self, objects=moved, name=f"{self.name} (seed {seed}, jitter {jitter:g})")
 
 
-NO_SCENE = Scene()
+NO_SCENE = Scene()          # compared with ==, not `is`: a run unpickled holds a copy of it
 
 
 def scene_text(scene: Scene, comment: str = "") -> str:

@@ -726,7 +726,7 @@ class Verifier:
                          "original_status": st_o, "compressed_status": st_c})
         self.world.load(was)
         same = sum(1 for r in rows if r["same"])
-        where = ("with no scene (every distance neutral)" if scene is NO_SCENE
+        where = ("with no scene (every distance neutral)" if scene == NO_SCENE
                  else f"in scene {scene.name}")
         summary = f"winner-take-all runs {where} give the same trace from {same} of {len(rows)} state(s)"
         first = next((r for r in rows if not r["same"]), None)

@@ -566,28 +566,40 @@ Check = Callable[[AbstractSet[Term]], bool]
 def compile_check(c: Condition, limit: int = 64) -> Check:
     """A function deciding `holds(c, state)` with set operations: each DNF clause becomes
     `positives <= state and negatives.isdisjoint(state)`, done in C, so the cost barely
-    grows with the number of literals. Falls back to `holds` beyond `limit` clauses."""
+    grows with the number of literals. Falls back to `holds` beyond `limit` clauses.
+
+    A check is a bound set method or a partial of a function below, never a closure: the
+    worlds and plans that hold checks are pickled with a Task, a Run or a Report."""
     if type(c) is Lit:                 # most conditions of a large tree: `b12.done`
-        atom = c.atom
-        return (lambda state: atom in state) if c.positive else (lambda state: atom not in state)
+        atoms = frozenset((c.atom,))
+        return atoms.issubset if c.positive else atoms.isdisjoint
     dnf = to_dnf(c, limit)
     if dnf is None:
-        return lambda state: holds(c, state)
-    clauses = [(frozenset(l.atom for l in clause if l.positive), frozenset(l.atom for l in clause if not l.positive))
-               for clause in dnf]
+        return functools.partial(holds, c)
+    clauses = tuple((frozenset(l.atom for l in clause if l.positive),
+                     frozenset(l.atom for l in clause if not l.positive)) for clause in dnf)
     if not clauses:
-        return lambda state: False
+        return functools.partial(_constant, False)
     if len(clauses) > 1:
-        return lambda state: any(pos <= state and neg.isdisjoint(state) for pos, neg in clauses)
+        return functools.partial(_any_clause_holds, clauses)
     pos, neg = clauses[0]
     if not pos and not neg:
-        return lambda state: True
+        return functools.partial(_constant, True)
     if not neg:
-        if len(pos) == 1:
-            (atom,) = pos
-            return lambda state: atom in state
-        return lambda state: pos <= state
+        return pos.issubset
     if not pos:
         return neg.isdisjoint
-    return lambda state: pos <= state and neg.isdisjoint(state)
+    return functools.partial(_clause_holds, pos, neg)
+
+
+def _constant(value: bool, state: AbstractSet[Term]) -> bool:
+    return value
+
+
+def _clause_holds(pos: frozenset, neg: frozenset, state: AbstractSet[Term]) -> bool:
+    return pos <= state and neg.isdisjoint(state)
+
+
+def _any_clause_holds(clauses: tuple[tuple[frozenset, frozenset], ...], state: AbstractSet[Term]) -> bool:
+    return any(pos <= state and neg.isdisjoint(state) for pos, neg in clauses)
 

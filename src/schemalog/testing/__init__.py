@@ -32,6 +32,13 @@ class NotProved(AssertionError):
         super().__init__(report.text())
         self.report = report
 
+    def __reduce__(self):
+        """Rebuild from the attributes (pytest-xdist, multiprocessing): unpickled by calling the
+        class with `args`, it would be given the report's text where it takes the report."""
+        import copyreg
+
+        return copyreg.__newobj__, (type(self), *self.args), self.__dict__
+
 
 def assert_compression_sound(task: "Task", *, propagate: str = "full", states: str = "default",
                              **verify_options: Any) -> "Report":

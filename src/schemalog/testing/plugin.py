@@ -7,7 +7,10 @@ SEED memories `*.prolog`; hidden folders skipped) is loaded and gives one test i
 the tasks it declares with task/1 (`Knowledge.declared()`), or, when it declares none (a SEED
 memory), its first root candidate (`Knowledge.tasks()[:1]`, the task `schemalog query` takes);
 a file with neither gives no item and is named in the summary, as is a file that is not
-schemalog knowledge (a `#!` script, or a file that does not load and holds no `schema(`).
+schemalog knowledge (a `#!` script, or a file that does not load and holds no `schema(`), and
+one that is not read at all: a FIFO (the read would wait for a writer), a device (/dev/zero's
+read would never end), a socket, a link loop or a link to nothing, or a file this process may
+not read, each with what it is.
 Collection only loads the files: each item instantiates, compresses (`--schemalog-propagate`,
 default full; a compressed file is taken as it is and proved against its provenance) and
 proves its task when it runs, and fails with the report `schemalog verify` prints.
@@ -22,6 +25,9 @@ Importing this module imports only pytest and the standard library (docs/testing
 
 from __future__ import annotations
 
+import errno
+import os
+import stat
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -175,11 +181,14 @@ def pytest_configure(config: pytest.Config) -> None:
     config.stash[_SEEN] = set()
     config.stash[_SETTINGS] = found = _decide(config)
     for path in found.paths:
-        if not path.exists():
+        if not os.path.lexists(path):      # a link loop or a link to nothing is skipped, saying so
             raise pytest.UsageError(f"{found.source}: {_shown(config, path)}: no such folder or file")
-        if found.modes[path] == "inject" and path.is_dir() and next(task_files([path]), None) is None:
-            raise pytest.UsageError(f"{found.source}: {_shown(config, path)}: no task files (*.pl, *.prolog) "
-                                    f"in this folder: no task to prove")
+        if found.modes[path] == "inject" and path.is_dir():
+            files = list(task_files([path]))
+            if not any(why is None for _, why in files):
+                skipped = "".join(f"; {_shown(config, file)}: {why}" for file, why in files)
+                raise pytest.UsageError(f"{found.source}: {_shown(config, path)}: no task files (*.pl, *.prolog) "
+                                        f"in this folder: no task to prove{skipped}")
 
 
 def _shown(config: pytest.Config, path: Path) -> str:
@@ -199,17 +208,56 @@ def pytest_report_header(config: pytest.Config) -> str | None:
             f"{found.states}{''.join(', ' + limit for limit in limits)})")
 
 
-def task_files(paths: list[Path]) -> Iterator[Path]:
-    """The task files under `paths`, each once, in a stable order (a file named is one)."""
+def task_files(paths: list[Path]) -> Iterator[tuple[Path, str | None]]:
+    """The task files under `paths`, each once, in a stable order (a file named is one), each
+    with why it is skipped unread (None: it is read)."""
     seen: set[Path] = set()
     for path in paths:
-        found = [path] if path.is_file() else sorted(
-            p for p in path.rglob("*") if p.suffix in SUFFIXES and p.is_file()
+        found = [path] if not path.is_dir() else sorted(
+            p for p in path.rglob("*") if p.suffix in SUFFIXES and not p.is_dir()
             and not any(part.startswith(".") for part in p.relative_to(path).parts))
         for file in found:
-            if file.resolve() not in seen:
-                seen.add(file.resolve())
-                yield file
+            why = unreadable(file)
+            key = file.absolute() if why else file.resolve()      # a link loop has no resolved path
+            if key not in seen:
+                seen.add(key)
+                yield file, why
+
+
+def unreadable(file: Path) -> str | None:
+    """What a task file is when it is not a regular file this process can read, and so is not
+    read (a FIFO would block the read, a device such as /dev/zero never end it); else None."""
+    try:
+        mode = file.stat().st_mode
+    except OSError as err:
+        if err.errno == errno.ELOOP:
+            return "a link loop: skipped"
+        if file.is_symlink():
+            return f"a link to {os.readlink(file)}, which does not exist: skipped"
+        return f"cannot be read ({err.strerror}): skipped"
+    if not stat.S_ISREG(mode):
+        what = ("a FIFO (reading it would wait for a writer)" if stat.S_ISFIFO(mode) else
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+                "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        return f"{f'a link to {os.path.realpath(file)}, ' if file.is_symlink() else ''}{what}: skipped"
+    try:
+        os.close(os.open(file, os.O_RDONLY | _NONBLOCK))
+    except OSError as err:
+        return f"cannot be read ({err.strerror}): skipped"
+    return None
+
+
+_NONBLOCK = getattr(os, "O_NONBLOCK", 0)   # a file that became a FIFO since it was looked at
+
+
+def read_regular(file: Path) -> bytes:
+    """A task file's bytes; OSError when it is no longer a regular file (never waiting on a
+    FIFO that took its place)."""
+    fd = os.open(file, os.O_RDONLY | _NONBLOCK)
+    with os.fdopen(fd, "rb") as opened:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "no longer a regular file")
+        return opened.read()
 
 
 def _is_task_file(file: Path, folder: Path) -> bool:
@@ -235,8 +283,11 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
     found = settings(config)
     seen = config.stash[_SEEN]
     injected = [p for p in found.paths if found.modes[p] == "inject"]
-    for file in task_files(injected):
-        if file.absolute() not in seen:
+    notes = config.stash[_NOTES]
+    for file, why in task_files(injected):
+        if why is not None:
+            notes.append(f"{_shown(config, file.absolute())}: {why}")
+        elif file.absolute() not in seen:
             items.extend(session.genitems(TaskFile.from_parent(session, path=file.absolute())))
     active = found.active()
     if active and not any(isinstance(item, TaskItem) for item in items) and not session.testsfailed:
@@ -270,7 +321,11 @@ class TaskFile(pytest.File):
 
         self.config.stash[_SEEN].add(self.path.absolute())
         notes = self.config.stash[_NOTES]
-        data = self.path.read_bytes()
+        try:
+            data = read_regular(self.path)
+        except OSError as error:
+            notes.append(f"{self.nodeid}: cannot be read ({error.strerror}): skipped")
+            return
         first = data.split(b"\n", 1)[0]
         if first.startswith(b"#!") and b"swipl" not in first and b"prolog" not in first:
             notes.append(f"{self.nodeid}: a script ({first.decode(errors='replace').strip()}), "
