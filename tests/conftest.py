@@ -37,6 +37,17 @@ settings.load_profile("schemalog")
 if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
 
+
+def _hangup_ignored(signum, frame) -> None:
+    """Under nohup the suite keeps ignoring a hangup, and the commands it starts do not inherit that."""
+
+
+# nohup starts the suite with SIGHUP ignored, which every command the tests start would inherit:
+# the SIGHUP test then saw its command ignore the signal (issue 45). A handler, unlike SIG_IGN, is
+# reset to the default in a child; this one ignores the hangup here as nohup meant.
+if hasattr(signal, "SIGHUP") and signal.getsignal(signal.SIGHUP) == signal.SIG_IGN:
+    signal.signal(signal.SIGHUP, _hangup_ignored)
+
 # tests/example_project is a separate project (its own pyproject.toml and tests), installed and
 # run in a fresh virtual environment by tests/testing/test_example_project.py, not collected here
 collect_ignore = ["example_project"]

@@ -2,9 +2,11 @@
 environment: its own tests pass, the plugin proves every shipped task, and a hand-edited
 unsound compressed task fails with the counterexample in pytest's output (issue 34).
 
-The environment is made with --system-site-packages: it takes pytest, hypothesis and
-schemalog's dependencies (numpy, sympy, lark, ...) from the interpreter running this suite,
-so the test needs no download of them and takes seconds, not minutes. schemalog itself and
+The environment sees the site-packages of the interpreter running this suite (a .pth file
+naming them): it takes pytest, hypothesis and schemalog's dependencies (numpy, sympy, lark,
+...) from there, so the test needs no download of them and takes seconds, not minutes. Not
+--system-site-packages: when the suite itself runs in a venv, as the README's commands do,
+that venv's packages are not the "system site" of a venv made from it (issue 45). schemalog itself and
 the example project are installed into it from this checkout by pip, as wheels (no
 --editable), so what runs there is the package as a user gets it, entry point included; the
 test checks that `import schemalog` there is the installed copy, not the checkout's or an
@@ -16,8 +18,10 @@ from __future__ import annotations
 import importlib.util
 import os
 import shutil
+import site
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 
 import pytest
@@ -44,9 +48,14 @@ def installed(tmp_path_factory):
     project = base / "example_project"
     shutil.copytree(EXAMPLE, project, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "build"))
     venv = base / "venv"
-    made = run([sys.executable, "-m", "venv", "--system-site-packages", venv], base)
+    made = run([sys.executable, "-m", "venv", venv], base)
     assert made.returncode == 0, made.stderr
     python = venv / "bin" / "python"
+    ours = run([python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], base).stdout.strip()
+    outer = [p for p in dict.fromkeys([*site.getsitepackages(), site.getusersitepackages(),
+                                       sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]])
+             if Path(p).is_dir()]
+    (Path(ours) / "_suite_site.pth").write_text("".join(f"{p}\n" for p in outer))   # after the venv's own
     # with hatchling at hand, build without fetching it (offline); else pip fetches it
     isolation = [] if importlib.util.find_spec("hatchling") is None else ["--no-build-isolation"]
     pip = run([python, "-m", "pip", "install", "--no-deps", *isolation, ROOT, project], base, timeout=600)
