@@ -3,8 +3,10 @@
     python benchmarks/fuzz.py --minutes 10                     # every probe, round robin
     python benchmarks/fuzz.py --minutes 3 --probes queries knowledge --findings /tmp/fuzz-findings.md
 
-Runs the probes of tests/fuzz/test_fuzz_cli.py (PROBES: mutated knowledge, scenes, demonstrations,
-queries, odd command lines, hostile file names, the REPL on standard input, signals) with the long generators
+Runs the probes of tests/fuzz/test_fuzz_cli.py and test_fuzz_api.py (PROBES: mutated knowledge, scenes,
+demonstrations, queries, odd command lines, hostile file names, the REPL on standard input, signals,
+exports, includes, mutated BT.CPP trees with their models and semantics files beside a secret only an
+include reaches, sweep grids, and the Python API under odd arguments) with the long generators
 (SCHEMALOG_FUZZ=long: deep nesting, wide tasks, unlowered limits) and random seeds, in chunks of
 --chunk examples per probe, until the time is up. It never stops at a failure: each broken promise
 is reduced to a signature (its kind, numbers and names taken out) and kept once, with the
@@ -32,8 +34,9 @@ def load_probes(fast: bool):
     if not fast:
         os.environ["SCHEMALOG_FUZZ"] = "long"
     sys.path[:0] = [str(ROOT / "src"), str(ROOT / "tests" / "fuzz")]
+    import test_fuzz_api
     import test_fuzz_cli
-    return test_fuzz_cli.PROBES
+    return {**test_fuzz_cli.PROBES, **test_fuzz_api.PROBES}
 
 
 def main() -> int:
