@@ -23,6 +23,7 @@ Variables are shared by name within a record, as within a clause.
 from __future__ import annotations
 
 import functools
+import io
 import os
 import stat
 import tempfile
@@ -387,27 +388,17 @@ def write_atomically(path: str | Path, text: str | bytes) -> None:
     if target.in_place:
         write_in_place(target.path, text if isinstance(text, bytes) else text.encode("utf-8", READABLE))
         return
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.path.name}.", suffix=".tmp", dir=target.path.parent)
-    except OSError as err:
-        raise CannotWrite(path, err.strerror or str(err)) from None
-    try:
+
+    def write(handle: BinaryIO) -> None:
         if isinstance(text, bytes):
-            with os.fdopen(fd, "wb") as handle:
-                handle.write(text)
-        else:
-            with os.fdopen(fd, "w", encoding="utf-8", errors=READABLE) as handle:
-                _write_text(handle, text)
-        os.chmod(tmp, file_mode(target.path))
-        os.replace(tmp, target.path)
-    except BaseException as err:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(err, OSError):
-            raise CannotWrite(path, err.strerror or str(err)) from None
-        raise
+            handle.write(text)
+            return
+        wrapped = io.TextIOWrapper(handle, encoding="utf-8", errors=READABLE)
+        _write_text(wrapped, text)
+        wrapped.flush()
+        wrapped.detach()                # the handle is closed by _staged, not by the wrapper
+
+    _staged(str(path), target.path, write, file_mode(target.path))
 
 
 def write_in_folder(target: Path, content: str | bytes | Callable[[BinaryIO], None]) -> Path:
@@ -416,22 +407,31 @@ def write_in_folder(target: Path, content: str | bytes | Callable[[BinaryIO], No
     never written through (the folder is the user's to name; what is in it is the run's, so a
     `sweep.md` linked to a file elsewhere cannot make the run write outside the folder).
     `content` is text, bytes, or a function that writes into the open binary file."""
+    if callable(content):
+        write = content                # pyarrow and matplotlib take the handle: a name need not be UTF-8
+    else:
+        data = content.encode("utf-8", READABLE) if isinstance(content, str) else content
+        write = lambda handle: handle.write(data)       # noqa: E731
+    try:
+        info = os.lstat(target)
+        mode = stat.S_IMODE(info.st_mode) if stat.S_ISREG(info.st_mode) else new_file_mode()
+    except OSError:
+        mode = new_file_mode()
+    _staged(str(target), target, write, mode)
+    return target
+
+
+def _staged(shown: str, target: Path, write: Callable[[BinaryIO], None], mode: int) -> None:
+    """Write through a temporary file beside `target`, then rename it onto `target` (a link there
+    is replaced): never a partial file; what the system refuses is CannotWrite naming `shown`."""
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     except OSError as err:
-        raise CannotWrite(str(target), err.strerror or str(err)) from None
+        raise CannotWrite(shown, err.strerror or str(err)) from None
     try:
         with os.fdopen(fd, "wb") as handle:
-            if callable(content):
-                content(handle)        # pyarrow and matplotlib take the handle: a name need not be UTF-8
-            else:
-                handle.write(content.encode("utf-8", READABLE) if isinstance(content, str) else content)
-        try:
-            info = os.lstat(target)
-            mode = stat.S_IMODE(info.st_mode) if stat.S_ISREG(info.st_mode) else None
-        except OSError:
-            mode = None
-        os.chmod(tmp, mode if mode is not None else new_file_mode())
+            write(handle)
+        os.chmod(tmp, mode)
         os.replace(tmp, target)
     except BaseException as err:
         try:
@@ -439,9 +439,8 @@ def write_in_folder(target: Path, content: str | bytes | Callable[[BinaryIO], No
         except OSError:
             pass
         if isinstance(err, OSError):
-            raise CannotWrite(str(target), err.strerror or str(err)) from None
+            raise CannotWrite(shown, err.strerror or str(err)) from None
         raise
-    return target
 
 
 def write_together(files: list[tuple[str, bytes]]) -> None:
