@@ -108,7 +108,10 @@ def _dot_escape(text: str) -> str:
 
 
 # The paper's Figure 2: green (brown) text is a true (false) pre-condition, a green (brown)
-# ellipse an active (inactive) behaviour, in the initial state; post-conditions blue.
+# ellipse an active (inactive) behaviour, in the initial state; post-conditions blue. The paper's
+# active there is what docs/semantics.md calls enabled: pre-condition true and post-condition
+# false, for the behaviour and every ancestor (_live), so a leaf released by `true` under an
+# inactive sub-task is outlined brown.
 ACTIVE = "#2e7d32"
 INACTIVE = "#8d6e63"
 POST_COLOUR = "#1f4fbf"
@@ -362,9 +365,12 @@ def _legend(initial: frozenset | None, merged: bool, aliased: bool, cut: bool = 
     state = ", ".join(sorted(term_to_text(a) for a in initial)) if initial else "nothing true"
     rows = [f'<tr><td colspan="2"><b>Legend</b> (colours in the initial state: {_dot_escape(state)})</td></tr>']
     if initial is not None:
-        rows += [f'<tr><td border="2" color="{ACTIVE}">  </td><td align="left">active behaviour: its '
-                 f'pre-condition holds and its post-condition does not</td></tr>',
-                 f'<tr><td border="2" color="{INACTIVE}">  </td><td align="left">inactive behaviour</td></tr>',
+        # What _live draws (docs/semantics.md, Enabling; the paper's Fig. 2 calls it active): a3(cup),
+        # released by `true` under a sub-task whose pre-condition is false, is green text in a brown outline.
+        rows += [f'<tr><td border="2" color="{ACTIVE}">  </td><td align="left" balign="left">enabled behaviour: active (its '
+                 f'pre-condition holds, its<br/>post-condition does not), and so is every behaviour above it</td></tr>',
+                 f'<tr><td border="2" color="{INACTIVE}">  </td><td align="left">not enabled: it or a behaviour '
+                 f'above it is not active</td></tr>',
                  f'<tr><td><font color="{ACTIVE}">pre</font></td><td align="left">pre-condition, true</td></tr>',
                  f'<tr><td><font color="{INACTIVE}">pre</font></td><td align="left">pre-condition, false</td></tr>']
     rows.append(f'<tr><td><font color="{POST_COLOUR}">post</font></td><td align="left">post-condition</td></tr>')
