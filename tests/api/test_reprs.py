@@ -123,7 +123,19 @@ def test_a_run_numbers_its_decisions_on_the_tree(dot, both):
 def test_a_run_not_started_is_not_started_by_showing_it(dot, spoon):
     run = spoon.start(scene=SPOON_SCENE)
     assert run._repr_svg_() is None and "not started" in run._repr_html_()
-    assert run.completed                    # it can still be run
+    assert run.status == "not started" and not run.completed and run.trace == []    # reading runs nothing
+    assert run.finish().completed           # it can still be run
+
+
+def test_a_run_half_iterated_is_shown_as_far_as_it_has_gone(dot, spoon):
+    """Issue 45: showing a half-iterated run in a notebook ran it to the end."""
+    run = spoon.start(scene=SPOON_SCENE)
+    taken = [next(run) for _ in range(3)]
+    page, words = run._repr_html_(), texts(run._repr_svg_())
+    assert page.count("<tr><td>") == 3 and "running: 3 decisions taken so far" in page
+    assert "running after 3 decisions" in words and "#3" in words and "#4" not in words
+    assert len(run.decisions) == 3 and run.status == "running"          # still where it was
+    assert next(run).index == 4 and [d.behaviour for d in run.decisions[:3]] == [d.behaviour for d in taken]
 
 
 def test_ipython_picks_the_picture(dot, spoon):

@@ -100,6 +100,25 @@ def test_a_started_run_yields_each_decision_once(mix):
     assert run.completed and list(run) == [] and len(run.decisions) == 9
 
 
+def test_reading_a_half_iterated_run_does_not_advance_it(mix):
+    """Issue 45: reading .status, .trace or the repr of a run half iterated ran it to the end."""
+    run = mix.start()
+    assert (run.status, run.completed, run.trace, run.decisions) == ("not started", False, [], [])
+    assert repr(run) == "<Run use(spoon): not started>" and len(run.decisions) == 0
+    first, second = next(run), next(run)
+    for _ in range(2):                      # read twice: nothing moves
+        assert run.status == "running" and not run.completed
+        assert run.trace == ["a1(spoon)", "a2(spoon)"] and [d.index for d in run.decisions] == [1, 2]
+        assert repr(run) == "<Run use(spoon): running, 2 decisions so far, 2 actions>"
+        assert run.reason.startswith("2 decisions taken so far")
+        assert run.text().rstrip().endswith("running: 2 decisions taken so far; iterate the run for the next, "
+                                            "or call finish() for the rest")
+        assert run.as_json()["status"] == "running" and len(run.as_json()["decisions"]) == 2
+    assert next(run).index == 3             # the run goes on where it was
+    assert run.finish().status == "completed" and len(run.decisions) == 9
+    assert repr(run) == "<Run use(spoon): completed, 9 actions>"
+
+
 def test_a_sub_task_by_name():
     kb = schemalog.load(COFFEE)
     coffee = kb.task("preparecoffee")

@@ -68,6 +68,35 @@ class Terminal:
         self.tmux("new-session", "-d", "-s", "repl", "-x", str(WIDTH), "-y", str(HEIGHT),
                   "-c", str(ROOT), shell)
 
+    def run(self, term: str, *arguments, width: int = WIDTH, height: int = HEIGHT) -> None:
+        """`schemalog ARGUMENTS` in a pane of that size, as a person runs it, its colours kept
+        (NO_COLOR, FORCE_COLOR and COLORTERM left out: the terminal's TERM decides)."""
+        env = ["env", "-u", "NO_COLOR", "-u", "FORCE_COLOR", "-u", "COLORTERM", f"TERM={term}",
+               f"PYTHONPATH={os.environ.get('PYTHONPATH', '')}"]
+        command = [*env, sys.executable, "-m", "schemalog", *map(str, arguments)]
+        self.status = os.path.join(self.home, "status")
+        shell = f"{' '.join(map(_quoted, command))}; echo $? > {_quoted(self.status)}"
+        self.tmux("new-session", "-d", "-s", "repl", "-x", str(width), "-y", str(height), "-c", str(ROOT), shell)
+
+    def finished(self) -> int:
+        """The exit status of the command `run` started, once it has ended."""
+        deadline = time.monotonic() + PATIENCE
+        while True:
+            try:
+                with open(self.status) as f:
+                    status = f.read()
+                if status.endswith("\n"):
+                    return int(status)
+            except FileNotFoundError:
+                pass
+            assert time.monotonic() < deadline, "the command did not end; the screen:\n" + "\n".join(self.lines())
+            time.sleep(0.05)
+
+    def coloured_lines(self) -> list[str]:
+        """The screen and its scrollback with the escape codes of its colours (capture-pane -e)."""
+        text = self.tmux("capture-pane", "-p", "-e", "-t", "repl", "-S", "-")
+        return text.splitlines()
+
     def type(self, text: str) -> None:
         self.tmux("send-keys", "-t", "repl", "-l", text)
 
@@ -215,3 +244,53 @@ def test_a_key_that_is_no_action_at_the_more_prompt_says_so_and_is_not_input(tmu
     tmux.wait_for(r"\?- lists:append\(X, Y, \[a\]\)\.",
                   r"<query>:1:6: error: syntax error: unexpected ':': modules are not supported \(docs/queries\.md\)",
                   r"    lists:append\(X, Y, \[a\]\)\.", r"         \^", PROMPT)
+
+
+# -- colours: what the README promises for the first command --------------------------------------
+_SGR = re.compile(r"\x1b\[([0-9;]*)m")
+GREEN, BROWN = "green", "brown"
+
+
+def _colour_before(line: str, text: str) -> str:
+    """The foreground colour `text`, the first time it follows `pre: ` in `line`, is shown in."""
+    plain, colour = "", None
+    for piece in re.split(r"(\x1b\[[0-9;]*m)", line):
+        found = _SGR.fullmatch(piece)
+        if found:
+            codes = found.group(1).split(";")
+            if "38" in codes:                       # 38;5;N: a colour of the 256
+                colour = f"38;5;{codes[codes.index('38') + 2]}"
+            elif any(c in {"30", "31", "32", "33", "34", "35", "36", "37", "39", "0", ""} for c in codes):
+                colour = next((c for c in codes if c.startswith("3")), None)
+            continue
+        start = len(plain)
+        plain += piece
+        at = plain.find("pre: " + text, max(0, start - len("pre: ")))
+        if at >= 0 and at + len("pre: ") >= start:
+            return {"32": GREEN, "38;5;94": BROWN, "33": BROWN}.get(colour, f"other ({colour})")
+    raise AssertionError(f"no 'pre: {text}' on the line {line!r}")
+
+
+def _line_of(lines: list[str], label: str) -> str:
+    found = [line for line in lines if re.search(rf"(^|[^a-z_0-9(]){re.escape(label)}", _SGR.sub("", line))]
+    assert found, f"{label} is not on the screen:\n" + "\n".join(_SGR.sub("", line) for line in lines)
+    return found[0]
+
+
+@pytest.mark.parametrize("term", ["xterm-256color", "xterm"])
+@pytest.mark.parametrize("command", ["show", "compress"])
+def test_a_tree_colours_each_pre_condition_by_whether_it_holds_in_the_initial_state(tmux, term, command):
+    """Issue 45: the README's first command promised pre-conditions "green when it holds in the
+    initial state, brown when it does not"; the terminal drew every one green. Brown is xterm's
+    colour 94 on 256 colours, the 16's yellow (the old brown) on 16."""
+    tmux.run(term, command, MIX, width=200, height=60)
+    assert tmux.finished() == 0
+    lines = tmux.coloured_lines()
+    # the initial state is hand.free
+    assert _colour_before(_line_of(lines, "subtask(take,spoon)"), "hand.free") == GREEN
+    assert _colour_before(_line_of(lines, "a3(cup)"), "true") == GREEN          # true, under a false parent
+    assert _colour_before(_line_of(lines, "a2(spoon)"), "a1.done") == BROWN
+    assert _colour_before(_line_of(lines, "subtask(mix,spoon)"), "spoon.taken") == BROWN
+    if command == "compress":                   # the compressed tree, beside it, in the same state
+        assert _colour_before(_line_of(lines, "a1_a2(spoon)"), "hand.free and not spoon.taken") == GREEN
+        assert _colour_before(_line_of(lines, "a3_a4_a5_a6_a7(cup)"), "spoon.taken and not") == BROWN

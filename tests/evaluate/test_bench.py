@@ -177,6 +177,35 @@ def test_the_headline_says_too_noisy_rather_than_missed_when_runs_disagree():
     assert "target at least 87%: MISSED" in said["slow"]
 
 
+def test_figure_4_fits_a_screen(tmp_path):
+    """Issue 45: figure4.png was 1,997 px wide at its 150 dpi."""
+    from matplotlib.image import imread
+
+    from schemalog.evaluate.figures import figure4
+
+    written = figure4(_grid_results(), tmp_path)
+    png = next(p for p in written if p.suffix == ".png")
+    height, width = imread(str(png)).shape[:2]
+    assert width <= 1920, (width, height)
+
+
+def _grid_results():
+    plan = BenchPlan(shapes=(), runs=3)
+    results = Results(plan)
+    for depth in (4, 5, 6):
+        for children in (2, 3, 4):
+            behaviours = sum(children ** level for level in range(depth))
+            for rd in (0.0, 0.3, 0.5, 0.7):
+                cell = Cell(f"d{depth}c{children}", depth, children, behaviours, rd, rd, 0, 0.0)
+                ms = behaviours * (1 - rd) * 0.01
+                tree = "compressed" if rd else "original"
+                for selector in ("scan", "incremental"):
+                    cell.timing(tree, selector).per_run.extend([ms / 1e3] * 3)
+                    cell.timing(tree, selector).decisions.extend([10] * 3)
+                results.cells.append(cell)
+    return results
+
+
 def test_figure_4s_legends_cover_no_point():
     from schemalog.evaluate.figures import figure4_figure, plt
 

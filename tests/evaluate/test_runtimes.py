@@ -1,7 +1,8 @@
 """bench --runtimes: each cell runs to completion in both runtimes, original and compressed, whole
 runs timed, medians with their IQR, savings judged against the identical-tree noise floor."""
 
-from schemalog.evaluate.runtimes import RuntimeRow, Timed, measure_row, noise_floor, runtimes_csv, runtimes_markdown
+from schemalog.evaluate.runtimes import RuntimeRow, Timed, measure_row, noise_floor, runtimes_csv, runtimes_markdown, \
+    runtimes_summary
 
 
 def test_a_cell_is_measured_in_both_runtimes_and_compression_cuts_the_ticks():
@@ -55,3 +56,20 @@ def test_a_saving_within_the_noise_floor_is_marked_and_one_beyond_it_is_not():
     assert "| +7% (within noise \u00b17%), range +7% to +7% |" in lines[-3]
     assert "| -3% (within noise \u00b17%), range -3% to -3% |" in lines[-2]
     assert "| -48%, range -48% to -48% |" in lines[-1] and "within noise" not in lines[-1]
+
+
+def test_the_terminal_gets_a_summary_that_fits_100_columns():
+    """Issue 45: bench --runtimes printed the Markdown table, 600 columns a row, to the terminal;
+    the table goes to runtimes.md and the terminal gets a row per tree that fits 100 columns."""
+    big = RuntimeRow(6, 4, 0.7, 0.68, 1365, 411, {(rt, which): _timed([1000, 1000, 1000] if which == "original"
+                                                                      else [450, 450, 450])
+                                                  for rt in ("btcpp", "py_trees")
+                                                  for which in ("original", "compressed")})
+    rows = [_row(0.0, 15, [10, 10, 10], [10.7, 10.7, 10.7]), _row(0.7, 7, [10, 10, 10], [5.2, 5.2, 5.2]), big]
+    assert max(len(line) for line in runtimes_markdown(rows, "schemalog bench --runtimes").splitlines()) > 200
+    lines = runtimes_summary(rows)
+    assert all(len(line) <= 100 for line in lines), max(lines, key=len)
+    assert lines[1].split() == ["tree", "Bi", "->", "Bm", "RD", "ticks", "o", "->", "c", "BT.CPP", "py_trees"]
+    assert lines[2].split() == ["4x2", "RD", "0", "15", "->", "15", "0.00", "10", "->", "10", "+7%~", "+7%~"]
+    assert lines[3].split()[-2:] == ["-48%", "-48%"] and lines[4].split()[:6] == ["6x4", "RD", "0.7", "1,365", "->", "411"]
+    assert lines[-1] == "noise floor (identical trees): BT.CPP \u00b17%, py_trees \u00b17%"

@@ -44,7 +44,7 @@ def test_compress_draws_figure_2_in_three_panels_with_a_legend(tmp_path):
     assert "(c) Merged Symbolic Representation (propagate full): 6 behaviours, no perceptual aliasing" in text
     assert text.count("a3_a4_a5_a6_a7(cup)") == 2 and text.count("k=5") == 2      # panels (b) and (c)
     assert text.count(">aliased<") == 2           # the marked behaviour and the legend's sample
-    for words in ("Legend", "active behaviour", "inactive behaviour", "pre-condition, true",
+    for words in ("Legend", "enabled behaviour", "not enabled", "pre-condition, true",
                   "pre-condition, false", "post-condition", "merged behaviour standing", "perceptual aliasing"):
         assert words in text, words
     assert "hand.free" in text                     # the initial state the colours are drawn in
@@ -190,3 +190,82 @@ def test_perceptual_aliasing_is_found_without_propagation_and_not_with_it():
     nodes = list(walk(none))
     assert complete and [nodes[i].name for i in sorted(marked)] == ["a3_a4_a5_a6_a7(cup)"]
     assert aliased_behaviours(tree, compress(tree, "full").tree, initial) == (frozenset(), True)
+
+
+# -- the legend says what is drawn (issue 45) -------------------------------------------------------
+ACTIVE, INACTIVE = "#2e7d32", "#8d6e63"          # render.py's green and brown
+
+
+def _svg_nodes(svg_text: str) -> dict[str, dict]:
+    """Each drawn behaviour of an SVG by its DOT id (p0_6): its label, outline colour, the colour
+    of its pre-condition's text, and its box in the SVG's user units."""
+    import xml.etree.ElementTree as ET
+
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    root = ET.fromstring(svg_text)
+    nodes = {}
+    for group in root.iter("{http://www.w3.org/2000/svg}g"):
+        if group.get("class") != "node":
+            continue
+        name = group.find("s:title", ns).text
+        texts = group.findall("s:text", ns)
+        shapes = [e for e in group if e.tag.split("}")[1] in ("path", "ellipse", "polygon") and e.get("stroke")]
+        if not texts or not shapes:
+            continue                              # the comb's joints
+        numbers = [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?", shapes[0].get("d") or shapes[0].get("points") or "")]
+        xs, ys = numbers[0::2], numbers[1::2]
+        nodes[name] = {"label": texts[0].text, "outline": shapes[0].get("stroke"),
+                       "pre": texts[1].get("fill") if len(texts) > 1 else None,
+                       "box": (min(xs), min(ys), max(xs), max(ys))}
+    return nodes
+
+
+def test_the_legend_says_what_the_outlines_show_and_the_picture_shows_it(tmp_path):
+    """Issue 45: the legend called a green outline "pre-condition holds, post-condition does
+    not", but the picture draws the paper's Fig. 2 rule, in which a3(cup) (pre-condition `true`,
+    under subtask(mix,spoon), not released) is outlined brown. The legend now says enabled: active,
+    and so is every behaviour above it. Read off the rendered SVG and PNG, not the DOT text."""
+    import matplotlib.image
+
+    svg, png = tmp_path / "fig2.svg", tmp_path / "fig2.png"
+    assert run("compress", MIX, "-o", svg).returncode == 0
+    assert run("compress", MIX, "-o", png).returncode == 0
+    text = svg.read_text()
+    legend = re.sub(r"\s+", " ", " ".join(re.findall(r">([^<>]+)</text>", text))).replace("&#45;", "-")
+    assert ("enabled behaviour: active (its pre-condition holds, its post-condition does not), and so is "
+            "every behaviour above it") in legend
+    assert "not enabled: it or a behaviour above it is not active" in legend
+    # every outline in panel (a) is what the legend says, in the initial state
+    tree = instantiate(document_from_text(MIX.read_text(), str(MIX)).to_kb(), parse_term("use(spoon)"))
+    state = World(tree, initial_state(document_from_text(MIX.read_text(), str(MIX)).to_kb())).atoms
+    from schemalog.task import conditions as cond
+
+    nodes = _svg_nodes(text)
+    enabled, stack = [], [(tree, True)]
+    while stack:                                  # pre-order, as the picture numbers p0_0, p0_1, ...
+        node, above = stack.pop()
+        on = above and cond.holds(node.pre, state) and not cond.holds(node.post, state)
+        enabled.append((node, on))
+        stack.extend((child, on) for child in reversed(node.children))
+    for i, (node, on) in enumerate(enabled):
+        drawn = nodes[f"p0_{i}"]
+        assert drawn["outline"] == (ACTIVE if on else INACTIVE), (i, drawn)
+        assert drawn["pre"] == (ACTIVE if cond.holds(node.pre, state) else INACTIVE), (i, drawn)
+    a3 = next(d for d in nodes.values() if d["label"] == "a3(cup)")
+    assert (a3["outline"], a3["pre"]) == (INACTIVE, ACTIVE)      # green text in a brown outline
+    # and the PNG: the pixels of a3(cup)'s outline are brown, those of its `true` green
+    pixels = matplotlib.image.imread(str(png))[..., :3]
+    width = float(re.search(r'viewBox="[\d.]+ [\d.]+ ([\d.]+)', text).group(1))
+    scale = pixels.shape[1] / width
+    tx, ty = (float(v) for v in re.search(r'translate\(([\d.-]+) ([\d.-]+)\)', text).groups())
+    x0, y0, x1, y1 = a3["box"]
+    left, top, right, bottom = ((x0 + tx) * scale, (y0 + ty) * scale, (x1 + tx) * scale, (y1 + ty) * scale)
+
+    def near(colour: str, region) -> int:
+        rgb = [int(colour[k:k + 2], 16) / 255 for k in (1, 3, 5)]
+        return int((abs(region - rgb).sum(axis=-1) < 0.12).sum())
+
+    border = pixels[int(top) + 4:int(bottom) - 4, max(0, int(left) - 3):int(left) + 4]   # the left side
+    assert near(INACTIVE, border) > 10 and near(ACTIVE, border) == 0
+    inside = pixels[int(top) + 3:int(bottom) - 3, int(left) + 4:int(right) - 4]
+    assert near(ACTIVE, inside) > 5                                                       # its `true`

@@ -207,6 +207,36 @@ def test_a_scene_with_a_coordinate_out_of_range_is_located(tmp_path):
     assert "internal error" not in r.stderr and not (tmp_path / "d.csv").exists()
 
 
+def test_the_plot_fits_a_screen_and_no_two_labels_overlap(coffee, tmp_path):
+    """Issue 45: learn --plot drew 2,806 px wide (three panels in a row), and the segment labels of
+    the height panel piled up where short segments follow each other at the cup (a4, a5, a6)."""
+    from matplotlib.image import imread
+    from matplotlib.text import Text
+
+    from schemalog.evaluate.figures import demonstration_figure, demonstration_plot, plt
+    from schemalog.learn.learn import learn
+    from schemalog.logic.parse import parse_term
+
+    where, _ = coffee
+    lesson = learn(str(where / "demo.csv"), str(STRUCTURE), parse_term("preparecoffee"))
+    png = demonstration_figure(lesson, tmp_path / "segments.png")
+    height, width = imread(str(png)).shape[:2]
+    assert width <= 1920, (width, height)
+    fig = demonstration_plot(lesson)
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        for ax in fig.axes[:2]:           # the path from above, the height over time
+            texts = [t for t in ax.texts if t.get_text()]
+            assert len(texts) >= 21
+            boxes = [Text.get_window_extent(t, renderer) for t in texts]
+            for i, a in enumerate(boxes):
+                for j in range(i):
+                    assert not a.overlaps(boxes[j]), (texts[i].get_text(), texts[j].get_text())
+    finally:
+        plt.close(fig)
+
+
 def test_the_plots_labels_of_the_hands_path_do_not_overlap(coffee):
     from matplotlib.text import Text
 

@@ -216,7 +216,11 @@ def test_term_with_final_full_stop(term, stop):
     (Str('say "hi"\n'), '"say \\"hi\\"\\n"'),
     (Atom("it's"), "'it\\'s'"),
     (Atom("[]"), "[]"),
-    (Atom("not"), "'not'"),
+    # A prefix-operator word as an atom: bare as an argument, bracketed as an operand, as
+    # SWI-Prolog writes it (issue 45: set(table) was written set('table')).
+    (S("set", Atom("table")), "set(table)"),
+    (S("=", Atom("a"), Atom("not")), "a = (not)"),
+    (S("-", Atom("dynamic")), "- (dynamic)"),
 ])
 def test_writer_examples(term, text):
     # Brackets and quotes exactly; spacing around word operators is a matter of style

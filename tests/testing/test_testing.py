@@ -357,6 +357,29 @@ def test_the_printed_node_id_reruns_its_item(project):
     assert "tasks/mix_with_spoon.pl::use(spoon) PASSED" in out.stdout
 
 
+TABLE = """task(set(table)).
+initial(cloth.folded).
+schema(set(table), [(lay(cloth), cloth.folded), (put(plates), cloth.laid)], plates.put).
+schema(lay(cloth), [], cloth.laid).
+schema(put(plates), [], plates.put).
+"""
+
+
+def test_a_task_named_by_an_operator_word_is_its_node_id_in_either_spelling(project):
+    """Issue 45: task(set(table)) was the item set('table'), as the writer quoted `table` (a prefix
+    operator, for tabling), so `pytest "tasks/table.pl::set(table)"` was "not found". The node id is
+    set(table), as swipl writes it, and the old spelling still names it."""
+    (project / "tasks" / "table.pl").write_text(TABLE)
+    out = pytest_in(project, "-v", "--schemalog-tasks", "tasks")
+    assert "tasks/table.pl::set(table) PASSED" in out.stdout, out.stdout + out.stderr
+    for spelling in ("set(table)", "set('table')", "set( table )"):
+        out = pytest_in(project, "-v", "--schemalog-tasks", "tasks", f"tasks/table.pl::{spelling}")
+        assert out.returncode == 0 and "1 passed" in out.stdout, spelling + out.stdout + out.stderr
+        assert f"tasks/table.pl::{spelling} PASSED" in out.stdout
+    out = pytest_in(project, "-v", "--schemalog-tasks", "tasks", "tasks/table.pl::set(chair)")
+    assert out.returncode == 4 and "not found" in out.stdout + out.stderr
+
+
 # a conftest that writes the options each proof was given
 RECORD_VERIFY = """
 import json, schemalog

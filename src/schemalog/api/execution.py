@@ -5,7 +5,9 @@
                actions it performed or skipped (run/execute.py)
 
 A Run from Task.start() has not started: iterating it takes the decisions one by one (the
-command line prints each as it is taken); Task.run() returns one already finished.
+command line prints each as it is taken), finish() takes the rest; Task.run() returns one
+already finished. Reading a run (its status, trace, decisions, text, repr, a notebook's
+picture) never takes a decision: a run half iterated is shown as far as it has gone.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ class Run:
         return self
 
     def __next__(self) -> Decision:
+        self._started = True           # next(run) starts it too, without iter() first
         decision = self.executive.step()
         if decision is None:
             raise StopIteration
@@ -53,26 +56,40 @@ class Run:
         return self
 
     @property
+    def ended(self) -> bool:
+        """Whether the run has ended: no decision is left to take."""
+        return self.executive.outcome.status.value != "running"
+
+    @property
     def completed(self) -> bool:
-        return self.finish().executive.outcome.completed
+        """Whether the task was completed; False while the run has not ended (finish() ends it)."""
+        return self.executive.outcome.completed
 
     @property
     def status(self) -> str:
-        """completed, stuck, looping, or stopped (the decision limit)."""
-        return self.finish().executive.outcome.status.value
+        """completed, stuck, livelock or decision limit once the run has ended; before, "not
+        started" or "running" (reading it takes no decision: finish() runs the rest)."""
+        if not self._started:
+            return "not started"
+        return self.executive.outcome.status.value
 
     @property
     def reason(self) -> str:
-        return self.finish().executive.outcome.reason
+        if self.ended:
+            return self.executive.outcome.reason
+        taken = len(self.executive.decisions)
+        return (f"{taken} decision{'' if taken == 1 else 's'} taken so far; iterate the run for the next, "
+                f"or call finish() for the rest")
 
     @property
     def trace(self) -> list[str]:
-        """The actions the robot performed, in order."""
-        return [term_to_text(a) for a in self.finish().executive.trace]
+        """The actions the robot performed, in order (so far, while the run goes on)."""
+        return [term_to_text(a) for a in self.executive.trace]
 
     @property
     def decisions(self) -> list[Decision]:
-        return list(self.finish().executive.decisions)
+        """The decisions taken (so far, while the run goes on)."""
+        return list(self.executive.decisions)
 
     def header(self) -> list[str]:
         """The lines before the decisions: the tree, the selector, the scene, the initial state."""
@@ -85,20 +102,29 @@ class Run:
                 f"initial state: {', '.join(term_to_text(a) for a in self.initial) or '(nothing true)'}"]
 
     def text(self) -> str:
-        """What `schemalog run` prints."""
+        """What `schemalog run` prints (of a run that has not ended: as far as it has gone)."""
         from ..task.tree import walk
 
-        self.finish()
         width = min(40, max(len(n.name) for n in walk(self.task.tree)))
         lines = self.header()
         for d in self.executive.decisions:
             lines.extend(decision_lines(d, width))
-        lines.extend(summary_lines(self.executive))
+        lines.extend(self.summary())
         return "\n".join(lines) + "\n"
 
+    def summary(self) -> list[str]:
+        """The end of the text: how the run ended, or how far it has gone."""
+        if self.ended:
+            return summary_lines(self.executive)
+        return [f"{self.status}: {self.reason}"]
+
     def as_json(self) -> dict:
-        """What `schemalog run --json` prints."""
-        return run_json(self.finish().executive, self.task.label, self.task.kind, self.initial)
+        """What `schemalog run --json` prints (of a run that has not ended: as far as it has gone,
+        its status "not started" or "running")."""
+        data = run_json(self.executive, self.task.label, self.task.kind, self.initial)
+        if not self.ended:
+            data.update(status=self.status, reason=self.reason)
+        return data
 
     @checked
     def words(self, fmt: str) -> str:
@@ -109,17 +135,23 @@ class Run:
     def __repr__(self) -> str:
         if not self._started:
             return f"<Run {self.task.name}: not started>"
-        return f"<Run {self.task.name}: {self.status}, {len(self.executive.trace)} actions>"
+        ex = self.executive
+        actions = f"{len(ex.trace)} action{'' if len(ex.trace) == 1 else 's'}"
+        if not self.ended:             # showing a run does not run it
+            taken = len(ex.decisions)
+            return f"<Run {self.task.name}: running, {taken} decision{'' if taken == 1 else 's'} so far, {actions}>"
+        return f"<Run {self.task.name}: {self.status}, {actions}>"
 
     def _repr_html_(self) -> str:
-        """How it ended, the tree with its decisions numbered (Graphviz) and a table of them."""
+        """How it ended (or how far it has gone), the tree with its decisions numbered (Graphviz)
+        and a table of them."""
         import html
 
         from .notebook import run_html
 
         if not self._started:              # showing a run does not start it
             return f"<pre>{html.escape(repr(self))}</pre>"
-        return run_html(self, summary_lines(self.finish().executive))
+        return run_html(self, self.summary())
 
     def _repr_svg_(self) -> str | None:
         """The tree that ran, each behaviour numbered by the decisions that took it; None without `dot`."""

@@ -257,10 +257,10 @@ def report_html(report: Report) -> str:
 
 def run_html(run: Run, summary: list[str]) -> str:
     """The run's header, a table of its decisions, how it ended (`summary`: execution's
-    summary_lines, its status first), and its picture."""
-    run.finish()
+    summary_lines, its status first; or how far it has gone), and its picture."""
     ex = run.executive
-    colour = VERDICT_COLOURS["proved"] if run.completed else VERDICT_COLOURS["refuted"]
+    colour = ("#333333" if not run.ended else
+              VERDICT_COLOURS["proved"] if run.completed else VERDICT_COLOURS["refuted"])
     head = "<br/>".join(html.escape(line) for line in run.header())
     rows = []
     for d in ex.decisions:

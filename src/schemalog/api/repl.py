@@ -113,11 +113,25 @@ def verify_lines(ws: Workspace, view: TaskView) -> list[str]:
     from .report import vacuity_lines
 
     report, vacuity = ws.verify(view)
-    lines = [f"% {task_name(view)}: {term_to_text(verdict_term(report, vacuity))} "
-             f"({report.compressed_states:,} + {report.original_states:,} states, {report.seconds:.2f} s)"]
+    lines = [f"% {task_name(view)}: {term_to_text(verdict_term(report, vacuity))}, {explored_words(report)}"]
     lines.extend(f"%   {verdict.name}: {verdict.summary}" for verdict in report.properties.values())
     lines.extend(f"%   {line}" for line in "\n".join(vacuity_lines(vacuity)).splitlines())  # a lint cause has a fix: line
     return lines
+
+
+def explored_words(report) -> str:
+    """How much a proof looked at, in words: the states of each tree it explored (the original's
+    only when it was explored on its own), how, and how long it took."""
+    c, o = report.compressed_states, report.original_states
+    states = f"{c:,} state{'' if c == 1 else 's'} of the compressed tree"
+    if report.method == "symbolic":
+        how = f"explored {states} as sets"
+    elif o:
+        how = f"explored {states} and {o:,} of the original"
+    else:
+        how = f"explored {states}"
+    parts = f", in {report.parts} parts" if report.parts > 1 else ""
+    return f"{how}{parts}, in {report.seconds:.2f} s"
 
 
 def vocabulary(ws: Workspace) -> set[str]:

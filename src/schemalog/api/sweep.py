@@ -70,15 +70,15 @@ def headlines(results) -> list[str]:
     return _bench.headlines(results)
 
 
-def runtimes_report(g: Grid, s, out: Path, command: str) -> str:
-    """bench --runtimes' runtimes.csv and runtimes.md from the store; the Markdown table."""
-    from ..evaluate.runtimes import runtimes_csv, runtimes_markdown
+def runtimes_report(g: Grid, s, out: Path, command: str) -> list[str]:
+    """bench --runtimes' runtimes.csv and runtimes.md from the store; the summary a terminal
+    is given (runtimes_summary: lines of at most 100 columns)."""
+    from ..evaluate.runtimes import runtimes_csv, runtimes_markdown, runtimes_summary
 
     rows = _sweep.runtime_rows(s.in_order(g.cells()))
-    table = runtimes_markdown(rows, command)
     write_in_folder(out / "runtimes.csv", runtimes_csv(rows))
-    write_in_folder(out / "runtimes.md", table)
-    return table
+    write_in_folder(out / "runtimes.md", runtimes_markdown(rows, command))
+    return runtimes_summary(rows)
 
 
 def proof_options(**options) -> ProofOptions:

@@ -159,7 +159,7 @@ class Workspace:
         hidden = sorted(f"{name}/{arity}" for name, arity in user_defined
                         if (name, arity) in _COMPUTED and (name, arity) != ("sequential", 2) and views)
         # Said once at the REPL's start; `schemalog query` stays quiet (docs/queries.md says it).
-        self.clashes = "\n".join([*map(_clash_note, clashes)] +
+        self.clashes = "\n".join([*(_clash_note(c, kb) for c in clashes)] +
                                   ([f"note: your files' clauses for {', '.join(hidden)} are not called: "
                                     f"{'these are' if len(hidden) > 1 else 'it is'} schemalog's relation{'s' if len(hidden) > 1 else ''} "
                                     f"here (docs/queries.md); rename yours to call "
@@ -367,16 +367,29 @@ def _tasks(kb: KnowledgeBase, notes: list[str]) -> list[Term]:
     return roots
 
 
-def _clash_note(indicator: str) -> str:
-    """What a user can do about a relation the files define too: how to ask for behaviours only."""
+def _clash_note(indicator: str, kb: KnowledgeBase) -> str:
+    """What a relation the files define too means at the prompt, in words a newcomer follows:
+    whose clauses it has, in which order a query gets them, and how to ask for schemalog's alone."""
+    from ..logic.terms import variable_names
+
     name, arity = indicator.rsplit("/", 1)
-    template = RELATIONS[(name, int(arity))].partition(":")[0]
+    template, _, meaning = RELATIONS[(name, int(arity))].partition(": ")
     first = template[len(name) + 1:].split(",")[0].rstrip(")")
-    said = (f"note: your files define {indicator} too: {template} answers their clauses first, then "
-            f"schemalog's facts")
+    clauses = [c for c in kb.clauses(name, int(arity)) if not c.library]
+    head = clauses[0].head
+    shown = term_to_text(head, names=variable_names([head]), next_argument=True)
+    where = f" ({clauses[0].pos.file}:{clauses[0].pos.line})" if clauses[0].pos else ""
+    more = f" and {len(clauses) - 1} more" if len(clauses) > 1 else ""
+    lines = [f"note: {indicator} means two things here:",
+             f"  your files' {shown}{where}{more}, and"]
     if first in ("B", "P", "C"):       # a behaviour: node/2 holds for behaviours only
-        return f"{said} about behaviours; node({first}, _), {template} asks for behaviours only (docs/queries.md)"
-    return f"{said} about tasks (docs/queries.md)"
+        lines += [f"  schemalog's {template}: {meaning} ({first} a behaviour's id, as :tree numbers them).",
+                  f"  ?- {template}. gives your clauses' answers first, then one per behaviour;",
+                  f"  ?- node({first}, _), {template}. gives the behaviours only (docs/queries.md, Relations)."]
+    else:
+        lines += [f"  schemalog's {template}: {meaning}.",
+                  f"  ?- {template}. gives your clauses' answers first, then schemalog's (docs/queries.md, Relations)."]
+    return "\n".join(lines)
 
 
 def _view_facts(view: TaskView, declare_task: bool) -> list[Term]:

@@ -76,14 +76,16 @@ def run(args: argparse.Namespace) -> int:
         after = (f"Compressed (propagate {result.propagate}): {result.nodes_after} behaviours, "
                  f"depth {result.depth_after}")
         to_file = bool(args.output and args.output != "-")
+        initial = small.original.initial_atoms()    # both trees coloured in the original's initial state
         if to_file or Console().width >= 140:  # side by side where there is room
             table = Table(show_header=True, header_style="bold", box=None, pad_edge=False)
             table.add_column(before)
             table.add_column(after)
-            table.add_row(rich_tree(small.original.tree), rich_tree(small.tree))
+            table.add_row(rich_tree(small.original.tree, state=initial), rich_tree(small.tree, state=initial))
             view = Group(table, "", result.figures())
         else:
-            view = Group(rich_tree(small.original.tree, before), "", rich_tree(small.tree, after), "",
+            view = Group(rich_tree(small.original.tree, before, state=initial), "",
+                         rich_tree(small.tree, after, state=initial), "",
                          result.figures())
         print_rich(view, args.output, inputs, what)
     if report is not None:

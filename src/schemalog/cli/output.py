@@ -117,4 +117,4 @@ def output_tree(args: argparse.Namespace, task: Task, header: str) -> None:
     else:
         from ..formats.render import rich_tree
 
-        print_rich(rich_tree(task.tree, title), args.output, inputs, what)
+        print_rich(rich_tree(task.tree, title, state=task.initial_atoms()), args.output, inputs, what)

@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     inputs = inputs_of(args, knowledge.files)
     check_output(args.output, inputs)   # refuse before running, not after
     if args.json:
-        emit(json.dumps(run.as_json(), indent=2) + "\n", args.output, inputs, run.words("JSON"))
+        emit(json.dumps(run.finish().as_json(), indent=2) + "\n", args.output, inputs, run.words("JSON"))
         return 0 if run.completed else 1
     lines = run.header()
     out = sys.stdout if not args.output or args.output == "-" else None

@@ -186,8 +186,9 @@ class Repl:
         tree = view.tree(kind)
         console = Console(file=self.out, width=120, highlight=False,
                           force_terminal=self.out.isatty() if hasattr(self.out, "isatty") else False)
-        console.print(f"% {commands.task_name(view)}, {kind} tree (focus); ids as the relations number them")
-        console.print(rich_tree(tree, first_id=view.first(kind)))
+        console.print(f"% {commands.task_name(view)}, {kind} tree (focus); ids as the relations number them; "
+                      f"pre green/brown: true/false now")
+        console.print(rich_tree(tree, first_id=view.first(kind), state=self.workspace.state))
         if figures:
             self.say(commands.figures_line(view))
 

@@ -32,6 +32,10 @@ from ..task.tree import Behaviour  # noqa: E402
 
 FORMATS = ("png", "svg")
 COLOURS = {2: "#1f77b4", 3: "#d62728", 4: "#e6a000"}
+DPI = 150
+# A figure is at most this wide, so that at DPI it fits a 1920-pixel screen (1860 px, with room
+# for what bbox_inches="tight" keeps around the axes).
+MAX_INCHES = 12.4
 
 
 def save(fig, out: Path, stem: str) -> list[Path]:
@@ -44,7 +48,7 @@ def save(fig, out: Path, stem: str) -> list[Path]:
 def _write(fig, target: Path) -> Path:
     """Write `fig` to `target` atomically, in the format of its suffix (write_in_folder)."""
     fmt = target.suffix.lstrip(".").lower() or "png"
-    return write_in_folder(target, lambda handle: fig.savefig(handle, format=fmt, dpi=150, bbox_inches="tight"))
+    return write_in_folder(target, lambda handle: fig.savefig(handle, format=fmt, dpi=DPI, bbox_inches="tight"))
 
 
 def _log_axis(ax, which: str) -> None:
@@ -69,7 +73,7 @@ def figure4_figure(results):
     depths = sorted({c.depth for c in cells})
     if not depths:
         return None
-    fig, axes = plt.subplots(2, len(depths), figsize=(4.4 * len(depths), 7.6), squeeze=False,
+    fig, axes = plt.subplots(2, len(depths), figsize=(min(4.4 * len(depths), MAX_INCHES), 7.6), squeeze=False,
                              layout="constrained")
     for row, selector in enumerate(("scan", "incremental")):
         for col, depth in enumerate(depths):
@@ -195,7 +199,7 @@ def figure3(out: Path, depth: int = 4, children: int = 2, rd: float = 0.5, seed:
 
 
 __all__ = ["figure4", "figure4_figure", "selectors_by_size", "figure3", "save", "demonstration_figure",
-           "demonstration_plot", "place_apart"]
+           "demonstration_plot", "place_apart", "stack_apart"]
 
 
 def demonstration_figure(lesson, path: Path) -> Path:
@@ -204,7 +208,7 @@ def demonstration_figure(lesson, path: Path) -> Path:
     try:
         # a -o style output, not a folder's file: written as -o writes (through a link, into a FIFO)
         picture = io.BytesIO()
-        fig.savefig(picture, format=Path(path).suffix.lstrip(".").lower() or "png", dpi=150, bbox_inches="tight")
+        fig.savefig(picture, format=Path(path).suffix.lstrip(".").lower() or "png", dpi=DPI, bbox_inches="tight")
         write_atomically(path, picture.getvalue())
         return Path(path)
     finally:
@@ -218,11 +222,12 @@ def place_apart(fig, ax, labels, fixed=()) -> None:
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     frame = ax.get_window_extent(renderer)
-    def text_box(t):                  # the text alone, not its leader line
-        return Text.get_window_extent(t, renderer).padded(1)
+    points = fig.dpi / 72
+
+    def text_box(t):                  # the text alone, not its leader line, a point of white around it
+        return Text.get_window_extent(t, renderer).padded(points)
 
     taken = [text_box(t) for t in fixed]
-    points = fig.dpi / 72
     offsets = sorted(((dx, dy) for dx in range(-60, 61, 10) for dy in range(-120, 121, 4)),
                      key=lambda o: (math.hypot(o[0], o[1] * 1.5), o[1] > 0))
     for label in labels:
@@ -254,9 +259,13 @@ def demonstration_plot(lesson):
     motions = [s for s in lesson.segments if s.kind == "motion"]
     colours = plt.get_cmap("tab20")
     merged = lesson.motions.merged if lesson.motions is not None else ()
-    panels = 3 if merged else 2
-    fig, axes = plt.subplots(1, panels, figsize=(6.2 * panels, 5.6), layout="constrained")
-    top, height = axes[0], axes[1]
+    # The path from above and the merged primitives side by side, the height over time under
+    # them, the whole width: at most MAX_INCHES wide (three panels in a row were 2,806 px).
+    fig = plt.figure(figsize=(MAX_INCHES, 10.4), layout="constrained")
+    grid = fig.add_gridspec(2, 2 if merged else 1, height_ratios=(3, 2))
+    top = fig.add_subplot(grid[0, 0])
+    height = fig.add_subplot(grid[1, :])
+    steps = []
     p = demo.positions
     labels, names = [], []
     for k, seg in enumerate(motions):
@@ -271,8 +280,9 @@ def demonstration_plot(lesson):
                                                    shrinkB=0),
                                    bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75)))
         height.axvspan(demo.times[seg.start], demo.times[seg.end], color=colour, alpha=0.18, linewidth=0)
-        height.text((demo.times[seg.start] + demo.times[seg.end]) / 2, 1.0, name, rotation=90, fontsize=7,
-                    ha="center", va="top", transform=height.get_xaxis_transform())
+        steps.append(height.annotate(name, ((demo.times[seg.start] + demo.times[seg.end]) / 2, 1.0),
+                                     xycoords=height.get_xaxis_transform(), xytext=(0, -2),
+                                     textcoords="offset points", rotation=90, fontsize=7, ha="center", va="top"))
     height.plot(demo.times, p[:, 2], color="black", linewidth=0.9)
     for seg in lesson.segments:
         if seg.kind == "gripper":
@@ -292,7 +302,7 @@ def demonstration_plot(lesson):
             title=f"{demo.file}: {len(motions)} motions (v close, ^ open)")
     height.set(xlabel="time (s)", ylabel="z (m)", title="height of the hand; segments shaded")
     if merged:
-        ax = axes[2]
+        ax = fig.add_subplot(grid[0, 1])
         for k, m in enumerate(merged):
             colour = colours((2 * k) % 20)
             ax.plot(m.poses[:, 0], m.poses[:, 1], color="grey", linewidth=2.5, alpha=0.5)
@@ -303,4 +313,22 @@ def demonstration_plot(lesson):
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
         ax.set(xlabel="x (m)", ylabel="y (m)", title="merged primitives (dashed) over the demonstration (grey)")
     place_apart(fig, top, labels, names)
+    stack_apart(fig, steps)
     return fig
+
+
+def stack_apart(fig, labels) -> None:
+    """Move each label of `labels` (annotations hanging from the top of their axes, in order
+    along it) down, in steps of 2 points, until it overlaps no label before it: segments shorter
+    than their label's width (a4, a5, a6 at the cup) get a staircase instead of one blot."""
+    renderer = fig.canvas.get_renderer()
+    points = fig.dpi / 72
+    taken = []
+    for label in labels:
+        box = Text.get_window_extent(label, renderer)
+        x, y = label.xyann
+        shift = 0
+        while shift < 300 and any(box.translated(0, -shift * points).overlaps(t) for t in taken):
+            shift += 2
+        label.xyann = (x, y - shift)
+        taken.append(box.translated(0, -shift * points))

@@ -240,5 +240,34 @@ def runtimes_markdown(rows: list[RuntimeRow], command: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-__all__ = ["measure_runtimes", "measure_row", "runtimes_csv", "runtimes_markdown", "noise_floor", "RuntimeRow",
+SUMMARY_COLUMNS = 100      # what a terminal is given: the full table goes to runtimes.md
+
+
+def runtimes_summary(rows: list[RuntimeRow]) -> list[str]:
+    """What `bench --runtimes` prints: per tree its shape, behaviours, ticks and the saving per
+    completed run in each runtime (median, `~` within the noise floor), each line at most
+    SUMMARY_COLUMNS wide; runtimes.md has the medians, quartiles and ranges beside them."""
+    floors = {rt: noise_floor(rows, rt) for rt in RUNTIMES}
+
+    def saving(r: RuntimeRow, runtime: str) -> str:
+        spread = r.reduction_spread(runtime)
+        within = floors[runtime] is not None and abs(spread.median) <= floors[runtime]
+        return _pct(spread.median) + ("~" if within and not math.isnan(spread.median) else "")
+
+    header = f"{'tree':<12} {'Bi -> Bm':>15} {'RD':>5} {'ticks o -> c':>15}  {'BT.CPP':>8}  {'py_trees':>8}"
+    lines = ["saving per completed run, original -> compressed (median of the runs; ~ within the noise "
+             "floor):", header]
+    for r in rows:
+        bo, bc = r.times[("btcpp", "original")], r.times[("btcpp", "compressed")]
+        lines.append(f"{f'{r.depth}x{r.children} RD {r.rd_asked:g}':<12} "
+                     f"{f'{r.nodes_before:,} -> {r.nodes_after:,}':>15} {r.rd:5.2f} "
+                     f"{f'{bo.ticks:,} -> {bc.ticks:,}':>15}  {saving(r, 'btcpp'):>8}  {saving(r, 'py_trees'):>8}")
+    if any(f is not None for f in floors.values()):
+        lines.append("noise floor (identical trees): " + ", ".join(
+            f"{NAMES[rt]} {_floor_text(f)}" for rt, f in floors.items() if f is not None))
+    return lines
+
+
+__all__ = ["measure_runtimes", "measure_row", "runtimes_csv", "runtimes_markdown", "runtimes_summary",
+           "noise_floor", "RuntimeRow",
            "Timed", "PAPER_SHAPES", "PAPER_REDUCTIONS", "REPEAT"]

@@ -4,8 +4,8 @@
                          "importance", "k", "merged_from", "children"}
     show_json(task, root) -> {"task", "nodes", "depth", "tree"}
 
-Colours follow the paper's figures: pre-conditions green (brown where false in the initial state),
-post-conditions blue. Pictures are laid out to be read whole on a 1920x1080 screen, or split.
+Colours follow the paper's figures: pre-conditions green where true in the state drawn (the
+initial state), brown where false, in the terminal as in pictures; post-conditions blue. Pictures are laid out to be read whole on a 1920x1080 screen, or split.
 """
 
 from __future__ import annotations
@@ -25,7 +25,8 @@ from ..task.schema import DEFAULT_AGENT, Entry, SchemaDef, schema_term
 from ..logic.terms import TRUE, Atom, Float, Int, Struct, Term, is_ground, make_list, term_to_text
 from ..task.tree import Behaviour, Origin, count_nodes, depth, map_tree, walk, walk_with_depth
 
-PRE_STYLE = "green"
+PRE_STYLE = "green"            # a pre-condition, true in the state the tree is shown in (or no state given)
+FALSE_PRE_STYLE = "color(94)"  # ... false there: brown (xterm's 94, #875f00; yellow, the old brown, on 16 colours)
 POST_STYLE = "blue"
 
 
@@ -63,13 +64,15 @@ def show_json(task: Term, root: Behaviour) -> dict:
             "tree": tree_json(root)}
 
 
-def rich_tree(root: Behaviour, title: str | None = None, first_id: int | None = None) -> Tree:
+def rich_tree(root: Behaviour, title: str | None = None, first_id: int | None = None,
+              state: frozenset | None = None) -> Tree:
     """A rich Tree with each behaviour's agent, objects and conditions (and, given
-    `first_id`, its id as the query relations number it: pre-order from `first_id`)."""
+    `first_id`, its id as the query relations number it: pre-order from `first_id`); given
+    a `state` (its true atoms), each pre-condition green where it holds there, brown where not."""
     number = itertools.count(first_id) if first_id is not None else None
 
     def text(node: Behaviour) -> Text:
-        shown = _node_text(node)
+        shown = _node_text(node, state)
         return Text.assemble((f"{next(number)} ", "cyan"), shown) if number is not None else shown
 
     if title:
@@ -85,7 +88,7 @@ def rich_tree(root: Behaviour, title: str | None = None, first_id: int | None = 
     return top
 
 
-def _node_text(node: Behaviour) -> Text:
+def _node_text(node: Behaviour, state: frozenset | None = None) -> Text:
     text = Text()
     text.append(term_to_text(node.label), style="bold" if node.children else "")
     if node.agent != DEFAULT_AGENT:
@@ -93,7 +96,8 @@ def _node_text(node: Behaviour) -> Text:
     if node.k > 1:
         text.append(f" k={node.k}", style="yellow")
     text.append("  pre: ", style="dim")
-    text.append(cond.to_text(node.pre), style=PRE_STYLE)
+    true = state is None or cond.holds(node.pre, state)
+    text.append(cond.to_text(node.pre), style=PRE_STYLE if true else FALSE_PRE_STYLE)
     text.append("  post: ", style="dim")
     text.append(cond.to_text(node.post), style=POST_STYLE)
     return text
@@ -104,7 +108,10 @@ def _dot_escape(text: str) -> str:
 
 
 # The paper's Figure 2: green (brown) text is a true (false) pre-condition, a green (brown)
-# ellipse an active (inactive) behaviour, in the initial state; post-conditions blue.
+# ellipse an active (inactive) behaviour, in the initial state; post-conditions blue. The paper's
+# active there is what docs/semantics.md calls enabled: pre-condition true and post-condition
+# false, for the behaviour and every ancestor (_live), so a leaf released by `true` under an
+# inactive sub-task is outlined brown.
 ACTIVE = "#2e7d32"
 INACTIVE = "#8d6e63"
 POST_COLOUR = "#1f4fbf"
@@ -358,9 +365,12 @@ def _legend(initial: frozenset | None, merged: bool, aliased: bool, cut: bool = 
     state = ", ".join(sorted(term_to_text(a) for a in initial)) if initial else "nothing true"
     rows = [f'<tr><td colspan="2"><b>Legend</b> (colours in the initial state: {_dot_escape(state)})</td></tr>']
     if initial is not None:
-        rows += [f'<tr><td border="2" color="{ACTIVE}">  </td><td align="left">active behaviour: its '
-                 f'pre-condition holds and its post-condition does not</td></tr>',
-                 f'<tr><td border="2" color="{INACTIVE}">  </td><td align="left">inactive behaviour</td></tr>',
+        # What _live draws (docs/semantics.md, Enabling; the paper's Fig. 2 calls it active): a3(cup),
+        # released by `true` under a sub-task whose pre-condition is false, is green text in a brown outline.
+        rows += [f'<tr><td border="2" color="{ACTIVE}">  </td><td align="left" balign="left">enabled behaviour: active (its '
+                 f'pre-condition holds, its<br/>post-condition does not), and so is every behaviour above it</td></tr>',
+                 f'<tr><td border="2" color="{INACTIVE}">  </td><td align="left">not enabled: it or a behaviour '
+                 f'above it is not active</td></tr>',
                  f'<tr><td><font color="{ACTIVE}">pre</font></td><td align="left">pre-condition, true</td></tr>',
                  f'<tr><td><font color="{INACTIVE}">pre</font></td><td align="left">pre-condition, false</td></tr>']
     rows.append(f'<tr><td><font color="{POST_COLOUR}">post</font></td><td align="left">post-condition</td></tr>')

@@ -240,7 +240,9 @@ PREFIX_OPS: dict[str, tuple[int, str]] = {
     "initialization": (1150, "fx"), "table": (1150, "fx"),
     "\\+": (900, "fy"), "not": (900, "fy"), "-": (200, "fy"), "+": (200, "fy"), "\\": (200, "fy"),
 }
-# Words the grammar reads as prefix operators: as plain atoms they must be quoted.
+# Words the grammar reads as prefix operators. As plain atoms they are written bare, as
+# SWI-Prolog writes them, set(table) and [dynamic], and bracketed where an operand would be read
+# as the operator, X = (table) and - (not) (_expand): both readers read either.
 RESERVED_WORDS = frozenset(name for name in PREFIX_OPS if name[0].isalpha())
 
 
@@ -347,7 +349,7 @@ def quote_atom(name: str) -> str:
     """Write an atom name so that it reads back as the same atom."""
     if name in ("[]", "{}", "!", ";"):
         return name
-    if _SOLO.match(name) and name not in RESERVED_WORDS:
+    if _SOLO.match(name):
         return name
     if _SYMBOL_DOT.match(name) and not name.startswith("/*"):
         return name
@@ -547,8 +549,6 @@ def _expand(term: Term, max_priority: int, style: _Style, out: list[str], stack:
     """Write the head of `term` to `out`, and push what follows onto `stack` (reversed)."""
     if isinstance(term, Atom):
         text = quote_atom(term.name) if style.quoted else term.name
-        if term.name in RESERVED_WORDS and term.name not in style.ops.prefix:
-            text = term.name      # quoted only while it is a prefix operator (op/3 may remove it)
         # A symbol-char atom is bare as an argument or list element, f(-) and [:-], and
         # bracketed anywhere else, X=(:-) and (+), where it would read as an operator.
         if style.ops is NO_OPERATORS:

@@ -344,8 +344,32 @@ class TaskFile(pytest.File):
         names = self.knowledge.declared() or self.knowledge.tasks()[:1]
         if not names:
             notes.append(f"{self.nodeid}: no task/1 and no root schema: no task to prove")
+        typed = self._typed(names)
         for name in names:
-            yield TaskItem.from_parent(self, name=name)
+            yield TaskItem.from_parent(self, name=typed.get(name, name))
+
+    def _typed(self, names: list[str]) -> dict[str, str]:
+        """The tasks of this file that the command line names in another spelling (`file::set('table')`
+        for `set(table)`, `take( cup )` for `take(cup)`): each task's name -> the name as typed, so
+        that pytest, which matches node ids as text, finds the item."""
+        from schemalog import SchemalogError
+
+        here = self.path.resolve()
+        typed = {}
+        for argument in self.config.args:
+            path, sep, rest = str(argument).partition("::")
+            part = rest.split("::")[0]
+            if not sep or not part or part in names or Path(self.config.invocation_params.dir, path).resolve() != here:
+                continue
+            for name in names:
+                try:
+                    same = any(True for _ in self.knowledge.query(f"({part}) == ({name})", first=True))
+                except SchemalogError:          # not a term: no task of this file, as pytest will say
+                    break
+                if same:
+                    typed[name] = part
+                    break
+        return typed
 
     def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> Any:
         from schemalog import SchemalogError
