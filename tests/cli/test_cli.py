@@ -255,6 +255,24 @@ def test_yaml_item_errors_point_into_the_yaml_file(tmp_path):
     assert "Traceback" not in r.stderr
 
 
+@pytest.mark.parametrize("command", ["check", "lint", "run", "convert"])
+def test_a_misspelt_yaml_key_is_refused_where_it_was_written(tmp_path, command):
+    """`releasr:` was dropped: the fork's releaser became `true`, and check and lint said ok."""
+    task = tmp_path / "table.yaml"
+    task.write_text("schemalog: 1\nitems:\n- task: lay(dinner)\n- initial: hand.free\n- schema: lay(dinner)\n"
+                    "  subtasks:\n  - behaviour: place(plate)\n    releaser: hand.free\n"
+                    "  - behaviour: place(fork)\n    releasr: plate.placed\n  post: dinner.laid\n"
+                    "- {schema: place(plate), post: plate.placed}\n- {schema: place(fork), post: fork.placed}\n")
+    r = run(command, task, *(["-o", tmp_path / "out.pl"] if command == "convert" else []))
+    assert r.returncode == 1, r.stdout
+    shown = r.stdout + r.stderr                     # lint lists its findings on standard output
+    assert (f"{task}:10:5: error: items[2].subtasks[1]: unknown key `releasr`; did you mean `releaser`?"
+            in shown.splitlines()[0])
+    if command != "lint":                           # a finding is one line, without the source
+        assert "    releasr: plate.placed\n        ^" in shown
+    assert not (tmp_path / "out.pl").exists()
+
+
 def test_seed_import_declares_each_gripper_pattern_once(tmp_path):
     out = tmp_path / "t.pl"
     run("convert", SEED_COFFEE, "-o", out)
