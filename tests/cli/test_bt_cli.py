@@ -54,6 +54,21 @@ def test_the_compressed_nav2_tree_keeps_every_node_and_port(tmp_path):
     assert nodes(ROUTING) - nodes(out) == Counter({("Fallback", "", ()): 1}) and not nodes(out) - nodes(ROUTING)
 
 
+@pytest.mark.parametrize("name", ["routing", "routing.bt", "routing.XML"])
+def test_a_tree_is_told_by_its_content_not_its_name(tmp_path, name):
+    """A BT.CPP file without the .xml suffix was read as Prolog (`unexpected '<'`), even with --nodes."""
+    tree = tmp_path / name
+    tree.write_bytes(b"\xef\xbb\xbf\n" + ROUTING.read_bytes())        # a byte order mark and a blank line first
+    out = tmp_path / "small.xml"
+    r = run("compress", tree, "--nodes", NODES, "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "44 nodes from 45 (1 rewrite)" in r.stderr
+    copy = tmp_path / "small"
+    copy.write_bytes(out.read_bytes())
+    v = run("verify", tree, copy, "--nodes", NODES)
+    assert v.returncode == 0 and v.stdout.startswith("proved equal"), v.stdout + v.stderr
+
+
 def test_a_recovery_node_with_its_children_swapped_is_refuted_tick_by_tick(tmp_path):
     text = REPLANNING.read_text()
     follow = '<FollowPath path="{path}" controller_id="FollowPath"/>\n'
