@@ -87,6 +87,16 @@ BAD = {
     "cycle.pl": ("task(a).\nschema(a, [(b, true)], a.done).\nschema(b, [(a, true)], b.done).\n", "cycle.pl:3:1: error: recursive schema: a -> b -> a"),
     "undefined.pl": ("task(a).\nschema(a, [(b, true)], a.done).\n", "undefined.pl:2:1: error: no schema for b"),
     "deep.pl": ("x(" + "f(" * 10000 + "a" + ")" * 10000 + ").\n", "deep.pl:1:4002: error: brackets nested deeper than 2000 levels"),
+    # issue 45: a task with variables had no position; a clause left open was reported at the
+    # next clause, with no word of the one that was never closed
+    "nonground.pl": ("object(plate).\n\ntask(set(Table)).\nschema(set(T), [], T.laid).\n",
+                     "nonground.pl:3:1: error: the task set(Table) has variables: name a ground task"),
+    "unclosed.pl": ("task(a).\n\nschema(a,\n       [ (b, true) ],\n       a.done\n\nschema(b, [], b.done).\n",
+                    "unclosed.pl:7:1: error: syntax error: unexpected 'schema'; expected ')', ',' or an operator; "
+                    "the clause from unclosed.pl:3:1 is still open here (a missing ')' or final '.' there?)"),
+    "unfinished.pl": ("task(a).\nschema(a,\n       [ (b, true) ],\n       a.done\n",
+                      "unfinished.pl:4:14: error: unexpected end of file: a clause is not finished (missing ')', ']' "
+                      "or the final '.'?); the clause from unfinished.pl:2:1 is still open"),
 }
 
 
