@@ -88,6 +88,22 @@ def test_without_dask_sweep_says_how_to_install_it_and_serial_still_runs(tmp_pat
     assert "loaded: []" in serial.stderr and (tmp_path / "out" / "results.jsonl").is_file()
 
 
+def test_without_dask_verify_each_runs_in_this_process_and_says_so():
+    """It stopped with "this needs Dask"; its results do not depend on where it runs."""
+    for extra in ([], ["--workers", "2"]):
+        r = python(WITHOUT_DASK, "verify", "--each", MIX, *extra)
+        assert r.returncode == 0, r.stderr
+        assert r.stderr.startswith("note: Dask is not installed (pip install 'schemalog[distributed]'"
+                                   + ("; --workers 2 needs it" if extra else "")
+                                   + "): running in this process, one task after another\n")
+        assert "loaded: []" in r.stderr and r.stdout.startswith("PROVED ")
+        assert r.stdout.endswith("1 proved, 0 refuted, 0 vacuous, 0 no proof, 0 error "
+                                 "(in this process (Dask is not installed))\n")
+    # a cluster named cannot be reached without Dask: refused, as sweep refuses
+    named = python(WITHOUT_DASK, "verify", "--each", MIX, "--scheduler", "tcp://localhost:8786")
+    assert named.returncode == 2 and "this needs Dask: pip install 'schemalog[distributed]'" in named.stderr
+
+
 def test_verify_each_proves_every_task_of_a_folder(tmp_path):
     r = run("verify", "--each", "kb/tasks", "--serial")
     assert r.returncode == 0, r.stderr
