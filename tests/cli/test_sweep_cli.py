@@ -126,6 +126,26 @@ def test_verify_each_on_two_workers_refutes_flags_vacuous_and_unreadable(tmp_pat
     assert "on 2 Dask worker processes" in r.stdout and "internal error" not in r.stderr
 
 
+def test_a_busy_dashboard_port_is_no_warning():
+    """With port 8787 taken (a second sweep, a notebook's cluster), distributed printed its own
+    warning, "Port 8787 is already in use", with a site-packages path."""
+    import socket
+
+    busy = socket.socket()
+    try:
+        busy.bind(("0.0.0.0", 8787))
+        busy.listen()
+    except OSError:
+        pass                                    # taken already: as busy as the test wants it
+    try:
+        r = run("verify", "--each", MIX, "--workers", "2")
+    finally:
+        busy.close()
+    assert r.returncode == 0, r.stderr
+    assert "8787" not in r.stderr and "site-packages" not in r.stderr and "Warning" not in r.stderr, r.stderr
+    assert "on 2 Dask worker processes" in r.stdout
+
+
 def test_verify_each_without_a_proof_is_inconclusive_and_refuses_single_task_options():
     r = run("verify", "--each", COFFEE, "--method", "explicit", "--max-states", "3", "--serial")
     assert r.returncode == 3 and r.stdout.startswith("NO PROOF") and "limit" in r.stdout

@@ -333,8 +333,13 @@ class DaskEngine:
         _start_resource_tracker()
         held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         try:
+            # No dashboard; the scheduler's HTTP server (its JSON and Prometheus routes), which it
+            # starts anyway, on a free port of this machine's loopback: on its default, 8787,
+            # a second sweep (or any server there) made distributed warn "Port 8787 is already
+            # in use" with its own source path (issue 45)
             self.cluster = LocalCluster(n_workers=self.requested or local_cores(), threads_per_worker=1,
-                                        processes=True, dashboard_address=None, silence_logs=logging.ERROR)
+                                        processes=True, dashboard_address=None, silence_logs=logging.ERROR,
+                                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
             self.client = Client(self.cluster)
             from .workers import IgnoreInterrupt
 
