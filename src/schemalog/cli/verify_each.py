@@ -17,8 +17,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("--each", action="store_true",
                    help="prove every task (task/1) of every file given, folders meaning their .pl files, as "
-                        "one sweep on Dask (or --serial; in this process when Dask is not installed): one line per task, a summary; exit 1 if any is "
-                        "refuted, vacuous or unreadable, 3 if any has no proof")
+                        "one sweep on Dask (or --serial; in this process when Dask is not installed): one line "
+                        "per task, a summary; exit 1 if any is refuted, vacuous or unreadable, 3 if any has no proof")
     engine_options(p)
 
 
