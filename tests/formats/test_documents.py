@@ -113,6 +113,8 @@ items:
     (("- task: lay(dinner)", "- task: lay(dinner)\n  object: plate"), (4, 3),
      r"`object` beside `task`: a record makes one clause"),
     (("- initial: hand.free", "- intial: hand.free"), (4, 3), r"unknown key `intial`; did you mean `initial`\?"),
+    (("- schema: place(plate)", "- behaviour: place(plate)\n  schema: place(plate)"), (12, 3),
+     r"`behaviour` is a sub-task's key: write it in an entry of `subtasks`"),
     (("items:", "item:"), (2, 1), r"unknown key `item`; did you mean `items`\?"),
     (("    releaser: hand.free", "    releaser: hand.free\n    releaser: true"), (9, 5),
      r"`releaser` is given twice \(first at line 8\)"),

@@ -256,7 +256,7 @@ class _Keys:
             self.keys(node, where, _RECORD_KINDS + _SCHEMA_KEYS[1:],   # which kind it needs
                       f"a record's keys: {', '.join(_RECORD_KINDS)}; beside schema: subtasks, post, if")
             return
-        kind = kinds[0]
+        kind = "schema" if "schema" in kinds else kinds[0]     # `behaviour` beside it is a sub-task's key
         if kind != "schema":
             for key, _ in node.value:
                 if isinstance(key, yaml.ScalarNode) and key.value != kind and key.value in _RECORD_KINDS:
