@@ -3,6 +3,7 @@
     read_limited(path, max_bytes, label) -> bytes   at most max_bytes bytes, or an error naming the file
     missing(path) -> bool                           whether nothing has that name (a name the system
                                                     refuses, too long, is not missing: reading says why)
+    is_xml(path) -> bool                            whether a file is XML (a BT.CPP tree): by its content
     check_yaml_nesting(text, file)                  refuse flow collections nested past MAX_YAML_NESTING
 
 Every reader of a user's file (knowledge files and consulted ones, scenes, demonstrations)
@@ -79,6 +80,33 @@ def read_utf8(path: str | Path, max_bytes: int) -> str:
         line = data[:err.start].count(b"\n") + 1
         column = err.start - (data.rfind(b"\n", 0, err.start) + 1) + 1
         raise SchemalogError("not UTF-8 text", SourcePos(str(path), line, column)) from None
+
+
+def is_xml(path: str | Path) -> bool:
+    """Whether a file is XML, a BehaviorTree.CPP document, whatever its name: its first character
+    after blank space (and a UTF-8 byte order mark) is `<`, which begins an XML declaration, a
+    comment or an element, and no Prolog, SEED or YAML task; or its name ends in .xml. Every
+    command that takes a BT.CPP tree tells it so (docs/behaviour_trees.md).
+
+    Only a regular file is looked into: a FIFO, a terminal or a device is read once, by the
+    reader this chooses, so it is told by its name alone. A file that cannot be read is XML
+    only by its name; its reader says why it cannot be read."""
+    named = os.fspath(path).lower().endswith(".xml")
+    try:
+        if named or not stat.S_ISREG(os.stat(path).st_mode):
+            return named
+        with open(path, "rb") as handle:
+            start = b""
+            while chunk := handle.read(4096):
+                start = chunk.lstrip(_BLANK)
+                if start:
+                    break
+    except (OSError, ValueError):
+        return named
+    return start.startswith(b"<")
+
+
+_BLANK = b" \t\r\n\xef\xbb\xbf"      # blank space, and the bytes of a UTF-8 byte order mark
 
 
 def missing(path: str | Path) -> bool:

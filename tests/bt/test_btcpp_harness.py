@@ -89,6 +89,28 @@ def harness() -> str:
     pytest.skip(f"the BT.CPP harness could not be built (no compiler, cmake or network?): {why[-300:]}")
 
 
+@pytest.mark.parametrize("env, expected", [
+    ({"SCHEMALOG_BTCPP_CACHE": "{tmp}/own", "XDG_CACHE_HOME": "{tmp}/xdg"}, "{tmp}/own"),
+    ({"XDG_CACHE_HOME": "{tmp}/xdg"}, "{tmp}/xdg/schemalog-btcpp"),     # it was ~/.cache whatever this said
+    ({"XDG_CACHE_HOME": ""}, "{tmp}/home/.cache/schemalog-btcpp"),
+    ({}, "{tmp}/home/.cache/schemalog-btcpp"),
+])
+def test_the_harness_cache_is_where_the_projects_own_cache_would_be(env, expected, tmp_path):
+    """build.sh --cache-dir prints the folder the build would use, and builds nothing (run with
+    no program on PATH: a build.sh that went on to build stops at once instead)."""
+    import shutil
+
+    (tmp_path / "home").mkdir()
+    (tmp_path / "bin").mkdir()
+    env = {"HOME": str(tmp_path / "home"), "PATH": str(tmp_path / "bin"),
+           **{k: v.format(tmp=tmp_path) for k, v in env.items()}}
+    done = subprocess.run([shutil.which("bash") or "/bin/bash", str(BUILD), "--cache-dir"], capture_output=True,
+                          text=True, timeout=60, env=env)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == expected.format(tmp=tmp_path) + "\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bin", "home"] and not list((tmp_path / "home").iterdir())
+
+
 def draws(seed: int) -> list[int]:
     """tests/bt/test_against_btcpp.py's Draws([], seed), its first N_DRAWS."""
     rng = random.Random(seed)

@@ -90,6 +90,26 @@ def test_bad_xml_is_one_message_exit_1_and_nothing_written(tmp_path, name, where
     assert len(lines) == 1 or ("malformed XML" in lines[0] and len(lines) == 3 and lines[2].strip() == "^")
 
 
+@pytest.mark.parametrize("command", ["convert", "check --no-lint", "show --json", "lint", "compress --json"])
+def test_an_xml_tree_without_the_suffix_is_read_as_xml(tmp_path, command):
+    """Told by its content (a first `<`), as every command that reads a BT.CPP tree tells it: the
+    same as the file named .xml (it was read as Prolog: `unexpected character '<'`)."""
+    named, plain = tmp_path / "long_sequence.xml", tmp_path / "long_sequence"
+    for tree in (named, plain):
+        tree.write_text((FIXTURES / "long_sequence.xml").read_text())       # <?xml ...?> first
+    expected, r = run(*command.split(), named), run(*command.split(), plain)
+    assert "unexpected" not in r.stderr and r.returncode == expected.returncode, r.stderr
+    assert r.stdout == expected.stdout.replace(str(named), str(plain))
+    assert "approach_object" in r.stdout or "17" in r.stdout or command == "lint"
+
+
+def test_a_prolog_file_is_not_taken_for_xml(tmp_path):
+    task = tmp_path / "task"
+    task.write_text("% <not xml>\n" + MIX.read_text())
+    r = run("check", task)
+    assert r.returncode == 0 and "use(spoon) (12 behaviours, depth 3)" in r.stdout, r.stderr
+
+
 def test_includes_are_followed_from_the_file(tmp_path):
     out = tmp_path / "tea.pl"
     r = run("convert", FIXTURES / "subtrees_main.xml", "-o", out)

@@ -88,6 +88,22 @@ def test_without_dask_sweep_says_how_to_install_it_and_serial_still_runs(tmp_pat
     assert "loaded: []" in serial.stderr and (tmp_path / "out" / "results.jsonl").is_file()
 
 
+def test_without_dask_verify_each_runs_in_this_process_and_says_so():
+    """It stopped with "this needs Dask"; its results do not depend on where it runs."""
+    for extra in ([], ["--workers", "2"]):
+        r = python(WITHOUT_DASK, "verify", "--each", MIX, *extra)
+        assert r.returncode == 0, r.stderr
+        assert r.stderr.startswith("note: Dask is not installed (pip install 'schemalog[distributed]'"
+                                   + ("; --workers 2 needs it" if extra else "")
+                                   + "): running in this process, one task after another\n")
+        assert "loaded: []" in r.stderr and r.stdout.startswith("PROVED ")
+        assert r.stdout.endswith("1 proved, 0 refuted, 0 vacuous, 0 no proof, 0 error "
+                                 "(in this process (Dask is not installed))\n")
+    # a cluster named cannot be reached without Dask: refused, as sweep refuses
+    named = python(WITHOUT_DASK, "verify", "--each", MIX, "--scheduler", "tcp://localhost:8786")
+    assert named.returncode == 2 and "this needs Dask: pip install 'schemalog[distributed]'" in named.stderr
+
+
 def test_verify_each_proves_every_task_of_a_folder(tmp_path):
     r = run("verify", "--each", "kb/tasks", "--serial")
     assert r.returncode == 0, r.stderr
@@ -108,6 +124,26 @@ def test_verify_each_on_two_workers_refutes_flags_vacuous_and_unreadable(tmp_pat
     assert verdicts[str(tmp_path / "broken.pl")] == "ERROR"
     assert f"ERROR     {tmp_path / 'broken.pl'}:2:23: error: syntax error" in r.stdout   # the error's place
     assert "on 2 Dask worker processes" in r.stdout and "internal error" not in r.stderr
+
+
+def test_a_busy_dashboard_port_is_no_warning():
+    """With port 8787 taken (a second sweep, a notebook's cluster), distributed printed its own
+    warning, "Port 8787 is already in use", with a site-packages path."""
+    import socket
+
+    busy = socket.socket()
+    try:
+        busy.bind(("0.0.0.0", 8787))
+        busy.listen()
+    except OSError:
+        pass                                    # taken already: as busy as the test wants it
+    try:
+        r = run("verify", "--each", MIX, "--workers", "2")
+    finally:
+        busy.close()
+    assert r.returncode == 0, r.stderr
+    assert "8787" not in r.stderr and "site-packages" not in r.stderr and "Warning" not in r.stderr, r.stderr
+    assert "on 2 Dask worker processes" in r.stdout
 
 
 def test_verify_each_without_a_proof_is_inconclusive_and_refuses_single_task_options():

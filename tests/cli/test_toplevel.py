@@ -93,9 +93,22 @@ def test_query_json_over_several_files(tmp_path):
     assert r.returncode == 0, r.stderr
     data = json.loads(r.stdout)
     assert {d["T"] for d in data} == {"use(spoon)", "wave"}
-    assert data[-1]["Parts"] == "[w1, w2, w3]"
+    assert data[-1]["Parts"] == ["w1", "w2", "w3"]
     assert all(isinstance(d["B"], int) and d["N"] > 2 for d in data)
-    assert data[0]["Parts"] == "[a3(cup), a4(cup), a5(cup), a6(cup), a7(cup)]"
+    assert data[0]["Parts"] == ["a3(cup)", "a4(cup)", "a5(cup)", "a6(cup)", "a7(cup)"]
+
+
+def test_query_json_gives_a_list_as_the_api_gives_it():
+    """A Prolog list was a string in --json (`"[a, b]"`) where the API gives a list."""
+    import schemalog
+
+    query = 'X = [1, a, [b, 2.5], f(x)], Y = [], Z = [a|_], W = g([c])'
+    r = run("query", MIX, query, "--json")
+    assert r.returncode == 0, r.stderr
+    shown = json.loads(r.stdout)
+    assert shown == [{"X": [1, "a", ["b", 2.5], "f(x)"], "Y": [], "Z": "[a|_]", "W": "g([c])"}]
+    api, = schemalog.load(MIX).query(query)
+    assert api["X"][:3] == shown[0]["X"][:3] and api["Y"] == shown[0]["Y"] == []
 
 
 def test_query_exit_status_is_0_with_answers_1_without_2_on_errors():

@@ -67,11 +67,88 @@ def test_yaml_syntax_error_has_line_and_column():
     ("items:\n  - {schema: a, post: a.done, subtasks: [{behaviour: b, importance: x}]}\n",
      "importance` must be a number"),
     ("items:\n  - {schema: 'a(', post: a.done}\n", r"items\[0\]: .*syntax error|end of file"),
-    ("items:\n  - {colour: red}\n", "a record needs one of"),
+    ("items:\n  - {colour: red}\n", "unknown key `colour`"),
+    ("items:\n  - {post: a.done}\n", "a record needs one of"),
 ])
 def test_bad_yaml_records_are_named(text, message):
     with pytest.raises(SchemalogError, match=message):
         document_from_yaml(text, "bad.yaml")
+
+
+# A set-the-table task as a person writes it: place the plate, then the fork on it.
+TABLE_YAML = """schemalog: 1
+items:
+- task: lay(dinner)
+- initial: hand.free
+- schema: lay(dinner)
+  subtasks:
+  - behaviour: place(plate)
+    releaser: hand.free
+  - behaviour: place(fork)
+    releaser: plate.placed
+  post: dinner.laid
+- schema: place(plate)
+  subtasks: []
+  post: plate.placed
+- schema: place(fork)
+  subtasks: []
+  post: fork.placed
+"""
+
+
+@pytest.mark.parametrize("edit, where, message", [
+    # a misspelt key was dropped: the releaser became `true` and the fork went first
+    (("releaser: plate.placed", "releasr: plate.placed"), (10, 5),
+     r"items\[2\]\.subtasks\[1\]: unknown key `releasr`; did you mean `releaser`\?"),
+    # the US spelling was reported as a missing `behaviour` at the schema's line
+    (("- behaviour: place(fork)", "- behavior: place(fork)"), (9, 5),
+     r"items\[2\]\.subtasks\[1\]: unknown key `behavior`; did you mean `behaviour`\?"),
+    # a post-condition indented into the last sub-task was dropped from the schema
+    (("  post: dinner.laid", "    post: dinner.laid"), (11, 5),
+     r"unknown key `post`; `post` is the schema's key: indent it as `subtasks:` is"),
+    (("  post: fork.placed", "  post: fork.placed\n  colour: red"), (18, 3),
+     r"items\[4\]: unknown key `colour` \(a schema record's keys: schema, subtasks, post, if\)"),
+    (("  post: plate.placed", "  post: plate.placed\n  importance: 2"), (15, 3),
+     r"`importance` is a sub-task's key"),
+    (("- task: lay(dinner)", "- task: lay(dinner)\n  object: plate"), (4, 3),
+     r"`object` beside `task`: a record makes one clause"),
+    (("- initial: hand.free", "- intial: hand.free"), (4, 3), r"unknown key `intial`; did you mean `initial`\?"),
+    (("- schema: place(plate)", "- behaviour: place(plate)\n  schema: place(plate)"), (12, 3),
+     r"`behaviour` is a sub-task's key: write it in an entry of `subtasks`"),
+    (("items:", "item:"), (2, 1), r"unknown key `item`; did you mean `items`\?"),
+    (("    releaser: hand.free", "    releaser: hand.free\n    releaser: true"), (9, 5),
+     r"`releaser` is given twice \(first at line 8\)"),
+    (("schemalog: 1", "schemalog: 2"), (1, 12), r"`schemalog` is the format's version, 1"),
+])
+def test_every_yaml_key_is_known_and_an_unknown_one_is_named_where_it_is(edit, where, message):
+    text = TABLE_YAML.replace(*edit)
+    assert text != TABLE_YAML
+    with pytest.raises(SchemalogError, match=message) as err:
+        document_from_yaml(text, "table.yaml")
+    assert (err.value.line, err.value.column) == where
+    assert err.value.source_line == text.splitlines()[where[0] - 1]
+
+
+def test_optional_yaml_keys_have_their_documented_meaning():
+    """What docs/formats.md says a missing optional key means."""
+    text = TABLE_YAML.replace("    releaser: hand.free\n", "").replace("schemalog: 1\n", "")
+    doc = document_from_yaml(text, "table.yaml")
+    assert "(place(plate), true)" in to_pl(doc).replace("\n", "").replace("  ", "")
+
+
+def test_a_merged_yaml_key_may_be_overridden():
+    text = TABLE_YAML.replace("  - behaviour: place(plate)\n    releaser: hand.free\n",
+                              "  - &first {behaviour: place(plate), releaser: hand.free}\n"
+                              "  - {<<: *first, behaviour: place(knife)}\n")
+    pl = to_pl(document_from_yaml(text, "table.yaml"))
+    assert "(place(knife), hand.free)" in pl
+
+
+def test_a_missing_sub_task_behaviour_is_named_at_the_sub_task():
+    text = TABLE_YAML.replace("  - behaviour: place(fork)\n    releaser", "  - releaser")
+    with pytest.raises(SchemalogError, match=r"items\[2\]\.subtasks\[1\]: missing `behaviour`") as err:
+        document_from_yaml(text, "table.yaml")
+    assert (err.value.line, err.value.column) == (9, 5)
 
 
 def test_yaml_tags_are_refused_by_safe_load():

@@ -72,6 +72,7 @@ WORDS = {"a term", "an operator", "')'", "']'", "'}'", "','", "'|'", "'.' (end o
 
 def expected_words(message: str) -> list[str]:
     _, _, wanted = message.partition("; expected ")
+    wanted = wanted.partition("; the clause from ")[0]      # the hint at a clause left open
     return [w for part in wanted.split(", ") for w in part.split(" or ")] if wanted else []
 
 
@@ -89,6 +90,25 @@ def test_a_syntax_error_says_what_was_expected_in_prolog_words(read, text, said)
     with pytest.raises(SchemalogError) as err:
         read(text)
     assert err.value.message == "syntax error: " + said
+
+
+@pytest.mark.parametrize("text, where, began", [
+    ("a.\nb(1,\n  2\nc.\n", (4, 1), "t.pl:2:1"),                 # the next clause, at column 1
+    ("a.\n\n/* c */ b(1,\n  2\n", (4, 4), "t.pl:3:9"),            # the end of the file
+    (":- op(700, xfx, my).\nb(1 my 2\nc.\n", (3, 1), "t.pl:2:1"),  # opread's reading, after op/3
+])
+def test_a_clause_left_open_is_named_where_it_began(text, where, began):
+    with pytest.raises(SchemalogError) as err:
+        parse_text(text, "t.pl")
+    assert (err.value.pos.line, err.value.pos.column) == where
+    assert f"; the clause from {began} is still open" in err.value.message
+
+
+@pytest.mark.parametrize("text", ["a.\nb(1,\n  2 3).\n", "a(1 2).\n", "a.\nb(1,\n2 3).\n"])
+def test_an_error_inside_a_clause_gets_no_open_clause_hint(text):
+    with pytest.raises(SchemalogError) as err:
+        parse_text(text, "t.pl")
+    assert "still open" not in err.value.message
 
 
 @settings(max_examples=300, deadline=None)

@@ -19,7 +19,8 @@ from typing import Callable, Iterator
 
 from ..logic.builtins import compare_terms
 from ..logic.opread import parse_term
-from ..logic.terms import Atom, Float, Int, Struct, Term, Var, int_text, iter_vars, term_to_text, variable_names
+from ..logic.terms import NIL, Atom, Float, Int, Struct, Term, Var, int_text, iter_vars, list_items, term_to_text, \
+    variable_names
 from ..logic.unify import Bindings
 from .workspace import COMPRESSED, ORIGINAL, Workspace
 
@@ -112,17 +113,25 @@ def answer_text(answer: Answer) -> str:
 
 
 def answer_json(answer: Answer) -> dict:
-    """{"X": 1, "Y": "[a, b]"}: integers and floats as JSON numbers, other terms as Prolog
-    text, a free variable as its name."""
-    out: dict = {}
-    for name, value in answer.values:
-        if isinstance(value, Int):
-            out[name] = value.value
-        elif isinstance(value, Float) and math.isfinite(value.value):
-            out[name] = value.value
-        else:
-            out[name] = term_to_text(value, 699, answer.names, next_argument=True, ops=answer.ops)
-    return out
+    """{"X": 1, "Y": ["a", 2], "Z": "f(b)"}: integers and floats as JSON numbers, proper lists
+    as JSON lists (as the API gives them, Python lists), other terms as Prolog text, a free
+    variable as its name."""
+    return {name: _json_value(value, answer) for name, value in answer.values}
+
+
+def _json_value(value: Term, answer: Answer, depth: int = 0):
+    if isinstance(value, Int):
+        return value.value
+    if isinstance(value, Float) and math.isfinite(value.value):
+        return value.value
+    if depth < _JSON_LISTS:
+        items, tail = list_items(value)
+        if tail == NIL:
+            return [_json_value(item, answer, depth + 1) for item in items]
+    return term_to_text(value, 699, answer.names, next_argument=True, ops=answer.ops)
+
+
+_JSON_LISTS = 100      # lists in lists this deep are JSON lists; deeper ones Prolog text (json's recursion)
 
 
 def json_text(answers: list[dict]) -> str:
@@ -137,8 +146,12 @@ def json_text(answers: list[dict]) -> str:
         large[key] = value
         return key
 
-    held = [{name: placeholder(v) if isinstance(v, int) and v.bit_length() > _REPR_BITS else v
-             for name, v in answer.items()} for answer in answers]
+    def hold(v):
+        if isinstance(v, list):
+            return [hold(item) for item in v]
+        return placeholder(v) if isinstance(v, int) and v.bit_length() > _REPR_BITS else v
+
+    held = [{name: hold(v) for name, v in answer.items()} for answer in answers]
     text = json.dumps(held, indent=2)
     for key, value in large.items():
         text = text.replace(json.dumps(key), int_text(value), 1)

@@ -195,6 +195,7 @@ def _load(paths, max_bytes: int, max_steps: int,
 
 def _read(sources, max_bytes: int, max_steps: int, reading) -> tuple[KnowledgeBase, tuple[str, ...]]:
     from ..formats.documents import document_from_text, read_document
+    from ..inputs import is_xml
     from ..task.schema import knowledge_base
 
     kb = knowledge_base()
@@ -204,7 +205,7 @@ def _read(sources, max_bytes: int, max_steps: int, reading) -> tuple[KnowledgeBa
         with reading():
             if text is not None:
                 doc = document_from_text(text, name)
-            elif name.lower().endswith(".xml"):
+            elif is_xml(name):          # a BT.CPP tree, told by its content (inputs.is_xml)
                 doc = xml_document(name, max_bytes)[0]
             else:
                 doc = read_document(name, max_bytes)

@@ -4,7 +4,8 @@ public API is `import schemalog`; this is what cli/sweep.py, cli/bench.py and
 cli/verify_each.py reach below the API through.
 
     grid(path_or_name) / shipped(name, runs=..., seeds=...) -> Grid
-    where(serial, workers, scheduler) -> Serial | DaskEngine      # says how to install Dask
+    where(serial, workers, scheduler, or_serial) -> Serial | DaskEngine  # says how to install Dask
+                                                                  # (or_serial: in-process without it)
     store(out, grid, fresh) -> Store; memory_store(grid) -> Store  # the results file, or none (bench)
     sweep(grid, store, where, progress) -> SweepStats             # evaluate/sweep.py's run_sweep
     reports(...), bench_report(...), runtimes_report(...)         # what is written from the store
@@ -32,8 +33,9 @@ def shipped(name: str, **changes) -> Grid:
     return override(named_grid(name), **changes)
 
 
-def where(serial: bool = False, workers: int | None = None, scheduler: str | None = None):
-    return _sweep.engine(serial, workers, scheduler)
+def where(serial: bool = False, workers: int | None = None, scheduler: str | None = None,
+          or_serial: bool = False):
+    return _sweep.engine(serial, workers, scheduler, or_serial)
 
 
 def serial():

@@ -25,10 +25,11 @@ def register(sub, parents: Parents) -> None:
 def run(args: argparse.Namespace) -> int:
     """Convert knowledge between SEED, schema text and YAML (a BT.CPP document: to schema text or YAML)."""
     from ..api.convert import Conversion, convert_xml
+    from ..inputs import is_xml
     from .common import check_output, emit, inputs_of, said
 
     check_output(args.output, inputs_of(args))
-    if args.input.lower().endswith(".xml"):          # BehaviorTree.CPP v4 (formats/btcpp.py)
+    if is_xml(args.input):                           # BehaviorTree.CPP v4 (formats/btcpp.py), by content
         converted = convert_xml(args.input, getattr(args, "to", None), args.task, args.output, args.max_bytes)
     else:
         conversion = Conversion(args.input, args.max_bytes)

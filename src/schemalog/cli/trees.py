@@ -15,11 +15,13 @@ PROVED, REFUTED, INCONCLUSIVE = 0, 1, 3
 
 def tree_route(args: argparse.Namespace) -> bool:
     """Whether the command's files are BT.CPP trees to treat as behaviour trees: every file
-    an .xml, none schemalog's own export (those are task knowledge, the schema route)."""
+    XML (by its content, whatever its name: inputs.is_xml), none schemalog's own export (those
+    are task knowledge, the schema route)."""
     from ..api.behaviour_trees import is_own_export
+    from ..inputs import is_xml
 
     files = args.files
-    return bool(files) and all(f.lower().endswith(".xml") for f in files) \
+    return bool(files) and all(is_xml(f) for f in files) \
         and not any(is_own_export(f, args.max_bytes) for f in files)
 
 
@@ -29,7 +31,7 @@ def schema_route(args: argparse.Namespace) -> None:
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
-                         f"(a BT.CPP tree file ends in .xml, and is not a tree schemalog exported)")
+                         f"(a BT.CPP tree is an XML file, and not a tree schemalog exported)")
 
 
 def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> None:

@@ -17,8 +17,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("--each", action="store_true",
                    help="prove every task (task/1) of every file given, folders meaning their .pl files, as "
-                        "one sweep on Dask (or --serial): one line per task, a summary; exit 1 if any is "
-                        "refuted, vacuous or unreadable, 3 if any has no proof")
+                        "one sweep on Dask (or --serial; in this process when Dask is not installed): one line "
+                        "per task, a summary; exit 1 if any is refuted, vacuous or unreadable, 3 if any has no proof")
     engine_options(p)
 
 
@@ -51,7 +51,10 @@ def run_each(args: argparse.Namespace) -> int:
     options = api.proof_options(propagate=args.propagate, method=args.method, max_states=args.max_states,
                                 max_bdd_nodes=args.max_bdd_nodes, max_bytes=args.max_bytes, max_steps=args.max_steps,
                                 max_depth=args.max_depth, max_nodes=args.max_nodes, split=not args.no_split)
-    where = api.where(args.serial, args.workers, args.scheduler)
+    # Without Dask, in this process, and said (a scheduler named still needs Dask)
+    where = api.where(args.serial, args.workers, args.scheduler, or_serial=True)
+    if getattr(where, "note", None):
+        print(f"note: {where.note}", file=sys.stderr)
     with where, progress_display("verify --each", len(files)) as show:
         by_file = api.prove_files(files, options, where, show)
         place = where.where

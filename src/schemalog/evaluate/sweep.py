@@ -238,10 +238,14 @@ def local_cores() -> int:
 
 
 class Serial:
-    """In this process, one task after the other: no Dask imported."""
+    """In this process, one task after the other: no Dask imported. `why` is what the summary
+    says of it (--serial), `note` what the command says before it runs (None: nothing)."""
 
     workers = 1
-    where = "in this process (--serial)"
+
+    def __init__(self, why: str = "--serial", note: str | None = None) -> None:
+        self.where = f"in this process ({why})"
+        self.note = note
 
     def __enter__(self) -> "Serial":
         return self
@@ -329,8 +333,13 @@ class DaskEngine:
         _start_resource_tracker()
         held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         try:
+            # No dashboard; the scheduler's HTTP server (its JSON and Prometheus routes), which it
+            # starts anyway, on a free port of this machine's loopback: on its default, 8787,
+            # a second sweep (or any server there) made distributed warn "Port 8787 is already
+            # in use" with its own source path (issue 45)
             self.cluster = LocalCluster(n_workers=self.requested or local_cores(), threads_per_worker=1,
-                                        processes=True, dashboard_address=None, silence_logs=logging.ERROR)
+                                        processes=True, dashboard_address=None, silence_logs=logging.ERROR,
+                                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
             self.client = Client(self.cluster)
             from .workers import IgnoreInterrupt
 
@@ -402,11 +411,30 @@ class DaskEngine:
         return min(self.workers, sum(1 for keys in processing.values() for k in keys if k in self._keys))
 
 
-def engine(serial: bool = False, workers: int | None = None, scheduler: str | None = None):
-    """Serial(), or a DaskEngine on --scheduler / $SCHEMALOG_SCHEDULER / a LocalCluster."""
+def engine(serial: bool = False, workers: int | None = None, scheduler: str | None = None,
+           or_serial: bool = False):
+    """Serial(), or a DaskEngine on --scheduler / $SCHEMALOG_SCHEDULER / a LocalCluster.
+
+    Without Dask installed, a DaskEngine is refused, saying how to install it; with `or_serial`
+    (verify --each, whose results do not depend on where it runs) a LocalCluster asked for
+    becomes Serial() with a note saying so. A scheduler named still needs Dask to reach it."""
     if serial:
         return Serial()
-    return DaskEngine(workers, scheduler or os.environ.get("SCHEMALOG_SCHEDULER") or None)
+    scheduler = scheduler or os.environ.get("SCHEMALOG_SCHEDULER") or None
+    if or_serial and scheduler is None and not have_dask():
+        unused = f"; --workers {workers} needs it" if workers else ""
+        return Serial("Dask is not installed", f"Dask is not installed ({INSTALL}{unused}): running in this "
+                                               f"process, one task after another")
+    return DaskEngine(workers, scheduler)
+
+
+def have_dask() -> bool:
+    """Whether dask.distributed can be imported."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 # ---------------------------------------------------------------------------
@@ -535,4 +563,4 @@ def write_reports(grid: Grid, store: Store, out: Path, command: str, stats: Swee
 
 
 __all__ = ["Store", "Serial", "DaskEngine", "engine", "run_sweep", "run_cell", "measure", "SweepStats", "Progress",
-           "write_reports", "bench_results", "runtime_rows", "non_timing", "have_pyarrow", "INSTALL"]
+           "write_reports", "bench_results", "runtime_rows", "non_timing", "have_pyarrow", "have_dask", "INSTALL"]

@@ -111,27 +111,39 @@ def load_kb(paths: list[str] | tuple[str, ...], max_bytes: int = MAX_BYTES,
 
 
 def document_from_yaml(text: str, file: str = "<string>") -> Document:
-    """Read the YAML form (safe_load only)."""
+    """Read the YAML form (safe_load only). Every key is one the format knows: any other (a
+    misspelt `releasr`, a `post` indented into a sub-task) is an error at its own line and
+    column, with the closest known key, never dropped (docs/formats.md, Schema text and YAML)."""
     import yaml  # loaded only when YAML is read or written
 
     check_yaml_nesting(text, file)
+    lines = text.split("\n")
+    loader = _safe_loader()(text)
     try:
-        data = yaml.load(text, Loader=_safe_loader())
+        root = loader.get_single_node()
+        data = loader.construct_document(root) if root is not None else None
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         pos = SourcePos(file, mark.line + 1, mark.column + 1) if mark else None
         line = text.splitlines()[mark.line] if mark and mark.line < len(text.splitlines()) else None
         problem = getattr(err, "problem", None) or str(err)
         raise SchemalogError(f"YAML syntax error: {problem}", pos, line) from None
+    finally:
+        loader.dispose()
     if not isinstance(data, dict) or not isinstance(data.get("items", []), list):
         raise SchemalogError("a schemalog YAML file is a mapping with an `items` list",
                              SourcePos(file, 1, 1))
-    marks = _item_marks(text)
-    lines = text.split("\n")
+    # Constructing flattened the merge keys (`<<: *name`) into the nodes, each key keeping
+    # the place it was written: the nodes now hold exactly the keys `data` holds.
+    keys = _Keys(file, lines)
+    item_nodes = keys.top(root)
     items: list[Clause | Directive] = []
     for i, record in enumerate(data.get("items") or []):
-        line, column = marks[i] if i < len(marks) else (1, 1)
+        node = item_nodes[i] if i < len(item_nodes) else None
+        line, column = (node.start_mark.line + 1, node.start_mark.column + 1) if node is not None else (1, 1)
         pos = SourcePos(file, line, column)
+        if node is not None:
+            keys.record(node, f"items[{i}]")
         try:
             # Each clause is where its record starts in the YAML file: messages that name it
             # (a sub-task defined in two files) point into the file the user wrote.
@@ -163,20 +175,113 @@ def _safe_loader():
     return Loader
 
 
-def _item_marks(text: str) -> list[tuple[int, int]]:
-    """The (line, column) where each element of the top-level `items` list starts."""
-    import yaml  # loaded only when YAML is read or written
+# The keys of the YAML format, for each kind of mapping (docs/formats.md lists them, with what
+# a missing optional one means).
+_TOP_KEYS = ("schemalog", "items")
+_RECORD_KINDS = ("schema", "clause", "directive") + _SIMPLE_FACTS
+_SCHEMA_KEYS = ("schema", "subtasks", "post", "if")
+_SUBTASK_KEYS = ("behaviour", "releaser", "importance")
+YAML_VERSION = 1
 
-    try:
-        root = yaml.compose(text)
-    except yaml.YAMLError:
-        return []
-    if not isinstance(root, yaml.MappingNode):
-        return []
-    for key, value in root.value:
-        if key.value == "items" and isinstance(value, yaml.SequenceNode):
-            return [(n.start_mark.line + 1, n.start_mark.column + 1) for n in value.value]
-    return []
+
+class _Keys:
+    """Checks the keys of a YAML task's mappings on its composed nodes, where each key has its
+    line and column: a key the format does not know, a key given twice (YAML keeps the last
+    silently) and a required key missing are errors at their place."""
+
+    def __init__(self, file: str, lines: list[str]) -> None:
+        self.file, self.lines = file, lines
+
+    def error(self, message: str, node) -> SchemalogError:
+        line, column = node.start_mark.line + 1, node.start_mark.column + 1
+        return SchemalogError(message, SourcePos(self.file, line, column),
+                              self.lines[line - 1] if line <= len(self.lines) else None)
+
+    def keys(self, node, where: str, known: tuple[str, ...], what: str,
+             elsewhere: dict[str, str] | None = None) -> dict[str, object]:
+        """The mapping's keys (name -> key node), each one of `known`."""
+        import yaml  # loaded only when YAML is read or written
+
+        seen: dict[str, object] = {}
+        where = f"{where}: " if where else ""
+        for key, _ in node.value:
+            if not isinstance(key, yaml.ScalarNode):
+                raise self.error(f"{where}a key must be a name ({what})", key)
+            name = key.value
+            # a key merged in (`<<: *name`) was written before this mapping; one of its own
+            # overrides it, as YAML says
+            own = key.start_mark.index >= node.start_mark.index
+            if name in seen and own and seen[name].start_mark.index >= node.start_mark.index:
+                first = seen[name].start_mark.line + 1
+                raise self.error(f"{where}`{name}` is given twice (first at line {first}); "
+                                 f"YAML would keep only this one", key)
+            if name not in known:
+                raise self.error(f"{where}unknown key `{name}`{self.advice(name, known, elsewhere)} "
+                                 f"({what})", key)
+            seen[name] = key
+        return seen
+
+    @staticmethod
+    def advice(name: str, known: tuple[str, ...], elsewhere: dict[str, str] | None) -> str:
+        import difflib
+
+        if elsewhere and name in elsewhere:
+            return f"; {elsewhere[name]}"
+        near = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+        return f"; did you mean `{near[0]}`?" if near else ""
+
+    def top(self, root) -> list:
+        """Check the file's own keys; the nodes of its `items`."""
+        import yaml  # loaded only when YAML is read or written
+
+        self.keys(root, "", _TOP_KEYS, "a schemalog YAML file's keys: schemalog, items")
+        values = dict((key.value, value) for key, value in root.value)
+        version = values.get("schemalog")
+        if version is not None and not (isinstance(version, yaml.ScalarNode)
+                                        and version.value == str(YAML_VERSION)):
+            raise self.error(f"`schemalog` is the format's version, {YAML_VERSION}; this one cannot "
+                             f"be read", version)
+        items = values.get("items")
+        return list(items.value) if isinstance(items, yaml.SequenceNode) else []
+
+    def record(self, node, where: str) -> None:
+        """Check one record of `items`: its kind, its keys, its sub-tasks' keys."""
+        import yaml  # loaded only when YAML is read or written
+
+        if not isinstance(node, yaml.MappingNode):
+            return                                      # _record_items names what it is instead
+        names = [key.value for key, _ in node.value if isinstance(key, yaml.ScalarNode)]
+        kinds = [name for name in names if name in _RECORD_KINDS]
+        if not kinds:                                   # an unknown key, else _record_items:
+            self.keys(node, where, _RECORD_KINDS + _SCHEMA_KEYS[1:],   # which kind it needs
+                      f"a record's keys: {', '.join(_RECORD_KINDS)}; beside schema: subtasks, post, if")
+            return
+        kind = "schema" if "schema" in kinds else kinds[0]     # `behaviour` beside it is a sub-task's key
+        if kind != "schema":
+            for key, _ in node.value:
+                if isinstance(key, yaml.ScalarNode) and key.value != kind and key.value in _RECORD_KINDS:
+                    raise self.error(f"{where}: `{key.value}` beside `{kind}`: a record makes one "
+                                     f"clause; give `{key.value}` a record of its own (`- {key.value}: ...`)",
+                                     key)
+            self.keys(node, where, (kind,), f"a {kind} record has the one key {kind}")
+            return
+        seen = self.keys(node, where, _SCHEMA_KEYS, f"a schema record's keys: {', '.join(_SCHEMA_KEYS)}", {
+            **{k: f"a record makes one clause; give `{k}` a record of its own (`- {k}: ...`)"
+               for k in _RECORD_KINDS if k != "schema"},
+            **{k: f"`{k}` is a sub-task's key: write it in an entry of `subtasks`" for k in _SUBTASK_KEYS}})
+        values = dict((key.value, value) for key, value in node.value)
+        subtasks = values.get("subtasks")
+        for j, entry in enumerate(subtasks.value if isinstance(subtasks, yaml.SequenceNode) else ()):
+            w = f"{where}.subtasks[{j}]"
+            if not isinstance(entry, yaml.MappingNode):
+                continue                                # _record_items: expected a mapping
+            mine = self.keys(entry, w, _SUBTASK_KEYS, f"a sub-task's keys: {', '.join(_SUBTASK_KEYS)}", {
+                k: f"`{k}` is the schema's key: indent it as `subtasks:` is, not into a sub-task"
+                for k in _SCHEMA_KEYS})
+            if "behaviour" not in mine:
+                raise self.error(f"{w}: missing `behaviour` (the sub-task)", entry)
+        if "post" not in seen:                          # after the sub-tasks: one may hold it
+            raise self.error(f"{where}: missing `post` (a schema's post-condition)", node)
 
 
 def _record_items(record: object, where: str, file: str, index: int) -> list[Clause | Directive]:

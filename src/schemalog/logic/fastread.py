@@ -161,7 +161,10 @@ def _parse_with_operators(text: str, file: str, table: OperatorTable | None,
         if start == size:
             return items
         if table is not None and table.view() is not DEFAULT_OPERATORS:
-            term, offset = read_clause(text, start, file, line_at, table.view())
+            try:
+                term, offset = read_clause(text, start, file, line_at, table.view())
+            except SchemalogError as err:
+                raise left_open(err, text, start, file, line_at) from None
             read = [clause_item(term, SourcePos(file, *line_at(start)))]
         else:
             try:
@@ -192,13 +195,31 @@ def _lark_or_opread(text: str, offset: int, file: str, line_at: _LineIndex, ops)
         try:
             term, end = read_clause(text, offset, file, line_at, ops)
         except SchemalogError:
-            raise lark_error from None
+            raise left_open(lark_error, text, offset, file, line_at) from None
         if term is None:
             return [], end
         if "modules are not supported" in lark_error.message and module_goal(_clause_goals(term)):
             raise lark_error from None
         start = _LAYOUT.match(text, offset).end()
         return [clause_item(term, SourcePos(file, *line_at(start)))], end
+
+
+def left_open(err: SchemalogError, text: str, offset: int, file: str, line_at: _LineIndex) -> SchemalogError:
+    """A syntax error met where a new clause seems to begin (at a line's first column, or at
+    the end of the file) while the clause read since an earlier line is still open: that one
+    most likely lacks its `)` or its final `.`, and the error, found only at the next clause,
+    names where the open one began."""
+    if err.pos is None or err.pos.file != file:
+        return err
+    start = _LAYOUT.match(text, offset).end()
+    line, column = line_at(min(start, len(text)))
+    at_end = err.message.startswith("unexpected end of file")
+    if err.pos.line <= line or not (at_end or err.pos.column == 1):
+        return err
+    began = SourcePos(file, line, column)
+    hint = (f"the clause from {began} is still open" if at_end else
+            f"the clause from {began} is still open here (a missing ')' or final '.' there?)")
+    return SchemalogError(f"{err.message}; {hint}", err.pos, err.source_line, err.exit_code)
 
 
 def _all_by_lark(text: str, file: str, line_at: _LineIndex) -> list[Clause | Directive]:

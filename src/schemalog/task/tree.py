@@ -31,7 +31,7 @@ from ..errors import SchemalogError, SourcePos, shown_number
 from ..logic.kb import KnowledgeBase
 from .schema import DEFAULT_AGENT, DEFAULT_IMPORTANCE, Entry, SchemaDef, importance_problem, read_schema
 from ..logic.terms import NIL, TRUE, Atom, Float, Int, Str, Struct, Term, Var, is_ground, list_items, term_to_text
-from ..logic.unify import Bindings
+from ..logic.unify import Bindings, variant
 
 DEFAULT_MAX_DEPTH = defaults.MAX_DEPTH
 DEFAULT_MAX_NODES = defaults.MAX_NODES
@@ -437,11 +437,17 @@ class Instantiator:
         raise SchemalogError(f"the task has more than {self.max_nodes:,} behaviours (at least {counted:,}, "
                              f"counted before building it; raise the limit with --max-nodes)", pos)
 
+    def _declared_at(self, label: Term) -> SourcePos | None:
+        """Where the task/1 fact that declares `label` was written (None: the command line named it)."""
+        return next((c.pos for c in self.kb.clauses("task", 1) if not c.library and variant(c.head.args[0], label)),
+                    None)
+
     def instantiate(self, label: Term) -> Behaviour:
         """Build the task tree rooted at `label` (a ground term)."""
         if not is_ground(label):
             raise SchemalogError(f"the task {term_to_text(label)} has variables: name a ground task "
-                                 f"(its objects filled in, e.g. add(water) rather than add(X))")
+                                 f"(its objects filled in, e.g. add(water) rather than add(X))",
+                                 self._declared_at(label))
         self._lookups: dict[Term, tuple[Term, SchemaDef] | None] = {}
         self.left_out = []
         label, schema = self.lookup(label, None)

@@ -5,15 +5,18 @@
 # built once (about 70 s on 2 cores) into the cache, the harness compiled when its source
 # changed. Idempotent: with everything cached it only checks and prints the binary's path.
 #
-#   tests/bt/harness/build.sh          prints the harness's path on stdout (last line)
+#   tests/bt/harness/build.sh              prints the harness's path on stdout (last line)
+#   tests/bt/harness/build.sh --cache-dir  prints the cache directory it uses, and does nothing else
 #
-# Cache: $SCHEMALOG_BTCPP_CACHE, else ~/.cache/schemalog-btcpp. Needs pip, cmake, make, g++
+# Cache: $SCHEMALOG_BTCPP_CACHE, else $XDG_CACHE_HOME/schemalog-btcpp, else
+# ~/.cache/schemalog-btcpp (as schemalog's own cache, src/schemalog/cache.py). Needs pip, cmake, make, g++
 # (with none of cmake/g++ and root or sudo, they are installed with apt-get). Progress goes to
 # stderr; exit 1 when something is missing or fails.
 set -euo pipefail
 
 HERE="$(cd "$(dirname "$0")" && pwd)"
-CACHE="${SCHEMALOG_BTCPP_CACHE:-$HOME/.cache/schemalog-btcpp}"
+CACHE="${SCHEMALOG_BTCPP_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/schemalog-btcpp}"
+if [ "${1:-}" = "--cache-dir" ]; then echo "$CACHE"; exit 0; fi
 VERSION=0.1.4                   # behaviortreepy: BehaviorTree.CPP 4.8.2 inside
 SRC="$CACHE/sdist/behaviortreepy-$VERSION/BehaviorTree.CPP"
 BUILD="$CACHE/build-$VERSION"
