@@ -267,7 +267,14 @@ def canonical(c: Condition) -> Condition:
     (`a and b`, `b and a`, `[b, a]`) have the same canonical form."""
     c = nnf(c)
     if isinstance(c, (And, Or)):
-        items = {_key(i): i for i in (canonical(i) for i in c.items)}
+        # a child's canonical form may be of the parent's own kind (`not (a or b)` under an `and`
+        # is an `and`): its items join the parent's before sorting and deduplicating, or the
+        # result held `a and b and a`, whose own canonical form differs
+        flat: list[Condition] = []
+        for item in c.items:
+            k = canonical(item)
+            flat.extend(k.items if type(k) is type(c) else (k,))
+        items = {_key(i): i for i in flat}
         ordered = [items[k] for k in sorted(items)]
         return conjoin(ordered) if isinstance(c, And) else disjoin(ordered)
     return c
