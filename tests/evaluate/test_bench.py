@@ -190,25 +190,7 @@ def test_figure_4_fits_a_screen(tmp_path):
 
 
 def _grid_results():
-    plan = BenchPlan(shapes=(), runs=3)
-    results = Results(plan)
-    for depth in (4, 5, 6):
-        for children in (2, 3, 4):
-            behaviours = sum(children ** level for level in range(depth))
-            for rd in (0.0, 0.3, 0.5, 0.7):
-                cell = Cell(f"d{depth}c{children}", depth, children, behaviours, rd, rd, 0, 0.0)
-                ms = behaviours * (1 - rd) * 0.01
-                tree = "compressed" if rd else "original"
-                for selector in ("scan", "incremental"):
-                    cell.timing(tree, selector).per_run.extend([ms / 1e3] * 3)
-                    cell.timing(tree, selector).decisions.extend([10] * 3)
-                results.cells.append(cell)
-    return results
-
-
-def test_figure_4s_legends_cover_no_point():
-    from schemalog.evaluate.figures import figure4_figure, plt
-
+    """The paper's nine shapes at four RDs, timed as if each run cost its behaviours left."""
     plan = BenchPlan(shapes=(), runs=3)
     results = Results(plan)
     for depth in (4, 5, 6):
@@ -222,7 +204,13 @@ def test_figure_4s_legends_cover_no_point():
                     cell.timing(tree, selector).per_run.extend([ms / 1e3] * 3)
                     cell.timing(tree, selector).decisions.extend([10] * 3)
                 results.cells.append(cell)
-    fig = figure4_figure(results)
+    return results
+
+
+def test_figure_4s_legends_cover_no_point():
+    from schemalog.evaluate.figures import figure4_figure, plt
+
+    fig = figure4_figure(_grid_results())
     try:
         fig.canvas.draw()
         renderer = fig.canvas.get_renderer()
