@@ -158,6 +158,9 @@ def test_a_ceiling_past_what_the_system_takes_is_the_largest_it_takes():
     assert resource.getrlimit(resource.RLIMIT_DATA) == before
     assert parse_size("999999999T", "--max-memory") == parse_size("9" * 5000, "--max-memory") == MAX_CEILING
     assert parse_size("1.5G", "--max-memory") == 3 * 2**29
+    assert parse_size("100." + "0" * 5000 + "1M", "--max-memory") == 100 * 2**20     # a fraction of a byte
+    with pytest.raises(schemalog.UsageError, match="at least 64 MiB"):
+        parse_size("1." + "0" * 40 + "1", "--max-memory")                             # 1 byte, not 8 EiB
     with pytest.raises(schemalog.UsageError, match=r"max_memory=-10\*\*30 or less: at least"):
         task.compress(max_memory=-10**40)
 

@@ -146,10 +146,11 @@ def parse_size(text: str, source: str) -> int | None:
     found = re.fullmatch(r"([0-9]+(?:\.[0-9]+)?)\s*([kmgt]?)(?:i?b)?", cleaned)
     if not found:
         raise UsageError(f"{source} {shown_number(text)!r} is not a size: write bytes, or e.g. 512M, 4G, or off")
-    number = found.group(1)
-    # digits past 30 are past any ceiling (a float of them is inf, int() refuses 4,300)
-    value = MAX_CEILING if len(number) > 30 else \
-        min(MAX_CEILING, int(Fraction(number) * _UNITS[found.group(2)]))
+    whole, _, fraction = found.group(1).partition(".")
+    # a whole part past 30 digits is past any ceiling, and a fraction past 30 digits below a
+    # byte (a float of them is inf or rounded; int() refuses 4,300 digits)
+    value = MAX_CEILING if len(whole) > 30 else \
+        min(MAX_CEILING, int(Fraction(f"{whole}.{fraction[:30] or 0}") * _UNITS[found.group(2)]))
     if value < defaults.MIN_MEMORY:
         raise UsageError(f"{source} {text!r}: at least {size_text(defaults.MIN_MEMORY)} "
                          f"(Python and the engine need that much to start)")
