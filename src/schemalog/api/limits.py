@@ -152,7 +152,7 @@ def parse_size(text: str, source: str) -> int | None:
     value = MAX_CEILING if len(whole) > 30 else \
         min(MAX_CEILING, int(Fraction(f"{whole}.{fraction[:30] or 0}") * _UNITS[found.group(2)]))
     if value < defaults.MIN_MEMORY:
-        raise UsageError(f"{source} {text!r}: at least {size_text(defaults.MIN_MEMORY)} "
+        raise UsageError(f"{source} {shown_number(text)!r}: at least {size_text(defaults.MIN_MEMORY)} "
                          f"(Python and the engine need that much to start)")
     return value
 
