@@ -80,16 +80,23 @@ class Terminal:
 
     def finished(self) -> int:
         """The exit status of the command `run` started, once it has ended."""
+        return int(self._written([self.status], "the command did not end")[0])
+
+    def _written(self, paths: list[str], what: str) -> list[str]:
+        """The contents of `paths` once each holds a whole line (the shell writes them as the
+        command ends); `what` is said, with the screen, if that does not happen in time."""
         deadline = time.monotonic() + PATIENCE
         while True:
             try:
-                with open(self.status) as f:
-                    status = f.read()
-                if status.endswith("\n"):
-                    return int(status)
+                found = []
+                for path in paths:
+                    with open(path) as f:
+                        found.append(f.read())
+                if all(text.endswith("\n") for text in found):
+                    return found
             except FileNotFoundError:
                 pass
-            assert time.monotonic() < deadline, "the command did not end; the screen:\n" + "\n".join(self.lines())
+            assert time.monotonic() < deadline, f"{what}; the screen:\n" + "\n".join(self.lines())
             time.sleep(0.05)
 
     def coloured_lines(self) -> list[str]:
@@ -125,21 +132,11 @@ class Terminal:
             time.sleep(0.05)
 
     def exit_status(self) -> int:
-        deadline = time.monotonic() + PATIENCE
-        while True:
-            try:
-                with open(self.status) as f:
-                    status = f.read()
-                with open(os.path.join(self.home, "stty-after")) as f:
-                    after = f.read()
-                if status.endswith("\n") and after.endswith("\n"):
-                    with open(os.path.join(self.home, "stty-before")) as f:
-                        assert f.read() == after, "the REPL left the terminal in another mode"
-                    return int(status)
-            except FileNotFoundError:
-                pass
-            assert time.monotonic() < deadline, "the REPL did not leave; the screen:\n" + "\n".join(self.lines())
-            time.sleep(0.05)
+        status, after = self._written([self.status, os.path.join(self.home, "stty-after")],
+                                      "the REPL did not leave")
+        with open(os.path.join(self.home, "stty-before")) as f:
+            assert f.read() == after, "the REPL left the terminal in another mode"
+        return int(status)
 
     def close(self) -> None:
         subprocess.run(["tmux", "-S", self.socket, "kill-server"], capture_output=True, timeout=30)
