@@ -44,7 +44,7 @@ from hypothesis import strategies as st
 
 from schemalog.api.behaviour_trees import compress_tree, read_tree
 from schemalog.bt.model import Document, Node, NodeModel, Port, walk
-from schemalog.bt.semantics import STATEFUL_ACTION, Await, Status, advance, halt_step, initial, program, step
+from schemalog.bt.semantics import STATEFUL_ACTION, SYNC_ACTION, Await, Status, advance, halt_step, initial, program, step
 from schemalog.errors import SchemalogError
 from schemalog.bt.ports import BUILTIN_PORTS
 from schemalog.formats.btxml import BUILTIN, infer_models, read_bt, write_bt
@@ -219,8 +219,9 @@ def prepared(path: Path) -> Document:
 
 def stateful_rules(document: Document, stateful: bool) -> dict | None:
     """The rules under which the harness's leaves run: with --stateful every Action is a
-    StatefulActionNode (STATEFUL_ACTION), else the default Action rule (None)."""
-    return {m.type: STATEFUL_ACTION for m in document.models if m.kind == "Action"} if stateful else None
+    StatefulActionNode (STATEFUL_ACTION), else a SyncActionNode (SYNC_ACTION)."""
+    rule = STATEFUL_ACTION if stateful else SYNC_ACTION
+    return {m.type: rule for m in document.models if m.kind == "Action"}
 
 
 def written(document: Document, path: Path) -> Path:
@@ -859,6 +860,33 @@ def test_a_decorator_resets_its_completed_child_in_btcpp_and_in_our_semantics(ha
         assert sum(any(e.get("ev") == "time" for e in ev) for ev in runs.values()) >= 5
         for seed, events in runs.items():
             replay(document, events, stateful)
+
+
+def test_a_wrapper_that_resets_a_finished_action_parts_the_trees_only_for_stateful_actions(harness, tmp_path):
+    """Issue 48: PipelineSequence(A, B) against PipelineSequence(SequenceWithMemory(A), B). The
+    wrapper resets a finished A; PipelineSequence does not, and ticks it again. A SyncActionNode
+    runs again either way; a StatefulActionNode returns its last status without running. The
+    XML cannot say which, so the default proof covers both and refutes, naming the registration;
+    narrowed to synchronous actions it proves; BT.CPP agrees on both."""
+    from schemalog.bt.prove import explain, prove_by_parts
+
+    a_, b_ = Node("A", (), (), "Action"), Node("B", (), (), "Action")
+    models = (NodeModel("A", "Action"), NodeModel("B", "Action"))
+    plain = Document((("Main", Node("PipelineSequence", (), (a_, b_))),), "Main", models)
+    wrapped_ = Document((("Main", Node("PipelineSequence", (), (Node("SequenceWithMemory", (), (a_,)), b_))),),
+                        "Main", models)
+    limits = dict(max_states=50_000, max_events_per_tick=64)
+    default = prove_by_parts(plain, wrapped_, **limits)
+    assert not default.equal and default.counterexample.kinds == (("A", "stateful"),)
+    assert "with A registered as a StatefulActionNode" in explain(default)
+    sync = prove_by_parts(plain, wrapped_, rules={"A": SYNC_ACTION, "B": SYNC_ACTION}, **limits)
+    assert sync.equal and sync.complete, explain(sync)
+    ta, tb = written(plain, tmp_path / "plain.xml"), written(wrapped_, tmp_path / "wrapped.xml")
+    for stateful, differ_expected in ((False, False), (True, True)):
+        runs_a = run(harness, ta, [ta], tmp_path, stateful=stateful)
+        runs_b = run(harness, tb, [tb], tmp_path, stateful=stateful)
+        differ = [s for s in runs_a if runs_a[s] != runs_b[s]]
+        assert bool(differ) is differ_expected, (stateful, differ)
 
 
 # -- (c) on generated Nav2-style trees -----------------------------------------------------------

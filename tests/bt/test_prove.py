@@ -237,3 +237,16 @@ def test_by_parts_carries_a_part_s_error_into_its_verdict():
     b = doc(n("Sequence", n("Sleep"), act("B")))
     v = prove_by_parts(a, b, max_states=10_000, max_events_per_tick=64)
     assert v.equal and v.complete and "Missing parameter [msec] in SleepNode" in v.reason
+
+
+def test_a_loop_for_ever_is_proved_whole_not_counted():
+    # Issue 48: `num_attempts="-1"` / `num_cycles="-1"` never stop, so nothing reads their count;
+    # counted, every retry was a new state and no number of states sufficed (auto-apms-px4's
+    # tree: 1,000,000 states, no proof). Whole trees, no proof by parts.
+    for loop, port in (("RetryUntilSuccessful", "num_attempts"), ("Repeat", "num_cycles")):
+        nested = n(loop, n("Sequence", A, n("Sequence", B, C)), **{port: "-1"})
+        flat = n(loop, n("Sequence", A, B, C), **{port: "-1"})
+        v = prove(nested, flat)
+        assert v.equal and v.complete and v.states < 100, explain(v)
+        told = prove(nested, n(loop, n("Sequence", A, C, B), **{port: "-1"}))
+        assert not told.equal

@@ -8,6 +8,7 @@ from hypothesis import given, settings, strategies as st
 from schemalog.bt.compress import compress
 from schemalog.bt.model import Document, Node
 from schemalog.bt.prove import differing_parts, explain, prove_by_parts, prove_equal
+from schemalog.bt.semantics import SYNC_ACTION
 
 LIMITS = dict(max_states=20_000, max_events_per_tick=30)
 
@@ -49,14 +50,32 @@ def test_a_sequence_with_memory_inside_another_is_not_flattened():
     assert compress(nested).rewrites == ()
 
 
-def test_the_rewrites_hold_in_every_context():
-    for before, after in [(n("Sequence", n("Sequence", A, B), C), n("Sequence", A, B, C)),
-                          (n("ReactiveFallback", n("ReactiveFallback", A, B), C), n("ReactiveFallback", A, B, C)),
-                          (n("SequenceWithMemory", A), A),
-                          (n("Fallback", A), A), (n("Inverter", n("Inverter", A)), A),
-                          (n("ForceSuccess", n("ForceFailure", A)), n("ForceSuccess", A))]:
-        v = prove_equal(doc(before), doc(after), contextual=True, **LIMITS)
+REWRITES = [(n("Sequence", n("Sequence", A, B), C), n("Sequence", A, B, C)),
+            (n("ReactiveFallback", n("ReactiveFallback", A, B), C), n("ReactiveFallback", A, B, C)),
+            (n("SequenceWithMemory", A), A),
+            (n("Fallback", A), A), (n("Inverter", n("Inverter", A)), A),
+            (n("ForceSuccess", n("ForceFailure", A)), n("ForceSuccess", A))]
+
+
+def test_the_rewrites_hold_in_every_context_for_synchronous_actions():
+    sync = {t: SYNC_ACTION for t in "ABC"}
+    for before, after in REWRITES:
+        v = prove_equal(doc(before), doc(after), contextual=True, rules=sync, **LIMITS)
         assert v.equal and v.complete, (before.type, explain(v))
+
+
+def test_a_removed_node_that_reset_a_stateful_action_is_told_apart_where_no_parent_resets():
+    # Issue 48: under a parent that ticks a finished child again unreset (PipelineSequence,
+    # WhileDoElse), a finished StatefulActionNode returns its last status without running,
+    # while SequenceWithMemory(A) had reset A and runs it again. By default a proof covers both
+    # registrations, so only a resetting parent keeps the single-child rewrites.
+    for before, after in REWRITES:
+        under_reset = prove_equal(doc(before), doc(after), contextual=True, unreset=False, **LIMITS)
+        assert under_reset.equal and under_reset.complete, (before.type, explain(under_reset))
+    anywhere = prove_equal(doc(n("SequenceWithMemory", A)), doc(A), contextual=True, **LIMITS)
+    assert not anywhere.equal and anywhere.counterexample.kinds == (("A", "stateful"),)
+    sync = prove_equal(doc(n("SequenceWithMemory", A)), doc(A), contextual=True, rules={"A": SYNC_ACTION}, **LIMITS)
+    assert sync.equal and sync.complete
 
 
 def test_differing_parts_are_the_smallest_subtrees_that_differ():

@@ -169,8 +169,25 @@ def test_switch_on_a_blackboard_variable_is_a_choice_among_cases_and_default():
 def test_pipeline_sequence_reticks_earlier_children():
     # Nav2 PipelineSequence::tick: a RUNNING child before last_child_ticked_ does not stop the tick
     tree = n("PipelineSequence", act("A"), act("B"))
-    assert run(tree, S, R, R, S) == [(["tick A SUCCESS", "tick B RUNNING"], "RUNNING"),
-                                     (["tick A RUNNING", "tick B SUCCESS", "halt A"], "SUCCESS")]
+    assert run(tree, S, R, "sync", R, S) == [
+        (["tick A SUCCESS", "tick B RUNNING"], "RUNNING"),
+        (["registration registration", "tick A RUNNING", "tick B SUCCESS", "halt A"], "SUCCESS")]
+
+
+def test_an_action_ticked_again_finished_asks_how_it_is_registered_once():
+    # Issue 48: the XML cannot tell a SyncActionNode (runs again) from a StatefulActionNode
+    # (src/action_node.cpp: returns its last status): the first time a run ticks a finished
+    # Action again, the environment says which, and the run keeps the answer.
+    tree = n("PipelineSequence", act("A"), act("B"))
+    stateful = replay(doc(tree), (S, R, "stateful", R, R))
+    assert [[fmt(e) for e in t.events] for t in stateful] == [
+        ["tick A SUCCESS", "tick B RUNNING"], ["registration registration", "tick B RUNNING"], ["tick B RUNNING"]]
+    assert stateful[1].events[0].node == ((), ("registration", "A"))
+    assert [t.status for t in stateful] == [R, R, R]
+    # a rule from --semantics decides it: no question
+    fixed = replay(doc(tree), (S, R, R, S), rules={"A": RULES_STATEFUL})
+    assert [[fmt(e) for e in t.events] for t in fixed] == [["tick A SUCCESS", "tick B RUNNING"], ["tick B RUNNING"],
+                                                           ["tick B SUCCESS"]]
 
 
 def test_recovery_node_retries_after_a_successful_recovery():

@@ -25,8 +25,9 @@ from collections.abc import Mapping
 
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
-from schemalog.bt.semantics import (RESETTING_PARENTS, RULES, RUNNING, Await, Config, Event, Program, RootTicked, Rule,
-                                    Status, _rule_key, advance, halt_step, initial, program, step)
+from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RULES, RUNNING, STATEFUL_ACTION,
+                                    SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status, _rule_key,
+                                    advance, halt_step, initial, program, step)
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,7 @@ class Counterexample:
     ticks_a: tuple[TickTrace, ...]
     ticks_b: tuple[TickTrace, ...]
     difference: str
+    kinds: tuple = ()                  # ((type, "sync" | "stateful"), ...): the registrations it needs
 
 
 @dataclass(frozen=True)
@@ -58,6 +60,8 @@ class Verdict:
     reason: str
     counterexample: Counterexample | None = None
     thrown: str = ""                  # an error both trees throw in some run (BT.CPP's tick would)
+    registered: frozenset = frozenset()   # action types whose registration changed a run explored
+    assumed: str = ""                 # what the verdict covers of what the XML leaves open, for people
 
 
 def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
@@ -119,11 +123,23 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     queue = deque([start])
     limit = ""
     thrown = ""                        # an error both trees' ticks throw (BT.CPP's would too)
+    registered: set[str] = set()
     while queue:
         node = queue.popleft()
         phase, ca, cb = node
         move = step if phase is _TICK else halt_step
         sa, sb = move(pa, ca), move(pb, cb)
+        asked = _asked(sa) or _asked(sb)
+        if asked is not None:
+            # One registration runs both trees (the same robot loads either file): decide it for
+            # both at once, each way, however far apart the two trees meet the question
+            registered.add(asked)
+            for kind in KINDS:
+                nxt = (phase, ca.with_kind(asked, kind), cb.with_kind(asked, kind))
+                if nxt not in parent:
+                    parent[nxt] = (node, _Kind(asked, kind))
+                    queue.append(nxt)
+            continue
         key = (phase, _key(sa, ca), _key(sb, cb)) if merge else node
         if key in seen:                                   # the same interrupted ticks: merged
             continue
@@ -135,14 +151,17 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
             raise CeilingReached("near the memory ceiling")
         diff = _difference(sa, sb)
         if diff:
+            kinds = ca.kinds
             if contextual:
                 labels = _labels(parent, node)
                 choices = tuple(x for x in labels if x not in _MOVES and x is not _NONE)
-                cex = Counterexample(choices, _trace_moves(pa, labels), _trace_moves(pb, labels), diff)
+                cex = Counterexample(choices, _trace_moves(pa, labels, kinds), _trace_moves(pb, labels, kinds),
+                                     diff, kinds)
             else:
                 choices, ticks = _choices(parent, node)
-                cex = Counterexample(choices, _trace(pa, choices, ticks), _trace(pb, choices, ticks), diff)
-            return Verdict(False, True, len(seen), diff, cex)
+                cex = Counterexample(choices, _trace(pa, choices, ticks, kinds), _trace(pb, choices, ticks, kinds),
+                                     diff, kinds)
+            return Verdict(False, True, len(seen), diff, cex, registered=frozenset(registered))
         successors: list[tuple[tuple, object]] = []
         if isinstance(sa, Await):
             if len(sa.config.pending) >= max_events_per_tick:
@@ -169,13 +188,13 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     explored = len(seen)
     if limit:
         return Verdict(True, False, explored,
-                       f"no difference found, but not a proof: {limit}")
+                       f"no difference found, but not a proof: {limit}", registered=frozenset(registered))
     where = "in every context and " if contextual else ""
     # equal, errors included; but a run that ends in an error is no run a robot finishes
     errors = f"; in both, some runs end in an error, as BT.CPP's tick throws: {thrown}" if thrown else ""
     return Verdict(True, True, explored,
                    f"equal {where}under every environment ({_pairs(explored)}, exhausted){errors}",
-                   thrown=thrown)
+                   thrown=thrown, registered=frozenset(registered))
 
 
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
@@ -199,20 +218,34 @@ _NONE = object()                                      # the label of an event wi
 _MOVES = (_ROOT, _HALT, _AGAIN, _KEEP)
 
 
+@dataclass(frozen=True)
+class _Kind:
+    """The label of "the action type is registered so" (both trees at once)."""
+
+    type: str
+    kind: str
+
+
+def _asked(s: Await | RootTicked) -> str | None:
+    """The action type whose registration the step waits for, or None."""
+    return s.event.node[1][1] if isinstance(s, Await) and s.event.kind == "registration" else None
+
+
 def _labels(parent: dict, key: tuple) -> tuple:
     """Every label on the breadth-first path to `key`: outcomes, moves, events without a choice."""
     out = []
     while parent[key] is not None:
         key, label = parent[key]
-        out.append(label)
+        if not isinstance(label, _Kind):
+            out.append(label)
     return tuple(reversed(out))
 
 
-def _trace_moves(prog: Program, labels: tuple) -> tuple[TickTrace, ...]:
+def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickTrace, ...]:
     """Run `prog` along `labels` (outcomes, and at each root tick's end the parent's move: tick
     again, halt, tick anew) up to the last label's step; a halt shows as a tick with status IDLE."""
     ticks: list[TickTrace] = []
-    config, phase, events = initial(), _TICK, []
+    config, phase, events = Config(kinds=kinds), _TICK, []
     todo = [x for x in labels if x is not _NONE]
     while True:
         s = (step if phase is _TICK else halt_step)(prog, config)
@@ -244,17 +277,18 @@ def _choices(parent: dict, pair: tuple) -> tuple[tuple, int]:
         pair, label = parent[pair]
         if label is _ROOT:
             ticks += 1
-        elif label is not _NONE:
+        elif label is not _NONE and not isinstance(label, _Kind):
             out.append(label)
     return tuple(reversed(out)), ticks
 
 
-def _trace(prog: Program, choices: tuple, max_ticks: int | None = None) -> tuple[TickTrace, ...]:
-    """Run `prog` under `choices`, root tick by root tick, up to the first event left unanswered,
-    the end of the run, `max_ticks` root ticks, or (no max_ticks) the end of the first root tick
-    that leaves no choice unused."""
+def _trace(prog: Program, choices: tuple, max_ticks: int | None = None,
+           kinds: tuple = ()) -> tuple[TickTrace, ...]:
+    """Run `prog` under `choices` (and the registrations `kinds`), root tick by root tick, up to
+    the first event left unanswered, the end of the run, `max_ticks` root ticks, or (no
+    max_ticks) the end of the first root tick that leaves no choice unused."""
     ticks: list[TickTrace] = []
-    config, i = initial(), 0
+    config, i = Config(kinds=kinds), 0
     events: list[Event] = []
     while True:
         s = step(prog, config)
@@ -315,9 +349,11 @@ def _ports(ports) -> str:
 def explain(verdict: Verdict) -> str:
     """The verdict for people: a proof, a bounded search, or the counterexample tick by tick."""
     if verdict.equal:
-        return ("proved equal: " if verdict.complete else "NOT proved: ") + verdict.reason + "\n"
+        covers = f"\nIt {verdict.assumed}." if verdict.assumed else ""
+        return ("proved equal: " if verdict.complete else "NOT proved: ") + verdict.reason + covers + "\n"
     cex = verdict.counterexample
-    lines = [f"refuted after {verdict.states} states: {verdict.reason}"]
+    lines = [f"refuted after {verdict.states} states: {verdict.reason}"
+             + (f" ({verdict.assumed})" if verdict.assumed else "")]
     if cex is None:
         return lines[0] + "\n"
     lines.append("environment's choices: " + (", ".join(_outcome(c) or "-" for c in cex.choices) or "none"))
@@ -420,7 +456,56 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     """Prove two documents equal through the subtrees where they differ, each equal in every
     context its parent can make (a congruence: a parent sees a subtree only through its statuses, and the events
     are the same), and where that fails or a document's trees differ, by exploring both whole:
-    a refutation is always one of the whole trees."""
+    a refutation is always one of the whole trees. The verdict says which registrations of the
+    actions it covers (`assumed`)."""
+    verdict = _prove_by_parts(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules)
+    return replace(verdict, assumed=assumed(a, b, rules, verdict))
+
+
+def open_registrations(documents: tuple[Document, ...], rules: Mapping[str, Rule] | None = None) -> list[str]:
+    """The action types whose registration the XML leaves open (ACTION, or an unknown leaf),
+    in document order: a SyncActionNode and a StatefulActionNode load alike and run apart."""
+    table = {**RULES, **(rules or {}), "<opaque>": OPAQUE, "<action>": ACTION}
+    found: dict[str, None] = {}
+    for d in documents:
+        for _, root in d.trees:
+            for n in walk(root):
+                if not n.children and n.type != "SubTree" and n.form != "SubTree" \
+                        and table.get(_rule_key(n, d, table)) in (ACTION, OPAQUE):
+                    found.setdefault(n.type)
+    return list(found)
+
+
+def _names(types) -> str:
+    types = sorted(types)
+    return ", ".join(types[:4]) + (f" and {len(types) - 4} more" if len(types) > 4 else "")
+
+
+def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict: Verdict) -> str:
+    """What the verdict covers of the registrations the XML leaves open, in a reader's words."""
+    fixed = sorted(t for t, r in (rules or {}).items() if r in (SYNC_ACTION, STATEFUL_ACTION))
+    given = f"; {_names(fixed)} as --semantics registers {'them' if len(fixed) > 1 else 'it'}" if fixed else ""
+    if not verdict.equal:              # a run under one registration tells the files apart
+        cex = verdict.counterexample
+        kinds = cex.kinds if cex is not None else ()
+        return ", ".join(f"with {t} registered as a {'StatefulActionNode' if k == 'stateful' else 'SyncActionNode'}"
+                         for t, k in kinds)
+    open_ = open_registrations((a, b), rules)
+    if not open_:
+        return given[2:]
+    n = len(open_)
+    what = (f"every registration of the {n} action types the XML leaves open ({_names(open_)})" if n > 1
+            else f"both registrations of {open_[0]}, which the XML leaves open")
+    both = ("synchronous (SyncActionNode, ticked again it runs again) and stateful (StatefulActionNode, "
+            "ticked again finished it returns its last status)")
+    differ = (f"; they run apart where a parent ticks a finished action again unreset: "
+              f"{_names(verdict.registered)}, explored both ways" if verdict.registered else
+              "; no explored run ticks a finished one again unreset, where the two differ")
+    return f"covers {what}: {both}{differ}{given}"
+
+
+def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
+                    rules: Mapping[str, Rule] | None = None) -> Verdict:
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
@@ -428,12 +513,14 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
         parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None)]
         proved = True
         thrown = ""
+        registered: frozenset = frozenset()
         for na, nb, parent in parts:
             v = prove_equal(_part(a, na), _part(b, nb), max_states=max_states - spent,
                             max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
                             unreset=_unreset(parent, rules))
             spent += v.states
             thrown = thrown or v.thrown
+            registered |= v.registered
             if not (v.equal and v.complete):
                 proved = False
                 break
@@ -444,7 +531,7 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")
             return Verdict(True, True, spent, f"equal by parts: {what} ({_pairs(spent)}, exhausted){errors}",
-                           thrown=thrown)
+                           thrown=thrown, registered=registered)
     whole = prove_equal(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
     if differ and not whole.equal:
         # the usual cause: one file carries a TreeNodesModel (compress -o writes --nodes' models

@@ -4,8 +4,11 @@
     Program = program(document, rules)      the main tree with every SubTree expanded: PNodes
     PNode   = PNode(node, rule, kids, context, path)  a node, the table key of its rule, its
                                             children, the SubTree calls above it, its address
-    Config  = Config(memory, pending)       between events: what the nodes remember and the
-                                            outcomes the environment chose so far in this root tick
+    Config  = Config(memory, pending, kinds)  between events: what the nodes remember, the
+                                            outcomes the environment chose so far in this root
+                                            tick, and the registrations decided so far
+    kinds   = ((type, "sync" | "stateful"), ...)  how an action type is registered, once a run
+                                            has needed to know (see ACTION below)
     memory  = ((path, status, vars), ...)   sorted by path; only nodes that are not IDLE or keep a
                                             variable (a Sequence's child index, a Retry's count)
     Event   = Event(kind, node, outcome, label)  kind: "tick" | "halt" | "check" | "script" |
@@ -84,6 +87,11 @@ class Config:
 
     memory: tuple = ()
     pending: tuple = ()
+    kinds: tuple = ()                     # ((type, "sync" | "stateful"), ...), sorted
+
+    def with_kind(self, node_type: str, kind: str) -> "Config":
+        """This configuration with `node_type`'s registration decided."""
+        return Config(self.memory, self.pending, tuple(sorted(dict(self.kinds, **{node_type: kind}).items())))
 
 
 @dataclass(frozen=True)
@@ -161,6 +169,7 @@ class _Run:
         self.program = program
         self.mem: dict[tuple, list] = {p: [Status(s), dict(v)] for p, s, v in config.memory}
         self.pending = config.pending
+        self.kinds = dict(config.kinds)
         self.pos = 0
         self.events: list[Event] = []
         self.node_ticks = 0
@@ -195,10 +204,23 @@ class _Run:
         return tuple(sorted((p, s.value, tuple(sorted(v.items()))) for p, (s, v) in self.mem.items()
                             if s is not IDLE or v))
 
+    def after(self) -> Config:
+        """The configuration the next root tick starts from: memory and registrations."""
+        return Config(self.freeze(), (), tuple(sorted(self.kinds.items())))
+
+    def registration(self, n: PNode) -> str:
+        """How the leaf's type is registered, "sync" or "stateful": decided once per run, by the
+        environment when no rule and no earlier event decided it (see ACTION)."""
+        kind = self.kinds.get(n.node.type)
+        if kind is None:
+            kind = self.event("registration", n, KINDS, ("registration", n.node.type))
+            self.kinds[n.node.type] = kind
+        return kind
+
     # events
     def event(self, kind: str, n: PNode, options: tuple, identity=None):
         """Record an event of node `n`; return the environment's outcome (None for no choice)."""
-        node = (n.context, identity if identity is not None else n.node.identity)
+        node = (() if kind == "registration" else n.context, identity if identity is not None else n.node.identity)
         if self.pos < len(self.pending):
             outcome = self.pending[self.pos]
             if outcome not in options:
@@ -844,8 +866,11 @@ def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Stat
             prev = run.status(child)
             s = run.tick(child)
             if s is again:
-                count += 1
-                run.put(n, key, count)
+                if turns != -1:
+                    # -1 loops for ever: nothing reads its count (RetryNode, RepeatNode compare
+                    # it with the limit only), so it is no state, and a proof stays finite
+                    count += 1
+                    run.put(n, key, count)
                 loop = count < turns or turns == -1
                 _reset_child(run, n)
                 if prev is IDLE and loop:
@@ -978,11 +1003,12 @@ def _rate_controller(run: _Run, n: PNode) -> Status:
 # Opaque: a type whose semantics the table does not know
 
 def _opaque(run: _Run, n: PNode) -> Status:
-    """A leaf returns any status; a node with children picks, as events, children to tick and
-    then the status it returns (it may tick several before returning), SKIPPED too: a custom
-    decorator that returns its child's status (Nav2's GoalUpdater) passes a SKIPPED on."""
+    """A leaf returns any status, as an Action of either registration does; a node with
+    children picks, as events, children to tick and then the status it returns (it may tick
+    several before returning), SKIPPED too: a custom decorator that returns its child's status
+    (Nav2's GoalUpdater) passes a SKIPPED on."""
     if not n.kids:
-        return run.event("tick", n, ACTION_OUTCOMES)
+        return _action(run, n)
     options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING, SKIPPED)
     while True:
         choice = run.event("choose", n, options)
@@ -998,6 +1024,17 @@ def _opaque_halt(run: _Run, n: PNode) -> None:
         _halt_children(run, n)
 
 
+def _action(run: _Run, n: PNode) -> Status:
+    # An Action whose registration the XML does not tell: ticked again while completed (a
+    # parent that did not reset it: PipelineSequence, WhileDoElse's condition), a
+    # StatefulActionNode returns its last status and a SyncActionNode runs again; which one, the
+    # environment decides once per type and run (Run.registration), so a proof covers both
+    prev = run.status(n)
+    if prev in COMPLETED and run.registration(n) == "stateful":
+        return prev
+    return run.event("tick", n, ACTION_OUTCOMES)
+
+
 def _stateful_action(run: _Run, n: PNode) -> Status:
     # StatefulActionNode::tick (src/action_node.cpp): onStart() from IDLE, onRunning() while
     # RUNNING, and otherwise `return prev_status;`: a completed action its parent did not reset
@@ -1008,12 +1045,21 @@ def _stateful_action(run: _Run, n: PNode) -> Status:
     return run.event("tick", n, ACTION_OUTCOMES)
 
 
+KINDS = ("sync", "stateful")
+"""The two registrations of an Action that behave differently: re-ticked when ticked again
+completed (SyncActionNode, SimpleActionNode, CoroActionNode), or returning its last status
+(StatefulActionNode, ThreadedAction; Nav2's BtActionNode goes on to its stored result)."""
+
 OPAQUE = Rule(_opaque, _opaque_halt)
-ACTION = Rule(_leaf(ACTION_OUTCOMES), _leaf_halt)
+ACTION = Rule(_action, _leaf_halt)
+"""An Action of either registration (the default for Actions and unknown leaves): the first
+time a run ticks a completed one of its type again, the environment says which (an event of
+kind "registration"), and the run keeps that answer."""
+SYNC_ACTION = Rule(_leaf(ACTION_OUTCOMES), _leaf_halt)
+"""An Action registered as a SyncActionNode or SimpleActionNode: every tick runs it."""
 STATEFUL_ACTION = Rule(_stateful_action, _leaf_halt)
-"""An Action implemented as a BT.CPP StatefulActionNode (onStart/onRunning/onHalted): not the
-default for Actions, which re-tick every time (SyncActionNode, SimpleActionNode, Nav2's
-BtActionNode); pass `rules={"MyAction": STATEFUL_ACTION}` to program() for such leaves."""
+"""An Action implemented as a BT.CPP StatefulActionNode (onStart/onRunning/onHalted): ticked
+again completed, it returns its last status without running."""
 CONDITION = Rule(_leaf(CONDITION_OUTCOMES), _leaf_halt)
 _SEQ, _FALLBACK = _sequence_like(fallback=False), _sequence_like(fallback=True)
 
@@ -1143,13 +1189,13 @@ def step(prog: Program, config: Config, *, max_node_ticks: int = 100_000) -> Awa
     except _Stop as stop:
         return Await(stop.event, stop.options, config, _continuation(run, stop))
     except TreeError as err:
-        return RootTicked(None, err.message, run.node_ticks, Config(), tuple(run.events),
+        return RootTicked(None, err.message, run.node_ticks, Config(kinds=run.after().kinds), tuple(run.events),
                           isinstance(err, NodeTickLimit))
     kept = None
     if status in COMPLETED:                              # Tree::tickRoot: resetStatus on completion
-        kept = Config(run.freeze())
+        kept = run.after()
         run.set_status(prog.root, IDLE)
-    return RootTicked(status, "", run.node_ticks, Config(run.freeze()), tuple(run.events), kept=kept)
+    return RootTicked(status, "", run.node_ticks, run.after(), tuple(run.events), kept=kept)
 
 
 _UNKNOWN = object()
@@ -1194,12 +1240,12 @@ def _continuation(run: _Run, stop: _Stop) -> object:
             local.append((name, frozen))
         frames.append((frame.f_code, tb.tb_lasti, tuple(sorted(local))))
         tb = tb.tb_next
-    return (run.freeze(), tuple(frames))
+    return (run.freeze(), tuple(sorted(run.kinds.items())), tuple(frames))
 
 
 def advance(config: Config, outcome: object) -> Config:
     """The configuration after the environment answered the event `config` stopped at."""
-    return Config(config.memory, config.pending + (outcome,))
+    return Config(config.memory, config.pending + (outcome,), config.kinds)
 
 
 def initial() -> Config:
@@ -1217,4 +1263,4 @@ def halt_step(prog: Program, config: Config) -> Await | RootTicked:
     except _Stop as stop:
         return Await(stop.event, stop.options, config)
     run.set_status(prog.root, IDLE)
-    return RootTicked(IDLE, "", run.node_ticks, Config(run.freeze()), tuple(run.events))
+    return RootTicked(IDLE, "", run.node_ticks, run.after(), tuple(run.events))
