@@ -33,7 +33,7 @@ from hypothesis import HealthCheck, assume, event, given, note, settings
 from hypothesis import strategies as st
 
 from schemalog.bt.model import Document, Node, NodeModel
-from schemalog.bt.semantics import (ACTION_OUTCOMES, CONDITION_OUTCOMES, STATEFUL_ACTION, SYNC_ACTION, Await,
+from schemalog.bt.semantics import (ACTION_OUTCOMES, CONDITION_OUTCOMES, RETICKED_ACTION, STATEFUL_ACTION, SYNC_ACTION, Await,
                                     advance, halt_step, initial, program, step)
 from schemalog.formats.btxml import write_bt
 
@@ -203,9 +203,10 @@ def run_model(root: Node, draws: Draws, sync: bool = False,
     """Drive our semantics the same way: each leaf tick takes the next draw, a halt None."""
     # A0..A4 as StatefulActionNodes: STATEFUL_ACTION (a completed action its parent did not
     # reset returns its last status, no callback); as SimpleActionNodes: SYNC_ACTION
-    # (re-ticked every time), answered SUCCESS/FAILURE only
+    # (re-ticked every time, SUCCESS/FAILURE only); else RETICKED_ACTION (RUNNING too)
     stateful = not sync and stateful_rule
-    prog = program(document(root), rules={t: STATEFUL_ACTION if stateful else SYNC_ACTION for t in ACTIONS})
+    rule = STATEFUL_ACTION if stateful else SYNC_ACTION if sync else RETICKED_ACTION
+    prog = program(document(root), rules={t: rule for t in ACTIONS})
     events: list[tuple] = []
     statuses: list[str] = []
     k = 0
@@ -215,7 +216,7 @@ def run_model(root: Node, draws: Draws, sync: bool = False,
         if isinstance(s, Await):
             if s.event.kind == "tick":
                 t = s.event.node[1][0]
-                assert set(s.options) == set(ACTION_OUTCOMES if t in ACTIONS else CONDITION_OUTCOMES), s
+                assert set(s.options) == set(ACTION_OUTCOMES if t in ACTIONS and not sync else CONDITION_OUTCOMES), s
                 options = CONDITION_OUTCOMES if t in CONDITIONS or sync else ACTION_OUTCOMES
                 answer = options[draw_at(draws, k) % len(options)]
                 k += 1
@@ -318,15 +319,16 @@ WHILE_DO = n("WhileDoElse", act("A0"), act("A0"))
 def test_a_completed_stateful_action_returns_its_last_status_without_a_callback():
     """Found by this test: WhileDoElse does not reset its condition child, so on the next tick
     a StatefulActionNode there returns its last status (StatefulActionNode::tick, src/action_node.cpp,
-    `return prev_status;`) with no callback. Our default Action rule re-ticks it (as a
-    SyncActionNode or Nav2's BtActionNode does); STATEFUL_ACTION models the stateful leaf."""
+    `return prev_status;`) with no callback. RETICKED_ACTION runs it again (as a SyncActionNode
+    or an ActionNodeBase does); STATEFUL_ACTION models the stateful leaf; the default Action rule
+    covers both (the environment's registration event)."""
     draws = Draws([0, 2, 0, 0], 0)                   # condition SUCCESS, do RUNNING; then SUCCESS
     xml = write_bt(document(WHILE_DO))
     expected = ([("tick", "A0", "SUCCESS"), ("tick", "A0", "RUNNING"), ("tick", "A0", "SUCCESS")],
                 ["RUNNING", "SUCCESS"])
     assert run_btcpp(xml, draws) == expected
     assert run_model(WHILE_DO, draws) == expected                       # STATEFUL_ACTION
-    default = run_model(WHILE_DO, draws, stateful_rule=False)           # the default Action rule
+    default = run_model(WHILE_DO, draws, stateful_rule=False)           # RETICKED_ACTION
     assert default == (expected[0][:2] + [("tick", "A0", "SUCCESS"), ("tick", "A0", "SUCCESS")],
                        expected[1])
 

@@ -44,7 +44,7 @@ from hypothesis import strategies as st
 
 from schemalog.api.behaviour_trees import compress_tree, read_tree
 from schemalog.bt.model import Document, Node, NodeModel, Port, walk
-from schemalog.bt.semantics import STATEFUL_ACTION, SYNC_ACTION, Await, Status, advance, halt_step, initial, program, step
+from schemalog.bt.semantics import RETICKED_ACTION, STATEFUL_ACTION, SYNC_ACTION, Await, Status, advance, halt_step, initial, program, step
 from schemalog.errors import SchemalogError
 from schemalog.bt.ports import BUILTIN_PORTS
 from schemalog.formats.btxml import BUILTIN, infer_models, read_bt, write_bt
@@ -219,8 +219,9 @@ def prepared(path: Path) -> Document:
 
 def stateful_rules(document: Document, stateful: bool) -> dict | None:
     """The rules under which the harness's leaves run: with --stateful every Action is a
-    StatefulActionNode (STATEFUL_ACTION), else a SyncActionNode (SYNC_ACTION)."""
-    rule = STATEFUL_ACTION if stateful else SYNC_ACTION
+    StatefulActionNode (STATEFUL_ACTION), else a scripted ActionNodeBase run at every tick,
+    RUNNING included (RETICKED_ACTION)."""
+    rule = STATEFUL_ACTION if stateful else RETICKED_ACTION
     return {m.type: rule for m in document.models if m.kind == "Action"}
 
 
@@ -879,7 +880,7 @@ def test_a_wrapper_that_resets_a_finished_action_parts_the_trees_only_for_statef
     default = prove_by_parts(plain, wrapped_, **limits)
     assert not default.equal and default.counterexample.kinds == (("A", "stateful"),)
     assert "with A registered as a StatefulActionNode" in explain(default)
-    sync = prove_by_parts(plain, wrapped_, rules={"A": SYNC_ACTION, "B": SYNC_ACTION}, **limits)
+    sync = prove_by_parts(plain, wrapped_, rules={"A": RETICKED_ACTION, "B": RETICKED_ACTION}, **limits)
     assert sync.equal and sync.complete, explain(sync)
     ta, tb = written(plain, tmp_path / "plain.xml"), written(wrapped_, tmp_path / "wrapped.xml")
     for stateful, differ_expected in ((False, False), (True, True)):

@@ -169,7 +169,7 @@ def test_switch_on_a_blackboard_variable_is_a_choice_among_cases_and_default():
 def test_pipeline_sequence_reticks_earlier_children():
     # Nav2 PipelineSequence::tick: a RUNNING child before last_child_ticked_ does not stop the tick
     tree = n("PipelineSequence", act("A"), act("B"))
-    assert run(tree, S, R, "sync", R, S) == [
+    assert run(tree, S, R, "re-ticked", R, S) == [
         (["tick A SUCCESS", "tick B RUNNING"], "RUNNING"),
         (["registration registration", "tick A RUNNING", "tick B SUCCESS", "halt A"], "SUCCESS")]
 

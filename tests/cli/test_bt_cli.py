@@ -102,8 +102,10 @@ def test_a_recovery_node_with_its_children_swapped_is_refuted_tick_by_tick(tmp_p
     r = run("verify", REPLANNING, edited, "--nodes", NODES)
     assert r.returncode == 1, r.stdout + r.stderr
     assert r.stdout.startswith("refuted after")
-    assert 'a: tick FollowPath path="{path}" controller_id="FollowPath"   <- the trees part here' in r.stdout
-    assert "b: tick GoalUpdated   <- the trees part here" in r.stdout
+    # each node by file:line:column (issue 48: two unnamed GoalUpdated leaves could not be told apart)
+    assert (f'a: tick FollowPath path="{{path}}" controller_id="FollowPath" at {REPLANNING}:21:11   '
+            f'<- the trees part here') in r.stdout
+    assert f"b: tick GoalUpdated at {edited}:22:13   <- the trees part here" in r.stdout
     j = run("verify", REPLANNING, edited, "--nodes", NODES, "--json")
     assert j.returncode == 1 and json.loads(j.stdout)["proved"] is False
 
@@ -292,3 +294,38 @@ def test_nodes_and_semantics_for_task_knowledge_are_refused():
     assert r.returncode == 2 and "--nodes applies to BT.CPP trees" in r.stderr, r.stderr
     r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--semantics", NODES)
     assert r.returncode == 2 and "--semantics applies to BT.CPP trees" in r.stderr, r.stderr
+
+
+PIPELINE = """<root BTCPP_format="4" main_tree_to_execute="T">
+  <BehaviorTree ID="T">
+    <PipelineSequence>
+      {first}
+      <Action ID="Follow"/>
+    </PipelineSequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which_it_needs(tmp_path):
+    """Issue 48: the XML does not say whether an Action is a SyncActionNode or a
+    StatefulActionNode. PipelineSequence ticks its finished first child again unreset, where the
+    two differ: wrapping that child in a SequenceWithMemory (which resets it) is refuted for a
+    stateful one, and the counterexample names the registration and each node's place."""
+    plain, wrapped = tmp_path / "plain.xml", tmp_path / "wrapped.xml"
+    plain.write_text(PIPELINE.format(first='<Action ID="Plan"/>'))
+    wrapped.write_text(PIPELINE.format(first='<SequenceWithMemory><Action ID="Plan"/></SequenceWithMemory>'))
+    r = run("verify", plain, wrapped)
+    assert r.returncode == 1, r.stdout + r.stderr
+    first = r.stdout.splitlines()[0]
+    assert first.endswith("(with Plan registered as a StatefulActionNode)"), first
+    assert f"tick Follow at {plain}:5:7" in r.stdout and f"tick Plan at {wrapped}:4:27" in r.stdout
+    sync = tmp_path / "sync.yaml"
+    sync.write_text("Plan: ReTickedAction\n")
+    r = run("verify", plain, wrapped, "--semantics", sync, "--json")
+    out = json.loads(r.stdout)
+    assert r.returncode == 0 and out["proved"], r.stdout + r.stderr
+    assert "Follow, which the XML leaves open" in out["covers"] and "Plan as --semantics registers it" in out["covers"]
+    r = run("verify", plain, plain)
+    assert r.returncode == 0 and "It covers every registration of the 2 action types the XML leaves open " \
+                                  "(Follow, Plan)" in r.stdout, r.stdout

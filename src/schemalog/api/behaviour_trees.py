@@ -110,13 +110,15 @@ def _name_pairs(path: str | Path, max_bytes: int, what: str, entry: str):
 def read_semantics(paths, max_bytes: int = defaults.MAX_BYTES) -> dict:
     """A user's node semantics, from one file or several read as one: a YAML mapping from a custom
     node type to the type whose rule it follows, a node of the table (`RecoveryNode`, `Sequence`)
-    or a leaf kind (`SyncAction`, `StatefulAction`, `Action`: either of the two, as an Action the
-    XML does not register, `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`. A type given twice, or one of BT.CPP's own (no program can register
+    or a leaf kind (`SyncAction`: never RUNNING; `ReTickedAction`: run at every tick, RUNNING
+    too; `StatefulAction`; `Action`: a StatefulAction or a ReTickedAction, as an Action the XML
+    does not register; `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`. A type given twice, or one of BT.CPP's own (no program can register
     a builtin's ID again, so a proof under another rule would be about no robot), is refused."""
     from ..bt.ports import BUILTIN
-    from ..bt.semantics import ACTION, CONDITION, RULES, STATEFUL_ACTION, SYNC_ACTION
+    from ..bt.semantics import ACTION, CONDITION, RETICKED_ACTION, RULES, STATEFUL_ACTION, SYNC_ACTION
 
-    leaves = {"Action": ACTION, "SyncAction": SYNC_ACTION, "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
+    leaves = {"Action": ACTION, "SyncAction": SYNC_ACTION, "ReTickedAction": RETICKED_ACTION,
+              "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
     rules: dict = {}
     given: dict[str, SourcePos] = {}
     for path in [paths] if isinstance(paths, (str, Path)) else paths:

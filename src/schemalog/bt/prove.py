@@ -25,8 +25,8 @@ from collections.abc import Mapping
 
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
-from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RULES, RUNNING, STATEFUL_ACTION,
-                                    SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status, _rule_key,
+from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RULES, RUNNING,
+                                    STATEFUL_ACTION, SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status, _rule_key,
                                     advance, halt_step, initial, program, step)
 
 
@@ -47,7 +47,7 @@ class Counterexample:
     ticks_a: tuple[TickTrace, ...]
     ticks_b: tuple[TickTrace, ...]
     difference: str
-    kinds: tuple = ()                  # ((type, "sync" | "stateful"), ...): the registrations it needs
+    kinds: tuple = ()                  # ((type, "re-ticked" | "stateful"), ...): the registrations it needs
 
 
 @dataclass(frozen=True)
@@ -116,7 +116,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     `unreset=False`: the parent resets a finished subtree before it ticks it again (one of
     semantics.RESETTING_PARENTS), so that move is left out.
     `merge=False`: memoise on configurations only, never on interrupted ticks (for checking)."""
-    pa, pb = program(a, rules), program(b, rules)
+    pa, pb = program(a, rules, once=not contextual), program(b, rules, once=not contextual)
     start = (_TICK, initial(), initial())
     parent: dict[tuple, tuple | None] = {start: None}
     seen: set = set()
@@ -258,7 +258,7 @@ def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickT
                 ticks.append(TickTrace(tuple(events) + (s.event,), None))
                 return tuple(ticks)
             outcome = todo.pop(0)
-            events.append(Event(s.event.kind, s.event.node, outcome, s.event.label))
+            events.append(replace(s.event, outcome=outcome))
             config = advance(config, outcome)
             continue
         ticks.append(TickTrace(s.events, s.status, s.error))
@@ -301,7 +301,7 @@ def _trace(prog: Program, choices: tuple, max_ticks: int | None = None,
                 ticks.append(TickTrace(tuple(events) + (s.event,), None))
                 return tuple(ticks)
             outcome = choices[i]
-            events.append(Event(s.event.kind, s.event.node, outcome, s.event.label))
+            events.append(replace(s.event, outcome=outcome))
             config, i = advance(config, outcome), i + 1
             continue
         ticks.append(TickTrace(s.events, s.status, s.error))
@@ -337,7 +337,8 @@ def describe(event: Event) -> str:
             outcome = f"tick child {event.outcome + 1}"
         elif head.startswith("Switch") and head[6:].isdigit() and event.outcome == int(head[6:]):
             outcome = "default"
-    return f"{verb} {where}{what}" + (f" -> {outcome}" if outcome else "")
+    place = f" at {event.where}" if event.where else ""
+    return f"{verb} {where}{what}{place}" + (f" -> {outcome}" if outcome else "")
 
 
 def _ports(ports) -> str:
@@ -357,8 +358,15 @@ def explain(verdict: Verdict) -> str:
     if cex is None:
         return lines[0] + "\n"
     lines.append("environment's choices: " + (", ".join(_outcome(c) or "-" for c in cex.choices) or "none"))
-    for k in range(max(len(cex.ticks_a), len(cex.ticks_b))):
-        lines.append(f"root tick {k + 1}:")
+    count = max(len(cex.ticks_a), len(cex.ticks_b))
+    k = 0
+    while k < count:
+        # a run of root ticks alike (a RUNNING action waited for) is shown once: "x 6"
+        same = k + 1
+        while same < count and _alike(cex, same, k):
+            same += 1
+        lines.append(f"root tick {k + 1}:" if same == k + 1 else
+                     f"root ticks {k + 1}-{same} (x {same - k}, each alike):")
         for side, ticks in (("a", cex.ticks_a), ("b", cex.ticks_b)):
             if k >= len(ticks):
                 continue
@@ -368,7 +376,14 @@ def explain(verdict: Verdict) -> str:
                 lines.append(f"  {side}: {describe(e)}" + ("   <- the trees part here" if waiting else ""))
             if t.status is not None or t.error:
                 lines.append(f"  {side}: root -> {t.status.value if t.status else 'error: ' + t.error}")
+        k = same
     return "\n".join(lines) + "\n"
+
+
+def _alike(cex: Counterexample, k: int, first: int) -> bool:
+    """Whether root tick k is root tick `first` again, in both trees."""
+    return all(k < len(t) and first < len(t) and t[k] == t[first] and t[k].status is not None
+               for t in (cex.ticks_a, cex.ticks_b))
 
 
 def simulate(document: Document, seed: int, root_ticks: int, *,
@@ -483,25 +498,38 @@ def _names(types) -> str:
 
 def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict: Verdict) -> str:
     """What the verdict covers of the registrations the XML leaves open, in a reader's words."""
-    fixed = sorted(t for t, r in (rules or {}).items() if r in (SYNC_ACTION, STATEFUL_ACTION))
+    fixed = sorted(t for t, r in (rules or {}).items() if r in (SYNC_ACTION, STATEFUL_ACTION, RETICKED_ACTION))
     given = f"; {_names(fixed)} as --semantics registers {'them' if len(fixed) > 1 else 'it'}" if fixed else ""
     if not verdict.equal:              # a run under one registration tells the files apart
         cex = verdict.counterexample
         kinds = cex.kinds if cex is not None else ()
-        return ", ".join(f"with {t} registered as a {'StatefulActionNode' if k == 'stateful' else 'SyncActionNode'}"
+        return ", ".join(f"with {t} registered as a StatefulActionNode" if k == "stateful" else
+                         f"with {t} run again when ticked finished (a SyncActionNode, an ActionNodeBase)"
                          for t, k in kinds)
     open_ = open_registrations((a, b), rules)
     if not open_:
         return given[2:]
     n = len(open_)
-    what = (f"every registration of the {n} action types the XML leaves open ({_names(open_)})" if n > 1
-            else f"both registrations of {open_[0]}, which the XML leaves open")
-    both = ("synchronous (SyncActionNode, ticked again it runs again) and stateful (StatefulActionNode, "
-            "ticked again finished it returns its last status)")
-    differ = (f"; they run apart where a parent ticks a finished action again unreset: "
-              f"{_names(verdict.registered)}, explored both ways" if verdict.registered else
-              "; no explored run ticks a finished one again unreset, where the two differ")
-    return f"covers {what}: {both}{differ}{given}"
+    what = (f"every registration of the {n} action types the XML leaves open ({_names(open_)}), each a "
+            f"StatefulActionNode or one run again when ticked finished (SyncActionNode, ActionNodeBase)" if n > 1
+            else f"both registrations of {open_[0]}, which the XML leaves open: a StatefulActionNode or one run "
+                 f"again when ticked finished (SyncActionNode, ActionNodeBase)")
+    differ = (f"; the two run apart where a parent ticks a finished action again unreset, as runs here do "
+              f"for {_names(verdict.registered)}: both were explored" if verdict.registered else
+              "; the two run apart only where a parent ticks a finished action again unreset, and no explored "
+              "run does")
+    return f"covers {what}{differ}{given}"
+
+
+def _places(parts: list[tuple[Node, Node, str | None]]) -> str:
+    """The differing subtrees by place, as "a: Type at file:line:col, b: ..." (three at most)."""
+    from schemalog.bt.semantics import _where
+
+    def one(node: Node) -> str:
+        where = _where(node)
+        return f"{node.type}{' at ' + where if where else ''}"
+    shown = "; ".join(f"a: {one(na)}, b: {one(nb)}" for na, nb, _ in parts[:3])
+    return shown + (f"; and {len(parts) - 3} more" if len(parts) > 3 else "")
 
 
 def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
@@ -525,8 +553,8 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
                 proved = False
                 break
         if proved:
-            what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
-                    f"context its parent can make and under every environment" if parts
+            what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''} ({_places(parts)}), each "
+                    f"equal in every context its parent can make and under every environment" if parts
                     else "the documents' trees are identical")
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")

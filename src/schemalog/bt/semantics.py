@@ -7,7 +7,7 @@
     Config  = Config(memory, pending, kinds)  between events: what the nodes remember, the
                                             outcomes the environment chose so far in this root
                                             tick, and the registrations decided so far
-    kinds   = ((type, "sync" | "stateful"), ...)  how an action type is registered, once a run
+    kinds   = ((type, "re-ticked" | "stateful"), ...)  how an action type is registered, once a run
                                             has needed to know (see ACTION below)
     memory  = ((path, status, vars), ...)   sorted by path; only nodes that are not IDLE or keep a
                                             variable (a Sequence's child index, a Retry's count)
@@ -79,6 +79,7 @@ class Event:
     node: tuple
     outcome: object = None
     label: str = field(default="", compare=False)     # the node's name, for people
+    where: str = field(default="", compare=False)     # file:line:column of the node, for people
 
 
 @dataclass(frozen=True)
@@ -87,7 +88,7 @@ class Config:
 
     memory: tuple = ()
     pending: tuple = ()
-    kinds: tuple = ()                     # ((type, "sync" | "stateful"), ...), sorted
+    kinds: tuple = ()                     # ((type, "re-ticked" | "stateful"), ...), sorted
 
     def with_kind(self, node_type: str, kind: str) -> "Config":
         """This configuration with `node_type`'s registration decided."""
@@ -152,6 +153,7 @@ class Program:
 
     root: PNode
     rules: Mapping[str, Rule]
+    passing: frozenset = frozenset()    # paths of sequences whose passed children are never ticked again
 
 
 class _Stop(Exception):
@@ -200,16 +202,18 @@ class _Run:
             slot[key] = value
 
     def freeze(self) -> tuple:
-        """The memory as a canonical tuple."""
+        """The memory as a canonical tuple, without what no later tick can read (Program.passing)."""
+        passed = {p: v["idx"] for p in self.program.passing if p in self.mem
+                  for v in (self.mem[p][1],) if v.get("idx")}
         return tuple(sorted((p, s.value, tuple(sorted(v.items()))) for p, (s, v) in self.mem.items()
-                            if s is not IDLE or v))
+                            if (s is not IDLE or v) and not (passed and _behind(p, passed))))
 
     def after(self) -> Config:
         """The configuration the next root tick starts from: memory and registrations."""
         return Config(self.freeze(), (), tuple(sorted(self.kinds.items())))
 
     def registration(self, n: PNode) -> str:
-        """How the leaf's type is registered, "sync" or "stateful": decided once per run, by the
+        """How the leaf's type is registered, "re-ticked" or "stateful": decided once per run, by the
         environment when no rule and no earlier event decided it (see ACTION)."""
         kind = self.kinds.get(n.node.type)
         if kind is None:
@@ -226,9 +230,9 @@ class _Run:
             if outcome not in options:
                 raise SchemalogError(f"outcome {outcome!r} is not one of {options!r}")
             self.pos += 1
-            self.events.append(Event(kind, node, outcome, n.node.name))
+            self.events.append(Event(kind, node, outcome, n.node.name, _where(n.node)))
             return outcome
-        raise _Stop(Event(kind, node, None, n.node.name), options)
+        raise _Stop(Event(kind, node, None, n.node.name, _where(n.node)), options)
 
     def script(self, n: PNode, code: str, key: str) -> None:
         """Execute a script: an event without a choice."""
@@ -301,6 +305,18 @@ class _Run:
         """ControlNode::resetChildren / haltChildren(first) (src/control_node.cpp)."""
         for i in range(first, len(n.kids)):
             self.halt_child(n, i)
+
+
+def _behind(path: tuple, passed: dict) -> bool:
+    """Whether `path` is under a child that a sequence of Program.passing has passed."""
+    return any(path[:d] in passed and path[d] < passed[path[:d]] for d in range(len(path)))
+
+
+def _where(node: Node) -> str:
+    """file:line:column of the element the node was read from, or '' (a tree built in code)."""
+    if not node.line:
+        return ""
+    return f"{node.file + ':' if node.file else ''}{node.line}:{node.column}"
 
 
 def _halt_children(run: _Run, n: PNode) -> None:
@@ -433,11 +449,18 @@ def _sequence_like(*, fallback: bool, asynch: bool = False, memory: bool = False
                 return s
             if s is go_on:
                 idx += 1
+                # Not state (docs/semantics.md, "What is state"): a finished child behind the
+                # index is ticked again only after resetChildren sets it IDLE, and halting it
+                # does nothing (haltChild halts a RUNNING child only); the stored index is
+                # written on every way out. Both kept as BT.CPP keeps them, every position
+                # of a sequence was a new state for every position it started the tick from.
+                run.set_status(child, IDLE)
+                run.put(n, "idx", idx)
                 if yields and prev is IDLE and idx < count:
-                    run.put(n, "idx", idx)
                     return RUNNING
             elif s is SKIPPED:
                 idx += 1
+                run.put(n, "idx", idx)
                 run.put(n, "skipped", run.get(n, "skipped") + 1)
         all_skipped = run.get(n, "skipped") == count
         run.reset_children(n)
@@ -1027,7 +1050,7 @@ def _opaque_halt(run: _Run, n: PNode) -> None:
 def _action(run: _Run, n: PNode) -> Status:
     # An Action whose registration the XML does not tell: ticked again while completed (a
     # parent that did not reset it: PipelineSequence, WhileDoElse's condition), a
-    # StatefulActionNode returns its last status and a SyncActionNode runs again; which one, the
+    # StatefulActionNode returns its last status and any other Action runs again; which one, the
     # environment decides once per type and run (Run.registration), so a proof covers both
     prev = run.status(n)
     if prev in COMPLETED and run.registration(n) == "stateful":
@@ -1045,18 +1068,23 @@ def _stateful_action(run: _Run, n: PNode) -> Status:
     return run.event("tick", n, ACTION_OUTCOMES)
 
 
-KINDS = ("sync", "stateful")
-"""The two registrations of an Action that behave differently: re-ticked when ticked again
-completed (SyncActionNode, SimpleActionNode, CoroActionNode), or returning its last status
-(StatefulActionNode, ThreadedAction; Nav2's BtActionNode goes on to its stored result)."""
+KINDS = ("re-ticked", "stateful")
+"""The two registrations of an Action that behave differently: run again when ticked again
+completed (SyncActionNode, SimpleActionNode, CoroActionNode, an ActionNodeBase), or returning
+its last status (StatefulActionNode, ThreadedAction; Nav2's BtActionNode goes on to the result
+it holds)."""
 
 OPAQUE = Rule(_opaque, _opaque_halt)
 ACTION = Rule(_action, _leaf_halt)
 """An Action of either registration (the default for Actions and unknown leaves): the first
 time a run ticks a completed one of its type again, the environment says which (an event of
 kind "registration"), and the run keeps that answer."""
-SYNC_ACTION = Rule(_leaf(ACTION_OUTCOMES), _leaf_halt)
-"""An Action registered as a SyncActionNode or SimpleActionNode: every tick runs it."""
+RETICKED_ACTION = Rule(_leaf(ACTION_OUTCOMES), _leaf_halt)
+"""An Action that every tick runs, RUNNING included: an ActionNodeBase whose tick() does not
+look at its status, a CoroActionNode."""
+SYNC_ACTION = Rule(_leaf(CONDITION_OUTCOMES), _leaf_halt)
+"""An Action registered as a SyncActionNode or SimpleActionNode: every tick runs it, and it
+never returns RUNNING (SyncActionNode::executeTick throws if it does)."""
 STATEFUL_ACTION = Rule(_stateful_action, _leaf_halt)
 """An Action implemented as a BT.CPP StatefulActionNode (onStart/onRunning/onHalted): ticked
 again completed, it returns its last status without running."""
@@ -1155,8 +1183,10 @@ def _rule_key(node: Node, document: Document, rules: Mapping[str, Rule]) -> str:
     return "<opaque>"
 
 
-def program(document: Document, rules: Mapping[str, Rule] | None = None) -> Program:
-    """The document's main tree with its SubTrees expanded, under RULES extended by `rules`."""
+def program(document: Document, rules: Mapping[str, Rule] | None = None, *, once: bool = False) -> Program:
+    """The document's main tree with its SubTrees expanded, under RULES extended by `rules`.
+    `once`: the root is never ticked again once it finished nor halted (a run that ends with
+    the root's status, as the prover's), so what the sequences on its way passed is not state."""
     table = {**RULES, **(rules or {}), "<opaque>": OPAQUE, "<action>": ACTION, "<condition>": CONDITION}
 
     def build(node: Node, context: tuple, path: tuple, calls: tuple) -> PNode:
@@ -1175,7 +1205,29 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None) -> Prog
         return PNode(node, _rule_key(node, document, table), kids, context, path,
                      _is_decorator(node, document, table))
 
-    return Program(build(document.root, (), (), (document.main,)), MappingProxyType(table))
+    root = build(document.root, (), (), (document.main,))
+    return Program(root, MappingProxyType(table), frozenset(_passing(root, table)) if once else frozenset())
+
+
+# Parents that tick a child only when they are ticked, and never tick a finished child again
+# before they finish themselves (or are halted): below a node that is ticked once, so are their
+# children. A Sequence or Fallback of theirs never goes back to a child it passed.
+_PASSING = ("Sequence", "Fallback", "AsyncSequence", "AsyncFallback", "SequenceWithMemory")
+_ONCE_THROUGH = _PASSING + ("SubTree", "Inverter", "ForceSuccess", "ForceFailure")
+
+
+def _passing(root: PNode, table: Mapping[str, Rule]) -> list[tuple]:
+    """The paths of the sequences that, in a run where the root is ticked once (not again after
+    it finished, never halted), never tick a child they passed again: the children they passed
+    and everything below are no state (docs/semantics.md, "What is state")."""
+    out, stack = [], [root]
+    while stack:
+        n = stack.pop()
+        if n.rule in _PASSING and table[n.rule] is RULES[n.rule]:
+            out.append(n.path)
+        if n.rule in _ONCE_THROUGH and table[n.rule] is RULES[n.rule]:
+            stack.extend(n.kids)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------

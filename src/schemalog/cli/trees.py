@@ -55,7 +55,8 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
 
 def _verdict_words(verdict) -> str:
     if verdict.equal and verdict.complete:
-        return f"proved equal to the original under BT.CPP 4 semantics: {verdict.reason}"
+        covers = f"; it {verdict.assumed}" if verdict.assumed else ""
+        return f"proved equal to the original under BT.CPP 4 semantics: {verdict.reason}{covers}"
     if verdict.equal:
         return f"NOT proved: {verdict.reason}"
     return f"REFUTED: {verdict.reason}"
@@ -131,7 +132,8 @@ def run_compress(args: argparse.Namespace) -> int:
                                        "line": r.line, "column": r.column} for r in result.rewrites],
                          "proved": code == PROVED, "complete": verdict.complete if verdict else True,
                          "states": verdict.states if verdict else 0,
-                         "reason": verdict.reason if verdict else "nothing rewritten"}, indent=2) + "\n",
+                         "reason": verdict.reason if verdict else "nothing rewritten",
+                         "covers": verdict.assumed if verdict else ""}, indent=2) + "\n",
              args.output, inputs, "JSON")
     else:
         emit(summary + "\n" + "".join(f"  {r}\n" for r in result.rewrites), args.output, inputs, "text")
@@ -174,7 +176,7 @@ def run_verify(args: argparse.Namespace) -> int:
         cex = verdict.counterexample
         emit(json.dumps({"files": args.files, "equal": verdict.equal, "complete": verdict.complete,
                          "proved": verdict.equal and verdict.complete, "states": verdict.states,
-                         "reason": verdict.reason,
+                         "reason": verdict.reason, "covers": verdict.assumed,
                          "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]},
                         indent=2) + "\n", args.output, inputs, "JSON")
     else:
