@@ -173,7 +173,7 @@ def wrap_tables(cases, args) -> None:
         vr, tr = timed(1, lambda: prove_equal(doc, wrapped, **opts))
         nodes = sum(1 for _, r in doc.trees for _ in walk(r))
         print(f"| {name} | {nodes} | {verdict_word(vo)} | {vo.states} | {to:.1f} | {verdict_word(vr)} | {vr.states} "
-              f"| {tr:.1f} | {tr / to:.0f}x |", flush=True)
+              f"| {tr:.1f} | {tr / to:.1f}x |", flush=True)
 
 
 if __name__ == "__main__":
