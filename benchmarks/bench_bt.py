@@ -17,6 +17,11 @@ Sequence, a single-child Fallback around a subtree, a double Inverter around a c
 
 A second table puts, for every file where a rewrite was made, the proof by parts beside the
 whole-tree proof (`prove_equal` on the two documents, the same max_states): states and time.
+
+A third (issue 48, reach) wraps every corpus tree whole in a single-child Sequence and proves the
+wrap against the tree: ours (`prove_by_parts`, which takes the identical subtree whole, bt/
+congruence.py) beside the reference explorer (`prove_equal` on the two documents, no congruence),
+the same max_states, in one run: verdict, states, ms and the ratio of the times.
 """
 
 from __future__ import annotations
@@ -103,6 +108,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=3, help="timed runs per proof (median)")
     ap.add_argument("--max-states", type=int, default=defaults.MAX_STATES)
+    ap.add_argument("--wrap-only", action="store_true", help="only the table of whole trees wrapped")
     args = ap.parse_args()
     print(f"python {platform.python_version()}, {os.cpu_count()} CPUs ({platform.machine()}), "
           f"--rounds {args.rounds}, max_states {args.max_states}, seeds 0..9 x {ROOT_TICKS} root ticks\n")
@@ -116,6 +122,9 @@ def main() -> None:
         except SchemalogError as err:
             cases.append((str(path.relative_to(CORPUS)), None, err.message[:60].replace("|", "\\|")))
     cases += [(name, doc, "yes (built)") for name, doc in synthetic()]
+    if args.wrap_only:
+        wrap_tables(cases, args)
+        return
 
     print("| file | imported | nodes before | nodes after | rewrites | ticks/root tick before | after "
           "| proof | proof ms |")
@@ -146,6 +155,25 @@ def main() -> None:
         vw, tw = timed(args.rounds, lambda: prove_equal(c.original, c.compressed, **opts))
         print(f"| {name} | {verdict_word(vp)} | {vp.states} | {tp:.1f} | {verdict_word(vw)} | {vw.states} "
               f"| {tw:.1f} | {tw / tp:.1f}x |")
+    wrap_tables(cases, args)
+
+
+def wrap_tables(cases, args) -> None:
+    print("\nA whole tree wrapped in a single-child Sequence, against the tree: ours (congruence) beside the "
+          "reference explorer (same max_states):\n")
+    print("| file | nodes | ours: verdict | states | ms | reference: verdict | states | ms | reference/ours ms |")
+    print("| --- | ---: | --- | ---: | ---: | --- | ---: | ---: | ---: |")
+    opts = dict(max_states=args.max_states, max_events_per_tick=EVENTS_PER_TICK)
+    for name, doc, _ in cases:
+        if doc is None or name.startswith("SYNTHETIC"):
+            continue
+        wrapped = doc.with_trees(tuple((i, Node("Sequence", children=(r,)) if i == doc.main else r)
+                                       for i, r in doc.trees))
+        vo, to = timed(args.rounds, lambda: prove_by_parts(doc, wrapped, **opts))
+        vr, tr = timed(1, lambda: prove_equal(doc, wrapped, **opts))
+        nodes = sum(1 for _, r in doc.trees for _ in walk(r))
+        print(f"| {name} | {nodes} | {verdict_word(vo)} | {vo.states} | {to:.1f} | {verdict_word(vr)} | {vr.states} "
+              f"| {tr:.1f} | {tr / to:.1f}x |", flush=True)
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ from collections import deque
 from dataclasses import dataclass, replace
 from collections.abc import Mapping
 
+from schemalog.bt.congruence import abstract
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
 from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RULES, RUNNING,
@@ -106,7 +107,7 @@ def _outcome(o: object) -> str:
 
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                 rules: Mapping[str, Rule] | None = None, contextual: bool = False,
-                merge: bool = True, unreset: bool = True) -> Verdict:
+                merge: bool = True, unreset: bool = True, programs: tuple[Program, Program] | None = None) -> Verdict:
     """Explore both trees under every environment; equal when no environment tells them apart.
 
     `contextual`: the roots stand for two subtrees under any parent, which between two root
@@ -115,8 +116,9 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     anywhere: a parent sees only their statuses, and their events are the same.
     `unreset=False`: the parent resets a finished subtree before it ticks it again (one of
     semantics.RESETTING_PARENTS), so that move is left out.
-    `merge=False`: memoise on configurations only, never on interrupted ticks (for checking)."""
-    pa, pb = program(a, rules, once=not contextual), program(b, rules, once=not contextual)
+    `merge=False`: memoise on configurations only, never on interrupted ticks (for checking).
+    `programs`: run these for `a` and `b` (bt/congruence.py's abstractions of them)."""
+    pa, pb = programs or (program(a, rules, once=not contextual), program(b, rules, once=not contextual))
     start = (_TICK, initial(), initial())
     parent: dict[tuple, tuple | None] = {start: None}
     seen: set = set()
@@ -516,8 +518,7 @@ def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict:
                  f"again when ticked finished (SyncActionNode, ActionNodeBase)")
     differ = (f"; the two run apart where a parent ticks a finished action again unreset, as runs here do "
               f"for {_names(verdict.registered)}: both were explored" if verdict.registered else
-              "; the two run apart only where a parent ticks a finished action again unreset, and no explored "
-              "run does")
+              "; the two run apart only where a parent ticks a finished action again unreset")
     return f"covers {what}{differ}{given}"
 
 
@@ -542,11 +543,13 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
         proved = True
         thrown = ""
         registered: frozenset = frozenset()
+        taken = 0
         for na, nb, parent in parts:
-            v = prove_equal(_part(a, na), _part(b, nb), max_states=max_states - spent,
-                            max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
-                            unreset=_unreset(parent, rules))
+            v, k = _congruent(_part(a, na), _part(b, nb), max_states=max_states - spent,
+                              max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
+                              unreset=_unreset(parent, rules))
             spent += v.states
+            taken += k
             thrown = thrown or v.thrown
             registered |= v.registered
             if not (v.equal and v.complete):
@@ -558,9 +561,12 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
                     else "the documents' trees are identical")
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")
+            if taken:
+                what += (f", {taken} subtree{'s' if taken != 1 else ''} identical in both taken whole "
+                         f"(congruence)")
             return Verdict(True, True, spent, f"equal by parts: {what} ({_pairs(spent)}, exhausted){errors}",
                            thrown=thrown, registered=registered)
-    whole = prove_equal(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
+    whole, _ = _congruent(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
     if differ and not whole.equal:
         # the usual cause: one file carries a TreeNodesModel (compress -o writes --nodes' models
         # into its output) and the other is read without it
@@ -574,6 +580,39 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
         reason = (f"no difference found, but not a proof: {max_states} states explored (max_states; "
                   f"{spent} on the differing parts in every context, {whole.states} on the whole trees)")
     return replace(whole, states=spent + whole.states, reason=reason)
+
+
+def _congruent(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
+               rules: Mapping[str, Rule] | None = None, **explore) -> tuple[Verdict, int]:
+    """prove_equal(a, b, ...) through the congruence first (bt/congruence.py, docs/semantics.md,
+    "Congruence"): the maximal subtrees identical in both, taken whole as one opaque node each,
+    explored within half the budget. A proof so is a proof of a and b. Otherwise (the abstract
+    pair told apart, perhaps spuriously, or a limit) the concrete pair is explored with the rest,
+    so a refutation is always of the trees as they are, and shortest. `states` counts both. The
+    second value: how many subtrees a proof took whole (0 without one)."""
+    once = not explore.get("contextual", False)
+    pa, pb = program(a, rules, once=once), program(b, rules, once=once)
+    taken = abstract(pa, pb)
+    opts = dict(max_events_per_tick=max_events_per_tick, rules=rules, **explore)
+    if taken is None:
+        return prove_equal(a, b, max_states=max_states, programs=(pa, pb), **opts), 0
+    v = prove_equal(a, b, max_states=max_states // 2, programs=(taken.a, taken.b), **opts)
+    if v.equal and v.complete:
+        where = "in every context and " if explore.get("contextual") else ""
+        # an error inside a subtree taken whole is not looked for: it is thrown alike in both
+        # (docs/semantics.md, "Congruence"); one outside it may come from a status the subtree
+        # never returns, so "may"
+        errors = f"; in both, some runs may end in an error, as BT.CPP's tick throws: {v.thrown}" if v.thrown else ""
+        n = taken.subtrees
+        return replace(v, reason=f"equal {where}under every environment, {n} subtree{'s' if n != 1 else ''} identical "
+                                 f"in both ({taken.nodes} nodes) taken whole, each as one node (congruence; "
+                                 f"{_pairs(v.states)}, exhausted){errors}"), n
+    rest = prove_equal(a, b, max_states=max_states - v.states, programs=(pa, pb), **opts)
+    reason = rest.reason
+    if rest.equal and not rest.complete and "(max_states)" in reason:
+        reason = (f"no difference found, but not a proof: {max_states} states explored (max_states; {v.states} "
+                  f"with the identical subtrees taken whole, {rest.states} on the trees as they are)")
+    return replace(rest, states=v.states + rest.states, reason=reason, registered=v.registered | rest.registered), 0
 
 
 def compress_proved(document: Document, *, max_states: int, max_events_per_tick: int,

@@ -1270,6 +1270,10 @@ def _freeze_local(value: object) -> object:
     return _UNKNOWN
 
 
+_FRAME_MODULES = frozenset({__name__, "schemalog.bt.congruence"})   # rules whose frames freeze: the
+                                                                    # table's, and bt/congruence.py's node
+
+
 def _continuation(run: _Run, stop: _Stop) -> object:
     """The interrupted root tick as data: the memory as changed so far and, for every call on
     the stack, its code, the instruction it stopped at and its local variables (every loop
@@ -1280,7 +1284,7 @@ def _continuation(run: _Run, stop: _Stop) -> object:
     tb = stop.__traceback__.tb_next if stop.__traceback__ else None     # below step()
     while tb is not None:
         frame = tb.tb_frame
-        if frame.f_globals.get("__name__") != __name__:
+        if frame.f_globals.get("__name__") not in _FRAME_MODULES:
             return None
         local = []
         for name, value in frame.f_locals.items():
