@@ -116,7 +116,7 @@ def read_semantics(paths, max_bytes: int = defaults.MAX_BYTES) -> dict:
     from ..bt.ports import BUILTIN
     from ..bt.semantics import ACTION, CONDITION, RULES, STATEFUL_ACTION
 
-    leaves = {"Action": ACTION, "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
+    leaves = {"Action": ACTION, "SyncAction": ACTION, "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
     rules: dict = {}
     given: dict[str, SourcePos] = {}
     for path in [paths] if isinstance(paths, (str, Path)) else paths:
