@@ -312,12 +312,13 @@ def _ports(ports) -> str:
     return " " + " ".join(f"{k}=\"{v}\"" for k, v in ports)
 
 
-def explain(verdict: Verdict) -> str:
-    """The verdict for people: a proof, a bounded search, or the counterexample tick by tick."""
+def explain(verdict: Verdict, under: str = "") -> str:
+    """The verdict for people: a proof, a bounded search, or the counterexample tick by tick;
+    `under` (what it was proved under) follows the verdict's first words."""
     if verdict.equal:
-        return ("proved equal: " if verdict.complete else "NOT proved: ") + verdict.reason + "\n"
+        return ("proved equal" if verdict.complete else "NOT proved") + under + ": " + verdict.reason + "\n"
     cex = verdict.counterexample
-    lines = [f"refuted after {verdict.states} states: {verdict.reason}"]
+    lines = [f"refuted after {verdict.states} states{under}: {verdict.reason}"]
     if cex is None:
         return lines[0] + "\n"
     lines.append("environment's choices: " + (", ".join(_outcome(c) or "-" for c in cex.choices) or "none"))
