@@ -292,3 +292,43 @@ def test_nodes_and_semantics_for_task_knowledge_are_refused():
     assert r.returncode == 2 and "--nodes applies to BT.CPP trees" in r.stderr, r.stderr
     r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--semantics", NODES)
     assert r.returncode == 2 and "--semantics applies to BT.CPP trees" in r.stderr, r.stderr
+
+
+def test_verify_with_the_nav2_profile(tmp_path):
+    """`--profile nav2` (issue 48): Nav2's nodes under the rules of their source. A BtActionNode
+    under a PipelineSequence returns its last result when ticked again unreset, a Sequence around
+    it restarts it: equal when every Action re-ticks, refuted under the profile."""
+    out = tmp_path / "small.xml"
+    r = run("compress", ROUTING, "--nodes", NODES, "--profile", "nav2", "-o", out)
+    assert r.returncode == 0 and "proved equal to the original under BT.CPP 4 semantics with the nav2 profile: " \
+        in r.stderr, r.stderr
+    v = run("verify", ROUTING, out, "--nodes", NODES, "--profile", "nav2")
+    assert v.returncode == 0 and v.stdout.startswith("proved equal under BT.CPP 4 semantics with the nav2 profile: "), \
+        v.stdout + v.stderr
+    j = run("verify", ROUTING, out, "--nodes", NODES, "--profile", "nav2", "--json")
+    assert j.returncode == 0 and json.loads(j.stdout)["profiles"] == ["nav2"], j.stdout + j.stderr
+    text = (NAV2 / "navigate_w_replanning_time.xml").read_text()
+    (tmp_path / "a.xml").write_text(text.replace('<RateController hz="1.0">', "<Sequence>")
+                                    .replace("</RateController>", "</Sequence>"))
+    (tmp_path / "b.xml").write_text(text.replace('<RateController hz="1.0">', "").replace("</RateController>", ""))
+    plain = run("verify", "a.xml", "b.xml", "--nodes", NODES, cwd=tmp_path)
+    assert plain.returncode == 0 and plain.stdout.startswith("proved equal: "), plain.stdout + plain.stderr
+    nav2 = run("verify", "a.xml", "b.xml", "--nodes", NODES, "--profile", "nav2", cwd=tmp_path)
+    assert nav2.returncode == 1, nav2.stdout + nav2.stderr
+    assert nav2.stdout.startswith("refuted after ") and " states under BT.CPP 4 semantics with the nav2 profile: the " \
+        "next event differs: a tick ComputePathToPose" in nav2.stdout, nav2.stdout
+    # a user's --semantics file overrides a profile entry, with a note
+    (tmp_path / "mine.yaml").write_text("ComputePathToPose: SyncAction\n")
+    mine = run("verify", "a.xml", "b.xml", "--nodes", NODES, "--profile", "nav2", "--semantics", "mine.yaml",
+               cwd=tmp_path)
+    assert mine.returncode == 0 and mine.stderr.startswith("note: mine.yaml:1:1: ComputePathToPose follows SyncAction "
+                                                           "as this file says, not the nav2 profile's rule ("), \
+        mine.stdout + mine.stderr
+
+
+def test_an_unknown_profile_is_a_usage_error():
+    r = run("verify", ROUTING, ROUTING, "--profile", "ros1")
+    assert r.returncode == 2 and "argument --profile: unknown profile 'ros1'; the profiles schemalog ships: nav2" \
+        in r.stderr and "Traceback" not in r.stderr, r.stderr
+    r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--profile", "nav2")
+    assert r.returncode == 2 and "--profile applies to BT.CPP trees" in r.stderr, r.stderr
