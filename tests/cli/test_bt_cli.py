@@ -46,13 +46,14 @@ def test_the_readmes_nav2_lines_do_what_they_say(tmp_path):
 
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     lines = [line for line in readme.splitlines() if "nav2_tree_nodes.xml" in line]
-    assert len(lines) == 2 and "44 nodes from 45" in lines[0] and "13 other Nav2 trees have nothing" in lines[0]
+    assert len(lines) == 3 and "44 nodes from 45" in lines[0] and "13 other Nav2 trees have nothing" in lines[0]
     script = "\n".join(line.split("   #", 1)[0].replace("small.xml", str(tmp_path / "small.xml")) for line in lines)
     script = re.sub(r"\bschemalog\b", f"{sys.executable} -m schemalog", script)
     r = subprocess.run(["bash", "-ec", script], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 0, r.stderr
     assert "wrote " in r.stderr and "44 nodes from 45 (1 rewrite), proved equal to the original" in r.stderr
     assert r.stdout.startswith("proved equal")
+    assert "\nproved equal under BT.CPP 4 semantics with the nav2 profile: " in r.stdout     # --profile nav2
 
 
 def test_the_compressed_nav2_tree_keeps_every_node_and_port(tmp_path):
