@@ -879,7 +879,7 @@ def test_a_wrapper_that_resets_a_finished_action_parts_the_trees_only_for_statef
     limits = dict(max_states=50_000, max_events_per_tick=64)
     default = prove_by_parts(plain, wrapped_, **limits)
     assert not default.equal and default.counterexample.kinds == (("A", "stateful"),)
-    assert "with A registered as a StatefulActionNode" in explain(default)
+    assert "(a run with A registered as a StatefulActionNode)" in explain(default)
     sync = prove_by_parts(plain, wrapped_, rules={"A": RETICKED_ACTION, "B": RETICKED_ACTION}, **limits)
     assert sync.equal and sync.complete, explain(sync)
     ta, tb = written(plain, tmp_path / "plain.xml"), written(wrapped_, tmp_path / "wrapped.xml")

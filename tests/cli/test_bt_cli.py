@@ -46,13 +46,14 @@ def test_the_readmes_nav2_lines_do_what_they_say(tmp_path):
 
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     lines = [line for line in readme.splitlines() if "nav2_tree_nodes.xml" in line]
-    assert len(lines) == 2 and "44 nodes from 45" in lines[0] and "13 other Nav2 trees have nothing" in lines[0]
+    assert len(lines) == 3 and "44 nodes from 45" in lines[0] and "13 other Nav2 trees have nothing" in lines[0]
     script = "\n".join(line.split("   #", 1)[0].replace("small.xml", str(tmp_path / "small.xml")) for line in lines)
     script = re.sub(r"\bschemalog\b", f"{sys.executable} -m schemalog", script)
     r = subprocess.run(["bash", "-ec", script], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert r.returncode == 0, r.stderr
     assert "wrote " in r.stderr and "44 nodes from 45 (1 rewrite), proved equal to the original" in r.stderr
     assert r.stdout.startswith("proved equal")
+    assert "\nproved equal under BT.CPP 4 semantics with the nav2 profile: " in r.stdout     # --profile nav2
 
 
 def test_the_compressed_nav2_tree_keeps_every_node_and_port(tmp_path):
@@ -318,7 +319,7 @@ def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which
     r = run("verify", plain, wrapped)
     assert r.returncode == 1, r.stdout + r.stderr
     first = r.stdout.splitlines()[0]
-    assert first.endswith("(with Plan registered as a StatefulActionNode)"), first
+    assert first.endswith("(a run with Plan registered as a StatefulActionNode)"), first
     assert f"tick Follow at {plain}:5:7" in r.stdout and f"tick Plan at {wrapped}:4:27" in r.stdout
     sync = tmp_path / "sync.yaml"
     sync.write_text("Plan: ReTickedAction\n")
@@ -329,3 +330,45 @@ def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which
     r = run("verify", plain, plain)
     assert r.returncode == 0 and "It covers every registration of the 2 action types the XML leaves open " \
                                   "(Follow, Plan)" in r.stdout, r.stdout
+
+
+def test_verify_with_the_nav2_profile(tmp_path):
+    """`--profile nav2` (issue 48): Nav2's nodes under the rules of their source. A BtActionNode
+    under a PipelineSequence returns its last result when ticked again unreset, a Sequence around
+    it restarts it: equal when every Action re-ticks, refuted under the profile."""
+    out = tmp_path / "small.xml"
+    r = run("compress", ROUTING, "--nodes", NODES, "--profile", "nav2", "-o", out)
+    assert r.returncode == 0 and "proved equal to the original under BT.CPP 4 semantics with the nav2 profile: " \
+        in r.stderr, r.stderr
+    v = run("verify", ROUTING, out, "--nodes", NODES, "--profile", "nav2")
+    assert v.returncode == 0 and v.stdout.startswith("proved equal under BT.CPP 4 semantics with the nav2 profile: "), \
+        v.stdout + v.stderr
+    j = run("verify", ROUTING, out, "--nodes", NODES, "--profile", "nav2", "--json")
+    assert j.returncode == 0 and json.loads(j.stdout)["profiles"] == ["nav2"], j.stdout + j.stderr
+    text = (NAV2 / "navigate_w_replanning_time.xml").read_text()
+    (tmp_path / "a.xml").write_text(text.replace('<RateController hz="1.0">', "<Sequence>")
+                                    .replace("</RateController>", "</Sequence>"))
+    (tmp_path / "b.xml").write_text(text.replace('<RateController hz="1.0">', "").replace("</RateController>", ""))
+    # the default covers both registrations, so it refutes too, and names the one it needs
+    plain = run("verify", "a.xml", "b.xml", "--nodes", NODES, cwd=tmp_path)
+    assert plain.returncode == 1 and "ComputePathToPose" in plain.stdout.splitlines()[0].split(" (a run with ")[1], \
+        plain.stdout + plain.stderr
+    nav2 = run("verify", "a.xml", "b.xml", "--nodes", NODES, "--profile", "nav2", cwd=tmp_path)
+    assert nav2.returncode == 1, nav2.stdout + nav2.stderr
+    assert nav2.stdout.startswith("refuted after ") and " states under BT.CPP 4 semantics with the nav2 profile: the " \
+        "next event differs: a tick ComputePathToPose" in nav2.stdout, nav2.stdout
+    # a user's --semantics file overrides a profile entry, with a note
+    (tmp_path / "mine.yaml").write_text("ComputePathToPose: SyncAction\n")
+    mine = run("verify", "a.xml", "b.xml", "--nodes", NODES, "--profile", "nav2", "--semantics", "mine.yaml",
+               cwd=tmp_path)
+    assert mine.returncode == 0 and mine.stderr.startswith("note: mine.yaml:1:1: ComputePathToPose follows SyncAction "
+                                                           "as this file says, not the nav2 profile's rule ("), \
+        mine.stdout + mine.stderr
+
+
+def test_an_unknown_profile_is_a_usage_error():
+    r = run("verify", ROUTING, ROUTING, "--profile", "ros1")
+    assert r.returncode == 2 and "argument --profile: unknown profile 'ros1'; the profiles schemalog ships: nav2" \
+        in r.stderr and "Traceback" not in r.stderr, r.stderr
+    r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--profile", "nav2")
+    assert r.returncode == 2 and "--profile applies to BT.CPP trees" in r.stderr, r.stderr

@@ -3,7 +3,7 @@ F.xml` and `schemalog verify F.xml SMALL.xml` do with a tree that is not schemal
 (docs/behaviour_trees.md).
 
     read_tree(path, nodes=(), max_bytes)   -> Document        the file, its <include>s, --nodes' models
-    read_semantics(path)                   -> rules           --semantics: custom node types as known ones
+    read_semantics(paths, profiles=())     -> rules           --semantics, --profile: custom node types as known ones
     compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved
     prove_trees(a, b, max_states)          -> Verdict         bt/prove.py's product exploration
     is_own_export(path)                    -> bool            schemalog's own exports (schemalog_run)
@@ -107,13 +107,29 @@ def _name_pairs(path: str | Path, max_bytes: int, what: str, entry: str):
         yield key, value, fail
 
 
-def read_semantics(paths, max_bytes: int = defaults.MAX_BYTES) -> dict:
+PROFILES = ("nav2",)
+"""The node-semantics profiles schemalog ships (bt/profiles/NAME.yaml): `nav2`, Nav2's own node types
+read from Nav2's source (the file names the commit)."""
+
+
+def profile_path(name: str) -> Path:
+    """The file of a shipped profile; an unknown name is refused with the known ones."""
+    if name not in PROFILES:
+        raise SchemalogError(f"unknown profile {name!r}; the profiles schemalog ships: {', '.join(PROFILES)}")
+    return Path(__file__).resolve().parents[1] / "bt" / "profiles" / f"{name}.yaml"
+
+
+def read_semantics(paths=(), max_bytes: int = defaults.MAX_BYTES, profiles=(), notes: list | None = None) -> dict:
     """A user's node semantics, from one file or several read as one: a YAML mapping from a custom
     node type to the type whose rule it follows, a node of the table (`RecoveryNode`, `Sequence`)
     or a leaf kind (`SyncAction`: never RUNNING; `ReTickedAction`: run at every tick, RUNNING
     too; `StatefulAction`; `Action`: a StatefulAction or a ReTickedAction, as an Action the XML
-    does not register; `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`. A type given twice, or one of BT.CPP's own (no program can register
-    a builtin's ID again, so a proof under another rule would be about no robot), is refused."""
+    does not register; `Condition`), e.g. `MyRecovery: RecoveryNode` or `IsBatteryOk: Condition`.
+    A type given twice, or one of BT.CPP's own (no program can register a builtin's ID again, so a
+    proof under another rule would be about no robot), is refused. `profiles` (names of PROFILES,
+    `nav2`) are read first, as if given before the files; a type a file gives that a profile gives
+    too takes the file's rule (a user extends and corrects a profile), with a note appended to
+    `notes` when given."""
     from ..bt.ports import BUILTIN
     from ..bt.semantics import ACTION, CONDITION, RETICKED_ACTION, RULES, STATEFUL_ACTION, SYNC_ACTION
 
@@ -121,19 +137,30 @@ def read_semantics(paths, max_bytes: int = defaults.MAX_BYTES) -> dict:
               "StatefulAction": STATEFUL_ACTION, "Condition": CONDITION}
     rules: dict = {}
     given: dict[str, SourcePos] = {}
-    for path in [paths] if isinstance(paths, (str, Path)) else paths:
+    from_profile: dict[str, str] = {}
+    files = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    names = list(dict.fromkeys(profiles))
+    for name, path in [*((n, profile_path(n)) for n in names), *((None, f) for f in files)]:
         for key, value, fail in _name_pairs(path, max_bytes, "node semantics", "MyType: KnownType"):
             if key.value in BUILTIN:
                 raise fail(f"{key.value} is a node type of BT.CPP's own: its semantics is BT.CPP's, and no robot "
                            f"can register it under another", key)
-            if key.value in given:
-                raise fail(f"{key.value} is given its semantics twice: first at {given[key.value]}", key)
             rule = leaves.get(value.value) or RULES.get(value.value)
             if rule is None:
                 known = ", ".join(sorted({*leaves, *RULES}))
                 raise fail(f"{value.value!r} is not a node type whose semantics schemalog knows; one of: {known}", value)
+            where = SourcePos(str(path), key.start_mark.line + 1, key.start_mark.column + 1)
+            if key.value in from_profile and name is None:
+                if notes is not None:
+                    notes.append(f"note: {where}: {key.value} follows {value.value} as this file says, not the "
+                                 f"{from_profile[key.value]} profile's rule ({given[key.value]})")
+                del from_profile[key.value]
+            elif key.value in given:
+                raise fail(f"{key.value} is given its semantics twice: first at {given[key.value]}", key)
+            elif name is not None:
+                from_profile[key.value] = name
             rules[key.value] = rule
-            given[key.value] = SourcePos(str(path), key.start_mark.line + 1, key.start_mark.column + 1)
+            given[key.value] = where
     return rules
 
 
@@ -187,9 +214,10 @@ def tree_xml(document) -> str:
     return write_bt(document)
 
 
-def verdict_text(verdict) -> str:
+def verdict_text(verdict, under: str = "") -> str:
     """The prover's verdict as a person reads it: a proof, a search a limit cut short, or the
-    counterexample root tick by root tick."""
+    counterexample root tick by root tick; `under` follows its first words ("proved equal", "NOT
+    proved", "refuted after N states"), e.g. " under BT.CPP 4 semantics with the nav2 profile"."""
     from ..bt.prove import explain
 
-    return explain(verdict)
+    return explain(verdict, under)

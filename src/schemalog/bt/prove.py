@@ -349,13 +349,14 @@ def _ports(ports) -> str:
     return " " + " ".join(f"{k}=\"{v}\"" for k, v in ports)
 
 
-def explain(verdict: Verdict) -> str:
-    """The verdict for people: a proof, a bounded search, or the counterexample tick by tick."""
+def explain(verdict: Verdict, under: str = "") -> str:
+    """The verdict for people: a proof, a bounded search, or the counterexample tick by tick;
+    `under` (what it was proved under) follows the verdict's first words."""
     if verdict.equal:
         covers = f"\nIt {verdict.assumed}." if verdict.assumed else ""
-        return ("proved equal: " if verdict.complete else "NOT proved: ") + verdict.reason + covers + "\n"
+        return ("proved equal" if verdict.complete else "NOT proved") + under + ": " + verdict.reason + covers + "\n"
     cex = verdict.counterexample
-    lines = [f"refuted after {verdict.states} states: {verdict.reason}"
+    lines = [f"refuted after {verdict.states} states{under}: {verdict.reason}"
              + (f" ({verdict.assumed})" if verdict.assumed else "")]
     if cex is None:
         return lines[0] + "\n"
@@ -493,6 +494,10 @@ def open_registrations(documents: tuple[Document, ...], rules: Mapping[str, Rule
     return list(found)
 
 
+def _and(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
 def _names(types) -> str:
     types = sorted(types)
     return ", ".join(types[:4]) + (f" and {len(types) - 4} more" if len(types) > 4 else "")
@@ -505,9 +510,12 @@ def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict:
     if not verdict.equal:              # a run under one registration tells the files apart
         cex = verdict.counterexample
         kinds = cex.kinds if cex is not None else ()
-        return ", ".join(f"with {t} registered as a StatefulActionNode" if k == "stateful" else
-                         f"with {t} run again when ticked finished (a SyncActionNode, an ActionNodeBase)"
-                         for t, k in kinds)
+        stateful = [t for t, k in kinds if k == "stateful"]
+        again = [t for t, k in kinds if k != "stateful"]
+        parts = ([f"{_and(stateful)} registered as {'a StatefulActionNode' if len(stateful) == 1 else 'StatefulActionNodes'}"]
+                 if stateful else []) + ([f"{_and(again)} run again when ticked finished (SyncActionNode, "
+                                          f"ActionNodeBase)"] if again else [])
+        return "a run with " + " and ".join(parts) if parts else ""
     open_ = open_registrations((a, b), rules)
     if not open_:
         return given[2:]

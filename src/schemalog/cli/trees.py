@@ -26,8 +26,9 @@ def tree_route(args: argparse.Namespace) -> bool:
 
 
 def schema_route(args: argparse.Namespace) -> None:
-    """Refuse --nodes and --semantics for task knowledge, which they would not change."""
-    given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics)) if v]
+    """Refuse --nodes, --semantics and --profile for task knowledge, which they would not change."""
+    given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics),
+                            ("--profile", args.profile)) if v]
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
@@ -48,18 +49,52 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
                    help="BT.CPP trees: a YAML file giving custom node types the semantics of known ones, "
                         "`MyRecovery: RecoveryNode`, `IsBatteryOk: Condition` (docs/behaviour_trees.md); "
                         "repeatable, the files read as one; other custom types are opaque")
+    p.add_argument("--profile", action="append", default=[], metavar="NAME", type=profile_name,
+                   help="BT.CPP trees: the node semantics schemalog ships for a framework's own node types, "
+                        "read as a --semantics file given first (a type a --semantics file gives too takes "
+                        "the file's rule, with a note); repeatable; one of: nav2 (Nav2's nodes, from its "
+                        "source; docs/behaviour_trees.md)")
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
 
 
-def _verdict_words(verdict) -> str:
+def profile_name(text: str) -> str:
+    """--profile NAME: a profile schemalog ships (an unknown name is a usage error, exit 2)."""
+    from ..api.behaviour_trees import PROFILES
+
+    if text not in PROFILES:
+        raise argparse.ArgumentTypeError(f"unknown profile {text!r}; the profiles schemalog ships: "
+                                         f"{', '.join(PROFILES)}")
+    return text
+
+
+def _profiles(args: argparse.Namespace) -> list[str]:
+    return list(dict.fromkeys(args.profile))
+
+
+def _with_profiles(args: argparse.Namespace) -> str:
+    """How a verdict names the profiles it was proved under: '' or ' with the nav2 profile'."""
+    names = _profiles(args)
+    if not names:
+        return ""
+    return f" with the {' and '.join(names)} profile{'s' if len(names) > 1 else ''}"
+
+
+def _verdict_words(verdict, under: str = "") -> str:
     if verdict.equal and verdict.complete:
         covers = f"; it {verdict.assumed}" if verdict.assumed else ""
-        return f"proved equal to the original under BT.CPP 4 semantics: {verdict.reason}{covers}"
+        return f"proved equal to the original under BT.CPP 4 semantics{under}: {verdict.reason}{covers}"
     if verdict.equal:
         return f"NOT proved: {verdict.reason}"
     return f"REFUTED: {verdict.reason}"
+
+
+def _under(args: argparse.Namespace) -> str:
+    """What verify's verdict line says it was proved under: '' without a profile (the wording
+    stays as it was), else ' under BT.CPP 4 semantics with the nav2 profile'."""
+    with_ = _with_profiles(args)
+    return f" under BT.CPP 4 semantics{with_}" if with_ else ""
 
 
 def _count(n: int, word: str) -> str:
@@ -84,7 +119,13 @@ def _given(args: argparse.Namespace) -> list[str]:
 def _rules(args: argparse.Namespace):
     from ..api.behaviour_trees import read_semantics
 
-    return read_semantics(args.semantics, args.max_bytes) if args.semantics else None
+    if not args.semantics and not args.profile:
+        return None
+    notes: list[str] = []
+    rules = read_semantics(args.semantics, args.max_bytes, profiles=_profiles(args), notes=notes)
+    for note in notes:
+        print(note, file=sys.stderr)
+    return rules
 
 
 def run_compress(args: argparse.Namespace) -> int:
@@ -116,7 +157,7 @@ def run_compress(args: argparse.Namespace) -> int:
                    f"Inverter or Force, each without a pre-condition that its removal would change)")
     else:
         summary = (f"{shown}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
-                   f"{_verdict_words(verdict)}")
+                   f"{_verdict_words(verdict, _with_profiles(args))}")
     inputs = _inputs(args, document)
     if fmt == "xml" and code == INCONCLUSIVE:
         # An unproved tree is not written where a proved one would be: a script that does not
@@ -174,11 +215,12 @@ def run_verify(args: argparse.Namespace) -> int:
     inputs = [*_given(args), *includes]
     if args.json:
         cex = verdict.counterexample
-        emit(json.dumps({"files": args.files, "equal": verdict.equal, "complete": verdict.complete,
+        emit(json.dumps({"files": args.files, "profiles": _profiles(args), "equal": verdict.equal,
+                         "complete": verdict.complete,
                          "proved": verdict.equal and verdict.complete, "states": verdict.states,
                          "reason": verdict.reason, "covers": verdict.assumed,
                          "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]},
                         indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(verdict_text(verdict), args.output, inputs, "text")
+        emit(verdict_text(verdict, _under(args)), args.output, inputs, "text")
     return _status(verdict)
