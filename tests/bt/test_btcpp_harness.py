@@ -56,7 +56,7 @@ NAV2 = CORPUS / "nav2"
 NODES = NAV2 / "nav2_tree_nodes.xml"
 BUILD = HERE / "harness" / "build.sh"
 V3_NAV2 = NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"
-MAIN_OF = {"log_test.xml": "Main"}                      # as tests/bt/test_btxml.py
+MAIN_OF = {"log_test.xml": "Main", "t15_nodes_mocking.xml": "MainTree"}                      # as tests/bt/test_btxml.py
 PARTS = {"t14_subtree_model_2.xml"}             # read with its partner (t14_subtree_model_1.xml)
 # the scripting enums BT.CPP's tutorial 9 registers in C++ (registerScriptingEnums<Color>, THE_ANSWER)
 ENUMS = {"t09_scripting.xml": ("THE_ANSWER=42", "RED=1", "BLUE=2", "GREEN=3")}
