@@ -16,6 +16,9 @@ with ports").
     is the harness's next one, answered with the harness's outcome, and the root statuses agree;
     the same on generated trees of Nav2's nodes (Hypothesis), constant `_skipIf`s included.
 (d) a wrong edit (the FollowPath RecoveryNode's children swapped) shows in the traces.
+(e) named nodes: BT.CPP's t15 example run with its own substitution rules (harness
+    --substitutions): compressed with its names kept, it makes the same events as the original
+    and BT.CPP substitutes the same nodes (--paths); with names dropped, three more ticks.
 
 Draws: the scheme of tests/bt/test_against_btcpp.py (Draws: random.Random(seed).randrange(6),
 400 of them, cycled; no listed draws here): the k-th decision of a run takes draw k, a leaf tick
@@ -44,7 +47,7 @@ from hypothesis import strategies as st
 
 from schemalog.api.behaviour_trees import compress_tree, read_tree
 from schemalog.bt.model import Document, Node, NodeModel, Port, walk
-from schemalog.bt.semantics import RETICKED_ACTION, STATEFUL_ACTION, SYNC_ACTION, Await, Status, advance, halt_step, initial, program, step
+from schemalog.bt.semantics import RETICKED_ACTION, STATEFUL_ACTION, Await, Status, advance, halt_step, initial, program, step
 from schemalog.errors import SchemalogError
 from schemalog.bt.ports import BUILTIN_PORTS
 from schemalog.formats.btxml import BUILTIN, infer_models, read_bt, write_bt
@@ -56,7 +59,7 @@ NAV2 = CORPUS / "nav2"
 NODES = NAV2 / "nav2_tree_nodes.xml"
 BUILD = HERE / "harness" / "build.sh"
 V3_NAV2 = NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"
-MAIN_OF = {"log_test.xml": "Main"}                      # as tests/bt/test_btxml.py
+MAIN_OF = {"log_test.xml": "Main", "t15_nodes_mocking.xml": "MainTree"}                      # as tests/bt/test_btxml.py
 PARTS = {"t14_subtree_model_2.xml"}             # read with its partner (t14_subtree_model_1.xml)
 # the scripting enums BT.CPP's tutorial 9 registers in C++ (registerScriptingEnums<Color>, THE_ANSWER)
 ENUMS = {"t09_scripting.xml": ("THE_ANSWER=42", "RED=1", "BLUE=2", "GREEN=3")}
@@ -119,11 +122,16 @@ def draws(seed: int) -> list[int]:
 
 
 def run(harness: str, tree: Path, models: list[Path], tmp: Path, seeds=range(SEEDS), *,
-        stateful: bool = False, main: str | None = None, enums=()) -> dict[str, list[dict]]:
-    """The harness's events for each seed: {label: [event, ...]}."""
+        stateful: bool = False, main: str | None = None, enums=(), substitutions: Path | None = None,
+        listed: dict[str, list[int]] | None = None) -> dict[str, list[dict]]:
+    """The harness's events for each seed (and each run of `listed` draws): {label: [event, ...]};
+    `substitutions` a file of BT.CPP substitution rules (JSON)."""
     draws_file = tmp / "draws.txt"
-    draws_file.write_text("".join(f"{s} {' '.join(map(str, draws(s)))}\n" for s in seeds))
+    draws_file.write_text("".join(f"{s} {' '.join(map(str, draws(s)))}\n" for s in seeds) +
+                          "".join(f"{k} {' '.join(map(str, d))}\n" for k, d in (listed or {}).items()))
     cmd = [harness, "--tree", str(tree), "--draws", str(draws_file), "--max-ticks", str(MAX_ROOT_TICKS)]
+    if substitutions is not None:
+        cmd += ["--substitutions", str(substitutions)]
     for m in models:
         cmd += ["--models", str(m)]
     if stateful:
@@ -839,6 +847,108 @@ def test_a_recovery_node_with_its_children_swapped_runs_differently(harness, tmp
     runs_a, runs_b = run(harness, a, [a], tmp_path), run(harness, b, [b], tmp_path)
     differ = [s for s in runs_a if runs_a[s] != runs_b[s]]
     assert len(differ) > SEEDS // 2, differ
+
+
+# -- (e) named nodes: BT.CPP's t15 and its substitution rules (issue 48, item 4) -----------------
+
+T15 = CORPUS / "btcpp" / "tutorials" / "t15_nodes_mocking.xml"
+# The rules of examples/t15_nodes_mocking.cpp (its raw string `json_text`, BT.CPP 4.8.2), but for
+# NewMessage's async_delay, 2000 ms there: the harness ticks without waiting on a clock, so a
+# TestNode with a delay stays RUNNING through every root tick and `counting`, after it, is never
+# reached. With 0 it completes at once (and runs its post_script), as it does after 2 s in t15.
+T15_RULES = """{
+  "TestNodeConfigs": {
+    "NewMessage": {
+      "async_delay": 0,
+      "return_status": "SUCCESS",
+      "post_script": "msg ='message SUBSTITUTED'"
+    },
+    "NoCounting": {
+      "return_status": "SUCCESS"
+    }
+  },
+
+  "SubstitutionRules": {
+    "mysub/action_*": "DummyAction",
+    "talk": "DummySaySomething",
+    "set_message": "NewMessage",
+    "counting": "NoCounting"
+  }
+}"""
+# t15's mocks, registered as it registers them (registerSimpleAction): here scripted leaves
+T15_MOCKS = (NodeModel("DummySaySomething", "Action", (Port("input", "message"),)), NodeModel("DummyAction", "Action"))
+ALL_SUCCESS = {"success": [0] * N_DRAWS}     # every leaf SUCCESS: t15's own run
+
+
+def node_paths(harness: str, tree: Path, substitutions: Path) -> list[tuple[str, str | None]]:
+    """(path, what a substitution rule made of the node or None) of each node BT.CPP creates,
+    in its visiting order (harness --load-only --paths)."""
+    cmd = [harness, "--tree", str(tree), "--models", str(tree), "--load-only", "--paths",
+           "--substitutions", str(substitutions)]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, (cmd, done.stdout, done.stderr)
+    lines = [json.loads(line) for line in done.stdout.splitlines()]
+    return [(e["path"], e.get("by")) for e in lines if e["ev"] == "node"]
+
+
+def test_t15s_substitution_rules_make_the_same_runs_of_a_tree_compressed_with_its_names(harness, tmp_path):
+    """BT.CPP's t15 run with its own substitution rules: compressed with its names kept (the
+    default), it runs as the original in BT.CPP, and so does a copy of t15 wrapped so that the
+    rewrites have work (every leaf in a single-child Sequence, the root in two Inverters), whose
+    unnamed wrappers go; with --drop-names, `counting` is flattened, its rule matches nothing,
+    and the three SaySomething under it run (issue 48, item 4)."""
+    rules = tmp_path / "rules.json"
+    rules.write_text(T15_RULES)
+    document = prepared(T15)
+    models = document.models + T15_MOCKS
+    original = Document(document.trees, document.main, models)
+    wrapped_t15 = original.with_trees(tuple((k, Node("Inverter", (), (Node("Inverter", (), (wrapped(r),)),)))
+                                            for k, r in original.trees))
+    kept = compress_tree(original)
+    small = compress_tree(wrapped_t15)
+    dropped = compress_tree(original, drop_names=True)
+    assert kept.rewrites == () and [k.name for k in kept.kept] == ["counting"]
+    assert len(small.rewrites) == 13 and small.verdict.equal and small.verdict.complete
+    assert [k.name for k in small.kept] == ["counting"] and small.compressed.trees == original.trees
+    assert [r.name for r in dropped.rewrites] == ["counting"] and dropped.verdict.complete
+
+    def file(doc: Document, name: str) -> Path:
+        return written(Document(doc.trees, doc.main, models), tmp_path / name)
+    a, w = file(original, "original.xml"), file(wrapped_t15, "wrapped.xml")
+    k, s, d = file(kept.compressed, "kept.xml"), file(small.compressed, "small.xml"), file(dropped.compressed, "dropped.xml")
+
+    # BT.CPP applies the rules to the same nodes, found by their names and paths
+    expected = [("talk", "DummySaySomething"), ("mysub/action_subA", "DummyAction"),
+                ("mysub/action_subB", "DummyAction"), ("set_message", "TestNode"), ("counting", "TestNode")]
+    for tree in (a, w, k, s):
+        assert [(p, by) for p, by in node_paths(harness, tree, rules) if by] == expected, tree.name
+    named = [p for p, _ in node_paths(harness, a, rules) if "::" not in p]
+    assert [p for p, _ in node_paths(harness, s, rules) if "::" not in p] == named
+    assert [(p, by) for p, by in node_paths(harness, d, rules) if by] == expected[:-1]       # counting is gone
+
+    runs = {t: run(harness, t, [t], tmp_path, substitutions=rules, listed=ALL_SUCCESS) for t in (a, w, k, s, d)}
+    assert len(runs[a]) == SEEDS + 1
+    for label, events in runs[a].items():
+        assert not any(e["ev"] == "error" for e in events), (label, events)
+        for t in (w, k, s):
+            assert runs[t][label] == events, f"{t.name}, run {label}: differs from the original in BT.CPP"
+
+    # t15's own run: every leaf succeeds. The original prints as t15's "Output (substituted)"
+    # (talk, action_subA, action_subB, the substituted message); flattened, three lines more
+    def said(events):
+        return [(e["name"], e["ports"].get("message")) for e in events if e["ev"] == "tick"]
+    assert said(runs[a]["success"]) == [("talk", "hello world"), ("action_subA", None), ("action_subB", None),
+                                         ("SaySomething", "{msg}")]
+    assert said(runs[d]["success"]) == said(runs[a]["success"]) + [("SaySomething", m) for m in "123"]
+    # under the seeds' draws, the runs that reach `counting` differ (4 of the 50 when written, and
+    # the all-SUCCESS one), each by a tick of SaySomething message="1" the original never makes
+    differing = [label for label, events in runs[a].items() if runs[d][label] != events]
+    assert "success" in differing and len(differing) > 1
+    for label in differing:
+        assert ("SaySomething", "1") in said(runs[d][label]) and ("SaySomething", "1") not in said(runs[a][label])
+    # without the rules the flattening is sound: BT.CPP runs the two alike
+    plain_a, plain_d = run(harness, a, [a], tmp_path), run(harness, d, [d], tmp_path)
+    assert plain_a == plain_d
 
 
 # -- regressions ---------------------------------------------------------------------------------

@@ -25,7 +25,7 @@ BTCPP = CORPUS / "btcpp"
 V3_NAV2 = NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"
 # Files that are not a whole program on their own: the tree to run is named, as BT.CPP's
 # createTree(name) names it, or the file is read together with its partner.
-MAIN_OF = {"log_test.xml": "Main"}
+MAIN_OF = {"log_test.xml": "Main", "t15_nodes_mocking.xml": "MainTree"}
 PARTS = {"t14_subtree_model_2.xml"}
 # Files BT.CPP 4.8.2 refuses, and schemalog with them (tests/bt/test_btcpp_harness.py shows BT.CPP's
 # refusal): a tree called by its ID as a tag, <CheckStatus/>, where BT.CPP 4 needs <SubTree>.
@@ -66,7 +66,7 @@ def _ids(paths):
 def test_the_corpus_holds_the_navigator_trees_and_btcpp_examples():
     files = corpus_files()
     assert len([p for p in files if NAV2 in p.parents]) == 14
-    assert len([p for p in files if BTCPP in p.parents]) == 15 and len(CORPUS_REFUSED) == 1
+    assert len([p for p in files if BTCPP in p.parents]) == 16 and len(CORPUS_REFUSED) == 1
     assert (CORPUS / "SOURCES.md").is_file() and (CORPUS / "LICENSE.Apache-2.0").is_file()
     assert (CORPUS / "LICENSE.MIT").is_file()
     sources = (CORPUS / "SOURCES.md").read_text(encoding="utf-8")

@@ -55,14 +55,15 @@ def mutated(draw) -> Document:
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(mutated())
-def test_a_compression_proved_by_parts_is_never_refuted_whole(document):
+@given(mutated(), st.booleans())
+def test_a_compression_proved_by_parts_is_never_refuted_whole(document, keep_names):
     # compress_proved keeps only the rewrites proved where they stand (a single-child Sequence
     # around Nav2's RateController under a PipelineSequence is not: the Sequence reset the
     # RateController when it finished, the PipelineSequence does not, and the RateController
-    # ticks its child at once only from IDLE).
+    # ticks its child at once only from IDLE). Named nodes kept (the default) or not
+    # (--drop-names): the Nav2 trees name many of the nodes a rewrite would remove.
     assume(size(document) <= 40)
-    small, by_parts = compress_proved(document, **LIMITS)
+    small, by_parts = compress_proved(document, **LIMITS, keep_names=keep_names)
     assume(small.rewrites)
     note("rewrites: " + ", ".join(map(str, small.rewrites)))
     whole = prove_equal(document, small.document, **LIMITS)

@@ -118,16 +118,67 @@ def test_a_wrapped_tree_is_compressed_and_a_limit_is_never_a_proof(tmp_path):
     wrapped = tmp_path / "wrapped.xml"
     wrapped.write_text(text.replace(inner, f'<Sequence name="outer"><Sequence name="inner">{inner}'
                                            f'<Wait wait_duration="1"/></Sequence></Sequence>'))
-    r = run("compress", wrapped, "--nodes", NODES)
+    # named, both wrappers stay (issue 48, item 4), and the output says so
+    named = run("compress", wrapped, "--nodes", NODES)
+    assert named.returncode == 0 and "nothing to compress (25 nodes)" in named.stdout, named.stderr
+    assert "kept 2 named nodes a rewrite would remove (--drop-names removes them): " in named.stdout
+    assert 'wrapped.xml:9:28 Sequence "inner", ' in named.stdout and 'wrapped.xml:9:5 Sequence "outer"' in named.stdout
+    r = run("compress", wrapped, "--nodes", NODES, "--drop-names")
     assert r.returncode == 0, r.stderr
     assert "flatten: removed Sequence 'inner'" in r.stdout and "proved equal" in r.stdout
-    limited = run("compress", wrapped, "--nodes", NODES, "--max-states", "2")
+    limited = run("compress", wrapped, "--nodes", NODES, "--max-states", "2", "--drop-names")
     assert limited.returncode == 3 and "NOT proved" in limited.stdout and "max_states" in limited.stdout
     out = tmp_path / "small.xml"
-    unproved = run("compress", wrapped, "--nodes", NODES, "--max-states", "2", "-o", out)
+    unproved = run("compress", wrapped, "--nodes", NODES, "--max-states", "2", "-o", out, "--drop-names")
     assert unproved.returncode == 3 and "nothing written" in unproved.stderr and not out.exists()
     empty = run("compress", wrapped, "--nodes", wrapped)           # a tree, not a nodes file
     assert empty.returncode == 1 and "wrapped.xml:1:1: error: declares no node" in empty.stderr
+
+
+T15 = CORPUS / "btcpp" / "tutorials" / "t15_nodes_mocking.xml"
+
+
+def test_named_nodes_are_kept_and_said_in_text_json_xml_and_verify(tmp_path):
+    """Issue 48, item 4: BT.CPP's t15 substitutes its Sequence "counting" by name; compress keeps
+    it and says so, --drop-names flattens it as before."""
+    where = f'{T15}:13:7 Sequence "counting"'
+    said = f"kept 1 named node a rewrite would remove (--drop-names removes it): {where}\n"
+    text = run("compress", T15, "--task", "MainTree")
+    assert text.returncode == 0 and text.stderr == "", text.stderr
+    assert text.stdout == (f"{T15}: nothing to compress (12 nodes): every rewrite of bt/compress.py that applies "
+                           f"would remove a named node\n" + said)
+    j = run("compress", T15, "--task", "MainTree", "--json")
+    assert j.returncode == 0 and j.stderr == ""
+    report = json.loads(j.stdout)
+    assert report["rewrites"] == [] and report["nodes_after"] == 12 and report["kept_names"] == [
+        {"rule": "flatten", "type": "Sequence", "name": "counting", "file": str(T15), "line": 13, "column": 7}]
+    out = tmp_path / "small.xml"
+    x = run("compress", T15, "--task", "MainTree", "-o", out)
+    assert x.returncode == 0 and said in x.stderr and 'name="counting"' in out.read_text()
+    dropped = run("compress", T15, "--task", "MainTree", "--drop-names", "--json")
+    report = json.loads(dropped.stdout)
+    assert dropped.returncode == 0 and report["kept_names"] == [] and report["proved"] is True
+    assert [(r["rule"], r["name"]) for r in report["rewrites"]] == [("flatten", "counting")]
+    assert report["nodes_after"] == 11
+    # verify F.xml alone compresses: the same choice, the same words
+    v = run("verify", T15, "--task", "MainTree")
+    assert v.returncode == 3 and v.stdout == f"{T15}: nothing to compress, so nothing was proved (the tree is its own compression)\n" + said
+    vj = json.loads(run("verify", T15, "--task", "MainTree", "--json").stdout)
+    assert vj["proved"] is False and [k["name"] for k in vj["kept_names"]] == ["counting"]
+    vd = run("verify", T15, "--task", "MainTree", "--drop-names")
+    assert vd.returncode == 0 and vd.stdout.startswith("proved equal") and "kept" not in vd.stdout
+    # a file with named and unnamed rewrites: the unnamed go, the named are said
+    mixed = tmp_path / "mixed.xml"
+    mixed.write_text(T15.read_text().replace('<SaySomething message="1"/>',
+                                             '<Sequence><SaySomething message="1"/></Sequence>'))
+    m = run("compress", mixed, "--task", "MainTree")
+    assert m.returncode == 0 and "12 nodes from 13 (1 rewrite), proved equal" in m.stdout, m.stdout + m.stderr
+    assert ":14:9: single: removed Sequence\n" in m.stdout and 'mixed.xml:13:7 Sequence "counting"\n' in m.stdout
+    # --drop-names means nothing for two files, or for task knowledge: refused, not ignored
+    two = run("verify", T15, T15, "--task", "MainTree", "--drop-names")
+    assert two.returncode == 2 and "--drop-names applies when verify compresses one BT.CPP tree" in two.stderr
+    task = run("compress", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--drop-names")
+    assert task.returncode == 2 and "--drop-names applies to BT.CPP trees" in task.stderr
 
 
 def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_path):

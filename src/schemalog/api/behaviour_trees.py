@@ -4,7 +4,8 @@ F.xml` and `schemalog verify F.xml SMALL.xml` do with a tree that is not schemal
 
     read_tree(path, nodes=(), max_bytes)   -> Document        the file, its <include>s, --nodes' models
     read_semantics(paths, profiles=())     -> rules           --semantics, --profile: custom node types as known ones
-    compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved
+    compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved;
+                                                              named nodes kept unless drop_names
     prove_trees(a, b, max_states)          -> Verdict         bt/prove.py's product exploration
     is_own_export(path)                    -> bool            schemalog's own exports (schemalog_run)
                                                               are task knowledge: the schema route
@@ -26,13 +27,15 @@ EVENTS_PER_TICK = 10_000     # events in one root tick before the prover stops (
 
 @dataclass(frozen=True)
 class TreeCompression:
-    """A tree compressed: the original and compressed documents, the rewrites made, and the
-    prover's verdict on the two."""
+    """A tree compressed: the original and compressed documents, the rewrites made, the
+    prover's verdict on the two, and the named nodes a rewrite would have removed, kept (each a
+    bt/compress.py Rewrite naming the rule; empty with drop_names)."""
 
     original: object
     compressed: object
     rewrites: tuple
     verdict: object
+    kept: tuple = ()
 
     @property
     def nodes_before(self) -> int:
@@ -196,15 +199,18 @@ def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rul
                           rules=rules)
 
 
-def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None) -> TreeCompression:
+def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None, *,
+                  drop_names: bool = False) -> TreeCompression:
     """Apply the BT rewrites to `document`, each kept only where the prover does not refute it
     in its parent's context, and prove the result against it (`rules`: node semantics for custom
-    types, read_semantics)."""
+    types, read_semantics). A node with a `name` attribute is never removed, for BT.CPP's
+    substitution rules, Groot2 and loggers find nodes by name (the result's `kept` lists those
+    a rewrite would have removed), unless `drop_names`."""
     from ..bt.prove import compress_proved
 
     result, verdict = compress_proved(document, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
-                                      rules=rules)
-    return TreeCompression(document, result.document, result.rewrites, verdict)
+                                      rules=rules, keep_names=not drop_names)
+    return TreeCompression(document, result.document, result.rewrites, verdict, result.kept)
 
 
 def tree_xml(document) -> str:

@@ -26,7 +26,7 @@ from types import MappingProxyType
 
 from schemalog.bt import semantics
 from schemalog.bt.model import Node
-from schemalog.bt.semantics import (ACTION_OUTCOMES, FAILURE, IDLE, RULES, RUNNING, SKIPPED, SUCCESS, PNode, Program,
+from schemalog.bt.semantics import (ACTION_OUTCOMES, IDLE, RULES, RUNNING, SKIPPED, PNode, Program,
                                     Rule, Status, _Run)
 
 TYPE = "\0congruent"                 # no XML document can name a type so (NUL)

@@ -624,16 +624,17 @@ def _congruent(a: Document, b: Document, *, max_states: int, max_events_per_tick
 
 
 def compress_proved(document: Document, *, max_states: int, max_events_per_tick: int,
-                    rules: Mapping[str, Rule] | None = None):
+                    rules: Mapping[str, Rule] | None = None, keep_names: bool = True):
     """Compress `document` (bt/compress.py) keeping only rewrites proved where they stand: each
     part the rewrites changed is proved in its parent's context, a refuted one is restored as it
     was (its nodes kept) and the rest compressed again. Return the Compressed document and
-    prove_by_parts' verdict on it (None when nothing was rewritten)."""
+    prove_by_parts' verdict on it (None when nothing was rewritten). `keep_names`: remove no
+    node that carries a `name` attribute (the Compressed document's `kept` lists them)."""
     from schemalog.bt.compress import compress
 
     keep: set[int] = set()
     while True:
-        result = compress(document, frozenset(keep))
+        result = compress(document, frozenset(keep), keep_names)
         if not result.rewrites:
             return result, None
         refuted = []

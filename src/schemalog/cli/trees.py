@@ -26,9 +26,10 @@ def tree_route(args: argparse.Namespace) -> bool:
 
 
 def schema_route(args: argparse.Namespace) -> None:
-    """Refuse --nodes, --semantics and --profile for task knowledge, which they would not change."""
+    """Refuse --nodes, --semantics, --profile and --drop-names for task knowledge, which they would
+    not change."""
     given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics),
-                            ("--profile", args.profile)) if v]
+                            ("--profile", args.profile), ("--drop-names", args.drop_names)) if v]
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
@@ -57,6 +58,10 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
+    p.add_argument("--drop-names", action="store_true",
+                   help="BT.CPP trees: let the rewrites remove nodes that carry a name= attribute too; by "
+                        "default they are kept, for BT.CPP's substitution rules, Groot2 and loggers find "
+                        "nodes by name (docs/behaviour_trees.md)")
 
 
 def profile_name(text: str) -> str:
@@ -116,6 +121,20 @@ def _given(args: argparse.Namespace) -> list[str]:
     return [*args.files, *args.nodes, *args.semantics]
 
 
+def kept_words(kept) -> str:
+    """The named nodes a rewrite would have removed and compress kept, in one line ("" for none)."""
+    if not kept:
+        return ""
+    one = len(kept) == 1
+    return (f"kept {_count(len(kept), 'named node')} a rewrite would remove (--drop-names removes "
+            f"{'it' if one else 'them'}): {', '.join(k.node for k in kept)}")
+
+
+def _kept_json(kept) -> list[dict]:
+    return [{"rule": k.rule, "type": k.type, "name": k.name, "file": k.file, "line": k.line, "column": k.column}
+            for k in kept]
+
+
 def _rules(args: argparse.Namespace):
     from ..api.behaviour_trees import read_semantics
 
@@ -143,15 +162,19 @@ def run_compress(args: argparse.Namespace) -> int:
     check_output(args.output, _given(args))
     rules = _rules(args)
     document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-    result = compress_tree(document, args.max_states, rules)
+    result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names)
     verdict, code = result.verdict, _status(result.verdict)
+    kept = kept_words(result.kept)
     if verdict is not None and not verdict.equal:
         # A rewrite the prover refutes is a bug of ours: say so, write nothing.
         print(verdict_text(verdict), end="")
         raise SchemalogError(f"the compressed tree differs from {readable_name(args.files[0])}: a rewrite of "
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
     before, after, shown = result.nodes_before, result.nodes_after, readable_name(args.files[0])
-    if not result.rewrites:
+    if not result.rewrites and result.kept:
+        summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): every rewrite of bt/compress.py "
+                   f"that applies would remove a named node")
+    elif not result.rewrites:
         summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
                    f"(a composite inside one of its own type, a single-child Sequence or Fallback, a double "
                    f"Inverter or Force, each without a pre-condition that its removal would change)")
@@ -162,8 +185,8 @@ def run_compress(args: argparse.Namespace) -> int:
     if fmt == "xml" and code == INCONCLUSIVE:
         # An unproved tree is not written where a proved one would be: a script that does not
         # read the exit status must not pick it up.
-        print(f"{summary}\nnothing written to {readable_name(args.output)}: raise --max-states to prove it",
-              file=sys.stderr)
+        print(f"{summary}\nnothing written to {readable_name(args.output)}: raise --max-states to prove it"
+              + (f"\n{kept}" if kept else ""), file=sys.stderr)
         return code
     if fmt == "xml":
         emit(tree_xml(result.compressed), args.output, inputs, summary.split(": ", 1)[1])
@@ -171,13 +194,17 @@ def run_compress(args: argparse.Namespace) -> int:
         emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
                          "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "file": r.file,
                                        "line": r.line, "column": r.column} for r in result.rewrites],
+                         "kept_names": _kept_json(result.kept),
                          "proved": code == PROVED, "complete": verdict.complete if verdict else True,
                          "states": verdict.states if verdict else 0,
                          "reason": verdict.reason if verdict else "nothing rewritten",
                          "covers": verdict.assumed if verdict else ""}, indent=2) + "\n",
              args.output, inputs, "JSON")
     else:
-        emit(summary + "\n" + "".join(f"  {r}\n" for r in result.rewrites), args.output, inputs, "text")
+        emit(summary + "\n" + "".join(f"  {r}\n" for r in result.rewrites) + (f"{kept}\n" if kept else ""),
+             args.output, inputs, "text")
+    if kept and fmt == "xml":
+        print(kept, file=sys.stderr)     # the text and JSON outputs list them with the rewrites
     if code == INCONCLUSIVE and fmt != "text":
         print(f"NOT proved: {verdict.reason}", file=sys.stderr)
     return code
@@ -189,20 +216,25 @@ def run_verify(args: argparse.Namespace) -> int:
     from .common import check_output, emit
 
     check_output(args.output, _given(args))
+    if args.drop_names and len(args.files) != 1:
+        raise UsageError("--drop-names applies when verify compresses one BT.CPP tree; with an original and a "
+                         "compressed file nothing is compressed")
     rules = _rules(args)
+    kept: tuple = ()
     if len(args.files) == 1:
         document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        result = compress_tree(document, args.max_states, rules)
-        original, verdict, includes = document, result.verdict, document.includes
+        result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names)
+        original, verdict, includes, kept = document, result.verdict, document.includes, result.kept
         if verdict is None:
             # Nothing rewritten: nothing was checked, and a check that covers nothing is no
             # proof (exit 3, as a limit's), in text and in JSON alike.
             reason = "nothing to compress, so nothing was proved (the tree is its own compression)"
             if args.json:
                 text = json.dumps({"files": args.files, "equal": True, "complete": True, "proved": False,
-                                   "states": 0, "reason": reason, "counterexample": None}, indent=2) + "\n"
+                                   "states": 0, "reason": reason, "counterexample": None,
+                                   "kept_names": _kept_json(kept)}, indent=2) + "\n"
             else:
-                text = f"{readable_name(args.files[0])}: {reason}\n"
+                text = f"{readable_name(args.files[0])}: {reason}\n" + (f"{kept_words(kept)}\n" if kept else "")
             emit(text, args.output, [*_given(args), *includes], "JSON" if args.json else "text")
             return INCONCLUSIVE
     elif len(args.files) == 2:
@@ -215,12 +247,14 @@ def run_verify(args: argparse.Namespace) -> int:
     inputs = [*_given(args), *includes]
     if args.json:
         cex = verdict.counterexample
-        emit(json.dumps({"files": args.files, "profiles": _profiles(args), "equal": verdict.equal,
-                         "complete": verdict.complete,
-                         "proved": verdict.equal and verdict.complete, "states": verdict.states,
-                         "reason": verdict.reason, "covers": verdict.assumed,
-                         "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]},
-                        indent=2) + "\n", args.output, inputs, "JSON")
+        fields = {"files": args.files, "profiles": _profiles(args), "equal": verdict.equal,
+                  "complete": verdict.complete, "proved": verdict.equal and verdict.complete,
+                  "states": verdict.states, "reason": verdict.reason, "covers": verdict.assumed,
+                  "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]}
+        if len(args.files) == 1:
+            fields["kept_names"] = _kept_json(kept)
+        emit(json.dumps(fields, indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(verdict_text(verdict, _under(args)), args.output, inputs, "text")
+        emit(verdict_text(verdict, _under(args)) + (f"{kept_words(kept)}\n" if kept else ""), args.output, inputs,
+             "text")
     return _status(verdict)

@@ -2,7 +2,7 @@
 // types registered from TreeNodesModel files, ports and all, the leaves scripted by draws.
 //
 //   harness --tree FILE [--models FILE]... [--main ID] [--draws FILE] [--max-ticks N]
-//           [--stateful] [--load-only] [--enum NAME=INT]...
+//           [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] [--paths]
 //
 // FILE is loaded with registerBehaviorTreeFromFile (its <include>s relative to it); the main
 // tree is --main, else BT.CPP's choice (the file's main_tree_to_execute, else its only tree). Every node type a
@@ -38,6 +38,14 @@
 // --load-only: load and create the main tree, print {"ev":"loaded","main":".."}, exit.
 // --enum NAME=INT: a scripting enum (registerScriptingEnum), as a program registers them
 // (BT.CPP's scripting tutorial: THE_ANSWER, RED, BLUE, GREEN).
+// --substitutions FILE: substitution rules in the JSON BT.CPP reads with
+// loadSubstitutionRuleFromJSON (BT.CPP's t15 example), applied to every tree created. A rule's
+// node ID must be registered (a --models entry: a scripted leaf whose events carry the
+// substituted node's type, BT.CPP setting it back); a TestNodeConfig makes a BT::TestNode,
+// which reports no event.
+// --paths: with --load-only, before the "loaded" line, each node of the main tree in BT.CPP's
+// visiting order (t15's applyVisitor), {"ev":"node","path":"mysub/action_subA","name":..,
+// "type":..}, with "by":"TestNode" or "by":"DummyAction" on a node a substitution rule made.
 //
 // Written for schemalog (tests/bt/test_btcpp_harness.py); Nav2's nodes below are our renditions
 // of the behaviour of ros-navigation/navigation2's nav2_behavior_tree/plugins, not its code.
@@ -56,6 +64,7 @@
 #include <vector>
 
 #include "behaviortree_cpp/action_node.h"
+#include "behaviortree_cpp/actions/test_node.h"
 #include "behaviortree_cpp/bt_factory.h"
 #include "behaviortree_cpp/condition_node.h"
 #include "behaviortree_cpp/control_node.h"
@@ -84,6 +93,10 @@ struct Env {
 };
 
 Env env;
+
+// the registration ID whose builder made each node of ours (a substitution rule's ID differs
+// from the one BT.CPP then sets, the node's own)
+std::map<const BT::TreeNode*, std::string> built_as;
 
 std::string json_string(const std::string& s) {
   std::string r = "\"";
@@ -488,9 +501,11 @@ std::vector<Model> read_models(const std::string& path) {
 }
 
 template <typename T>
-BT::NodeBuilder builder() {
-  return [](const std::string& name, const BT::NodeConfig& config) {
-    return std::make_unique<T>(name, config);
+BT::NodeBuilder builder(const std::string& id) {
+  return [id](const std::string& name, const BT::NodeConfig& config) {
+    auto node = std::make_unique<T>(name, config);
+    built_as[node.get()] = id;
+    return node;
   };
 }
 
@@ -502,23 +517,23 @@ void register_model(BT::BehaviorTreeFactory& factory, const Model& m, bool state
   BT::NodeBuilder b;
   if (m.kind == "Action") {
     manifest.type = BT::NodeType::ACTION;
-    b = stateful ? builder<ScriptedStatefulAction>() : builder<ScriptedAction>();
+    b = stateful ? builder<ScriptedStatefulAction>(m.id) : builder<ScriptedAction>(m.id);
   } else if (m.kind == "Condition") {
     manifest.type = BT::NodeType::CONDITION;
-    b = builder<ScriptedCondition>();
+    b = builder<ScriptedCondition>(m.id);
   } else if (m.kind == "Control") {
     manifest.type = BT::NodeType::CONTROL;
-    b = m.id == "PipelineSequence" ? builder<PipelineSequence>()
-        : m.id == "RecoveryNode"   ? builder<RecoveryNode>()
-        : m.id == "RoundRobin"     ? builder<RoundRobin>()
-                                   : builder<OpaqueControl>();
+    b = m.id == "PipelineSequence" ? builder<PipelineSequence>(m.id)
+        : m.id == "RecoveryNode"   ? builder<RecoveryNode>(m.id)
+        : m.id == "RoundRobin"     ? builder<RoundRobin>(m.id)
+                                   : builder<OpaqueControl>(m.id);
   } else if (m.kind == "Decorator") {
     manifest.type = BT::NodeType::DECORATOR;
-    b = m.id == "RateController"          ? builder<RateController>()
-        : m.id == "GoalUpdater"           ? builder<GoalUpdater>()
+    b = m.id == "RateController"          ? builder<RateController>(m.id)
+        : m.id == "GoalUpdater"           ? builder<GoalUpdater>(m.id)
         : (m.id == "DistanceController" || m.id == "SpeedController" ||
-           m.id == "GoalUpdatedController") ? builder<GatedDecorator>()
-                                            : builder<OpaqueDecorator>();
+           m.id == "GoalUpdatedController") ? builder<GatedDecorator>(m.id)
+                                            : builder<OpaqueDecorator>(m.id);
   } else {
     return;                                            // SubTree models: BT.CPP reads them itself
   }
@@ -542,18 +557,19 @@ std::vector<std::pair<std::string, std::vector<long>>> read_draws(std::istream& 
 
 int usage() {
   std::cerr << "usage: harness --tree FILE [--models FILE]... [--main ID] [--draws FILE] "
-               "[--max-ticks N] [--stateful] [--load-only] [--enum NAME=INT]...\n";
+               "[--max-ticks N] [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] "
+               "[--paths]\n";
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string tree_file, main_id, draws_file;
+  std::string tree_file, main_id, draws_file, substitutions_file;
   std::vector<std::string> models_files;
   std::vector<std::pair<std::string, int>> enums;
   int max_ticks = 12;
-  bool stateful = false, load_only = false;
+  bool stateful = false, load_only = false, paths = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -568,6 +584,8 @@ int main(int argc, char** argv) {
       else if (a == "--max-ticks") max_ticks = std::stoi(value());
       else if (a == "--stateful") stateful = true;
       else if (a == "--load-only") load_only = true;
+      else if (a == "--substitutions") substitutions_file = value();
+      else if (a == "--paths") paths = true;
       else if (a == "--enum") {
         const std::string e = value();
         const auto eq = e.find('=');
@@ -584,6 +602,7 @@ int main(int argc, char** argv) {
   tree_file = std::filesystem::absolute(tree_file).string();   // BT.CPP resolves <include>s from its directory
 
   BT::BehaviorTreeFactory factory;
+  std::string nodes;                                   // --paths: the main tree's nodes
   try {
     // Nav2's nodes, also where no model declares them (a model's ports take precedence)
     std::vector<Model> models;
@@ -600,15 +619,33 @@ int main(int argc, char** argv) {
       register_model(factory, m, stateful);
     }
     for (const auto& [name, v] : enums) factory.registerScriptingEnum(name, v);
+    if (!substitutions_file.empty()) {
+      std::ifstream in(substitutions_file);
+      if (!in) throw std::runtime_error("cannot read " + substitutions_file);
+      std::stringstream text;
+      text << in.rdbuf();
+      factory.loadSubstitutionRuleFromJSON(text.str());
+    }
     factory.registerBehaviorTreeFromFile(tree_file);
+    built_as.clear();
     auto probe = factory.createTree(main_id);      // "": BT.CPP picks the main tree
     if (main_id.empty()) main_id = probe.subtrees.front()->tree_ID;
+    if (paths) {
+      probe.applyVisitor([&](BT::TreeNode* node) {
+        std::string by;
+        if (dynamic_cast<const BT::TestNode*>(node)) by = "TestNode";
+        else if (built_as.count(node) && built_as[node] != node->registrationName()) by = built_as[node];
+        nodes += "{\"ev\":\"node\",\"path\":" + json_string(node->fullPath()) + ",\"name\":" +
+                 json_string(node->name()) + ",\"type\":" + json_string(node->registrationName()) +
+                 (by.empty() ? "" : ",\"by\":" + json_string(by)) + "}\n";
+      });
+    }
   } catch (const std::exception& e) {
     std::cout << "{\"ev\":\"load_error\",\"what\":" << json_string(e.what()) << "}\n";
     return 3;
   }
   if (load_only) {
-    std::cout << "{\"ev\":\"loaded\",\"main\":" << json_string(main_id) << "}\n";
+    std::cout << nodes << "{\"ev\":\"loaded\",\"main\":" << json_string(main_id) << "}\n";
     return 0;
   }
 
