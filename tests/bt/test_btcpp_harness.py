@@ -968,3 +968,59 @@ def test_an_exported_task_loads_in_btcpp_with_its_ports_and_fails_as_the_executi
         for e in seed_events:
             if e["ev"] == "tick" and e["type"] == first:
                 assert e["ports"] == {port: "spoon"}
+
+
+# -- issue 48: what BT.CPP gives a node, and what it refuses ----------------------------------------
+
+def subtree_call(call: str, ports: str) -> str:
+    """A main tree that calls Sub with the attributes `call`, Sub's model declaring `ports`: Sub
+    succeeds when its `v` is 42, and the main tree when Sub's output `r` reached its `out`."""
+    return f'''<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="v:=43; out:=0; other:=0"/>
+      <SubTree ID="Sub"{call}/>
+      <ScriptCondition code="out==1"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub">
+    <Sequence>
+      <Script code="r:=1"/>
+      <ScriptCondition code="v==42"/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <SubTree ID="Sub">{ports}</SubTree>
+  </TreeNodesModel>
+</root>
+'''
+
+
+V42, OUT = '<input_port name="v" default="42"/>', '<output_port name="r" default="{out}"/>'
+SUBTREE_DEFAULTS = {      # a, b, whether BT.CPP runs them alike
+    "an input default changed": (subtree_call("", V42 + OUT), subtree_call("", V42.replace("42", "43") + OUT), False),
+    "an output default changed": (subtree_call("", V42 + OUT), subtree_call("", V42 + OUT.replace("out", "other")), False),
+    "the default written as the call's remapping": (subtree_call("", V42 + OUT), subtree_call(' v="42" r="{out}"', ""), True),
+    "a remapping beats the default": (subtree_call(' v="42"', V42.replace("42", "43") + OUT), subtree_call("", V42 + OUT), True),
+    "{=} is the port's own name": (subtree_call(' r="{=}"', V42), subtree_call(' r="{r}"', V42), True),
+    "{=} is no other entry": (subtree_call(' r="{=}"', V42), subtree_call(' r="{out}"', V42), False),
+    "_autoremap reads no default": (subtree_call(' _autoremap="true"', V42), subtree_call(' _autoremap="true"', V42.replace("42", "43")), True),
+    "_autoremap against the default": (subtree_call(' _autoremap="true"', V42 + OUT), subtree_call("", V42 + OUT), False),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SUBTREE_DEFAULTS))
+def test_a_subtree_calls_remapping_is_what_btcpp_resolves(harness, tmp_path, case):
+    """Issue 48: a SubTree call gets its model's default of each port it does not remap, unless
+    _autoremap. BT.CPP runs the two files apart exactly when `verify` refutes them (it proved
+    two files that differ only in a default equal, and refuted a remapping that spells the default)."""
+    from schemalog.api.behaviour_trees import prove_trees
+
+    text_a, text_b, alike = SUBTREE_DEFAULTS[case]
+    a, b = tmp_path / "a.xml", tmp_path / "b.xml"
+    a.write_text(text_a)
+    b.write_text(text_b)
+    runs_a, runs_b = run(harness, a, [a], tmp_path, range(3)), run(harness, b, [b], tmp_path, range(3))
+    assert (runs_a == runs_b) == alike, (runs_a, runs_b)
+    verdict = prove_trees(read_tree(a), read_tree(b))
+    assert verdict.complete and verdict.equal == alike, verdict.reason

@@ -292,3 +292,35 @@ def test_nodes_and_semantics_for_task_knowledge_are_refused():
     assert r.returncode == 2 and "--nodes applies to BT.CPP trees" in r.stderr, r.stderr
     r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--semantics", NODES)
     assert r.returncode == 2 and "--semantics applies to BT.CPP trees" in r.stderr, r.stderr
+
+
+SUBTREE_WITH_DEFAULT = '''<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <SubTree ID="Sub"{call}/>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub">
+    <ScriptCondition code="v==42"/>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <SubTree ID="Sub">{ports}</SubTree>
+  </TreeNodesModel>
+</root>
+'''
+
+
+def test_verify_reads_a_subtree_models_defaults_as_the_calls_remapping(tmp_path):
+    """Issue 48: two files that differ only in a SubTree model's default were "proved equal ...
+    the documents' trees are identical", which BT.CPP runs SUCCESS and FAILURE; a remapping that
+    spells out the default was refuted (tests/bt/test_btcpp_harness.py runs both in BT.CPP)."""
+    files = {"a.xml": ("", '<input_port name="v" default="42"/>'),
+             "b.xml": ("", '<input_port name="v" default="43"/>'),
+             "c.xml": (' v="42"', '<input_port name="v"/>')}
+    for name, (call, ports) in files.items():
+        (tmp_path / name).write_text(SUBTREE_WITH_DEFAULT.format(call=call, ports=ports))
+    r = run("verify", "a.xml", "b.xml", cwd=tmp_path)
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert r.stdout.splitlines()[0] == ('refuted after 2 states: the next event differs: a check SubTree Sub v="42" > '
+                                        'ScriptCondition code="v==42", b check SubTree Sub v="43" > ScriptCondition '
+                                        'code="v==42"')
+    r = run("verify", "a.xml", "c.xml", cwd=tmp_path)
+    assert r.returncode == 0 and r.stdout.startswith("proved equal"), r.stdout + r.stderr

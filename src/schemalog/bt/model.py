@@ -84,6 +84,17 @@ class NodeModel:
     ports: tuple[Port, ...] = ()
 
 
+def subtree_ports(models) -> tuple[Port, ...]:
+    """The ports of SubTree models of one ID merged as BT.CPP's loadSubtreeModel merges them."""
+    # entry by entry, its input ports, then output, then inout; a later port of a name replaces
+    # the one before (subtree_model.ports[name] = port), keeping its place
+    ports: dict[str, Port] = {}
+    for m in models:
+        for direction in ("input", "output", "inout"):
+            ports.update((p.name, p) for p in m.ports if p.direction == direction)
+    return tuple(ports.values())
+
+
 @dataclass(frozen=True)
 class Document:
     """A BT.CPP document: its behaviour trees by ID, the ID of the main one, the node models."""
@@ -113,6 +124,10 @@ class Document:
             if m.type == node_type:
                 return m
         return None
+
+    def subtree_model(self, tree_id: str) -> NodeModel | None:
+        """The SubTree model the document declares for the tree `tree_id`, or None."""
+        return next((m for m in self.models if m.type == tree_id and m.kind == "SubTree"), None)
 
     def with_trees(self, trees: tuple[tuple[str, Node], ...]) -> "Document":
         """The same document over other trees."""

@@ -26,7 +26,8 @@ from collections.abc import Mapping
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
 from schemalog.bt.semantics import (RESETTING_PARENTS, RULES, RUNNING, Await, Config, Event, Program, RootTicked, Rule,
-                                    Status, _rule_key, advance, halt_step, initial, program, step)
+                                    Status, _rule_key, advance, call_identity, halt_step, initial, program, step,
+                                    subtree_id)
 
 
 @dataclass(frozen=True)
@@ -365,21 +366,31 @@ def simulate(document: Document, seed: int, root_ticks: int, *,
 # ---------------------------------------------------------------------------------------------
 # Proofs by parts: where two documents differ only in some subtrees
 
-def differing_parts(a: Node, b: Node) -> list[tuple[Node, Node]]:
-    """The pairs of subtrees where `a` and `b` part, top-down: below two nodes alike (type,
-    form, attributes, number of children) the children are compared pairwise; elsewhere the
-    two nodes are a part. Equal trees have none."""
-    return [(na, nb) for na, nb, _ in _parts(a, b, None)]
+def differing_parts(a: Node, b: Node, da: Document | None = None,
+                    db: Document | None = None) -> list[tuple[Node, Node]]:
+    """The pairs of subtrees where `a` (of document `da`) and `b` (of `db`) part, top-down: below
+    two nodes alike (_alike) the children are compared pairwise; elsewhere the two nodes are a
+    part. Equal trees of documents whose SubTree calls resolve alike have none."""
+    empty = Document((), "")
+    return [(na, nb) for na, nb, _ in _parts(a, b, None, da or empty, db or empty)]
 
 
-def _parts(a: Node, b: Node, parent: str | None) -> list[tuple[Node, Node, str | None]]:
+def _alike(a: Node, b: Node, da: Document, db: Document) -> bool:
+    """Whether two nodes, their children aside, are one node to BT.CPP: type, form, number of
+    children, attributes and, for a SubTree call, its remapping as each document resolves it."""
+    # a SubTree call's remapping takes its model's defaults, which two documents may declare differently
+    if (a.type, a.form, a.attrs, len(a.children)) != (b.type, b.form, b.attrs, len(b.children)):
+        return False
+    return subtree_id(a) is None or call_identity(a, da) == call_identity(b, db)
+
+
+def _parts(a: Node, b: Node, parent: str | None, da: Document,
+           db: Document) -> list[tuple[Node, Node, str | None]]:
     """differing_parts, each with the type of the parent it stands under (None: a tree's root)."""
-    if a == b:
-        return []
-    if (a.type, a.form, a.attrs, len(a.children)) != (b.type, b.form, b.attrs, len(b.children)) or not a.children:
+    if not _alike(a, b, da, db):
         return [(a, b, parent)]
     under = a.type if not a.form else None            # a generic-form node is a custom one: opaque
-    return [part for ca, cb in zip(a.children, b.children) for part in _parts(ca, cb, under or "\0custom")]
+    return [part for ca, cb in zip(a.children, b.children) for part in _parts(ca, cb, under or "\0custom", da, db)]
 
 
 def _unreset(parent: str | None, rules: Mapping[str, Rule] | None) -> bool:
@@ -425,7 +436,7 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
     if ids_a == ids_b and a.main == b.main and not differ:
-        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None)]
+        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None, a, b)]
         proved = True
         thrown = ""
         for na, nb, parent in parts:
@@ -440,7 +451,8 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
         if proved:
             what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
                     f"context its parent can make and under every environment" if parts
-                    else "the documents' trees are identical")
+                    else "the documents' trees are identical, each SubTree call's remapping with its model's "
+                         "defaults too")
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")
             return Verdict(True, True, spent, f"equal by parts: {what} ({_pairs(spent)}, exhausted){errors}",
@@ -476,7 +488,7 @@ def compress_proved(document: Document, *, max_states: int, max_events_per_tick:
             return result, None
         refuted = []
         for (_, ra), (_, rb) in zip(document.trees, result.document.trees):
-            for na, nb, parent in _parts(ra, rb, None):
+            for na, nb, parent in _parts(ra, rb, None, document, result.document):
                 v = prove_equal(_part(document, na), _part(result.document, nb), max_states=max_states,
                                 max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
                                 unreset=_unreset(parent, rules))

@@ -61,8 +61,11 @@ declare, a literal that does not convert or without a port its constructor needs
 Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
 include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
 recurses without end), a created tree (SubTrees expanded) deeper than MAX_TREE_DEPTH levels, and
-two trees with one ID (BT.CPP keeps the last silently). A file an <include> reaches is quoted in no
-message until it is a <root> document (btcpp.read_included: it may be any file the process reads).
+two trees with one ID (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
+ID (in several files, or a nodes file) are one model in the Document, merged as loadSubtreeModel
+merges them: a call's remapping takes their defaults (bt/semantics.call_identity). A file an
+<include> reaches is quoted in no message until it is a <root> document (btcpp.read_included:
+it may be any file the process reads).
 
 write_bt writes every tree (in order), main_tree_to_execute and a <TreeNodesModel> with the
 document's models, then a model for every other custom node type used (infer_models: kind from
@@ -80,7 +83,7 @@ import re
 from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
-from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
+from ..bt.model import Attrs, Document, Node, NodeModel, Port, subtree_ports, walk
 from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
 from ..errors import SchemalogError, SourcePos
 from .btcpp import XNode, parse_xml, read_included
@@ -507,13 +510,7 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     of its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
     in it.)"""
     trees = {t.id: t for t in reader.trees}
-    # BT.CPP's subtree_models: the ports of every entry of an ID, read file by file (includes
-    # first), input ports, then output, then inout ports; a later port of a name replaces one before
-    ports: dict[str, dict[str, Port]] = {}
-    for m in (*reader.subtree_models, *(m for m in reader.extra if m.kind == "SubTree")):
-        into = ports.setdefault(m.type, {})
-        for direction in ("input", "output", "inout"):
-            into.update((p.name, p) for p in m.ports if p.direction == direction)
+    ports = {tree_id: {p.name: p for p in subtree_ports((m,))} for tree_id, m in _subtree_models(reader).items()}
     done: dict[str, int] = {}          # a tree checked whole, and the depth it was checked at
 
     def visit(tree_id: str, path: tuple[str, ...], depth: int) -> None:
@@ -563,6 +560,17 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
         done[tree_id] = depth
 
     visit(main, (main,), 0)
+
+
+def _subtree_models(reader: _Reader) -> dict[str, NodeModel]:
+    """BT.CPP's subtree_models: one model per tree ID, every entry of the ID merged (bt.model.subtree_ports)."""
+    # read file by file, includes first, then the nodes files; an ID's entries are merged even
+    # across files, as loadSubtreeModel fills one map for the whole factory
+    entries: dict[str, list[NodeModel]] = {}
+    for m in (*reader.subtree_models, *(m for m in reader.extra if m.kind == "SubTree")):
+        entries.setdefault(m.type, []).append(m)
+    return {tree_id: ms[0] if len(ms) == 1 else NodeModel(tree_id, "SubTree", subtree_ports(ms))
+            for tree_id, ms in entries.items()}
 
 
 def _tree_id_checks(reader: _Reader) -> None:
@@ -620,6 +628,11 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     own = tuple(NodeModel(m.type, registered.get(m.type, m.kind), m.ports) if m.kind != "SubTree" else m
                 for m in reader.models)
     merged = own + tuple(m for m in reader.extra if all(m.type != k.type for k in own))
+    # a SubTree call gets the defaults of every model entry of its tree's ID (the semantics
+    # reads them), so an ID's entries are kept as one, where the first stood
+    calls = _subtree_models(reader)
+    merged = tuple(calls.pop(m.type) if m.kind == "SubTree" else m for m in merged
+                   if m.kind != "SubTree" or m.type in calls) + tuple(calls.values())
     return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes))
 
 
