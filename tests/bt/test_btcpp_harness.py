@@ -1024,3 +1024,30 @@ def test_a_subtree_calls_remapping_is_what_btcpp_resolves(harness, tmp_path, cas
     assert (runs_a == runs_b) == alike, (runs_a, runs_b)
     verdict = prove_trees(read_tree(a), read_tree(b))
     assert verdict.complete and verdict.equal == alike, verdict.reason
+
+
+def test_a_nav2_tree_with_its_attributes_reordered_runs_alike_in_btcpp(harness, tmp_path):
+    """Issue 48: the order of a node's attributes is no difference to BT.CPP (it reads ports by
+    name), and `verify` proves every such mutant of the tree: every node of two or more
+    attributes, reversed, one at a time, run under the same draws."""
+    from schemalog.api.behaviour_trees import prove_trees
+
+    original = prepared(NAV2 / "navigate_to_pose_w_replanning_and_recovery.xml")
+    runs = run(harness, written(original, tmp_path / "original.xml"), [tmp_path / "original.xml"], tmp_path,
+               range(10))
+    (_, root), = original.trees
+    reversible = [k for k, n in enumerate(walk(root)) if len(n.attrs) >= 2]
+    assert len(reversible) >= 10
+
+    def reversed_at(node: Node, k: int, count: list) -> Node:
+        at, count[0] = count[0], count[0] + 1
+        kids = tuple(reversed_at(c, k, count) for c in node.children)
+        return Node(node.type, tuple(reversed(node.attrs)) if at == k else node.attrs, kids, node.form)
+
+    for k in reversible:
+        mutant = original.with_trees((("MainTree", reversed_at(root, k, [0])),))
+        assert mutant != original
+        path = written(mutant, tmp_path / f"mutant{k}.xml")
+        assert run(harness, path, [path], tmp_path, range(10)) == runs, k
+        verdict = prove_trees(original, mutant)
+        assert verdict.equal and verdict.complete and verdict.states == 0, (k, verdict.reason)

@@ -324,3 +324,17 @@ def test_verify_reads_a_subtree_models_defaults_as_the_calls_remapping(tmp_path)
                                         'code="v==42"')
     r = run("verify", "a.xml", "c.xml", cwd=tmp_path)
     assert r.returncode == 0 and r.stdout.startswith("proved equal"), r.stdout + r.stderr
+
+
+def test_a_nav2_tree_with_a_nodes_attributes_reordered_is_proved_equal(tmp_path):
+    """Issue 48: all 21 attribute-order mutants of the Nav2 corpus were refuted; BT.CPP reads a
+    node's ports by name (tests/bt/test_btcpp_harness.py runs this pair in BT.CPP)."""
+    text = REPLANNING.read_text()
+    written_so = 'goal="{goal}" path="{path}" planner_id="GridBased"'
+    assert text.count(written_so) == 1
+    edited = tmp_path / "reordered.xml"
+    edited.write_text(text.replace(written_so, 'planner_id="GridBased" path="{path}" goal="{goal}"'))
+    r = run("verify", REPLANNING, edited, "--nodes", NODES)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.stdout.startswith("proved equal: equal by parts: the documents' trees are the same to BT.CPP "
+                               "(attributes by name"), r.stdout

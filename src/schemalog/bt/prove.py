@@ -226,7 +226,7 @@ def _trace_moves(prog: Program, labels: tuple) -> tuple[TickTrace, ...]:
                 ticks.append(TickTrace(tuple(events) + (s.event,), None))
                 return tuple(ticks)
             outcome = todo.pop(0)
-            events.append(Event(s.event.kind, s.event.node, outcome, s.event.label))
+            events.append(replace(s.event, outcome=outcome))
             config = advance(config, outcome)
             continue
         ticks.append(TickTrace(s.events, s.status, s.error))
@@ -268,7 +268,7 @@ def _trace(prog: Program, choices: tuple, max_ticks: int | None = None) -> tuple
                 ticks.append(TickTrace(tuple(events) + (s.event,), None))
                 return tuple(ticks)
             outcome = choices[i]
-            events.append(Event(s.event.kind, s.event.node, outcome, s.event.label))
+            events.append(replace(s.event, outcome=outcome))
             config, i = advance(config, outcome), i + 1
             continue
         ticks.append(TickTrace(s.events, s.status, s.error))
@@ -295,7 +295,7 @@ def describe(event: Event) -> str:
         what = f"{head} `{detail}`"                    # a script attribute and its code
     else:
         name = f" \"{event.label}\"" if event.label and event.label != head else ""
-        what = f"{head}{name}{_ports(detail)}"
+        what = f"{head}{name}{_ports(event.ports or detail)}"       # as the element writes them
     verb = {"tick": "tick", "halt": "halt", "check": "check", "script": "run script",
             "time": "time at", "choose": "choice of"}.get(event.kind, event.kind)
     outcome = _outcome(event.outcome)
@@ -377,9 +377,11 @@ def differing_parts(a: Node, b: Node, da: Document | None = None,
 
 def _alike(a: Node, b: Node, da: Document, db: Document) -> bool:
     """Whether two nodes, their children aside, are one node to BT.CPP: type, form, number of
-    children, attributes and, for a SubTree call, its remapping as each document resolves it."""
-    # a SubTree call's remapping takes its model's defaults, which two documents may declare differently
-    if (a.type, a.form, a.attrs, len(a.children)) != (b.type, b.form, b.attrs, len(b.children)):
+    children, attributes by name and, for a SubTree call, its remapping as each document resolves it."""
+    # BT.CPP reads attributes by name, so their order alone is no difference (and no part for the
+    # prover to explore); a SubTree call's remapping takes its model's defaults, which two
+    # documents may declare differently
+    if (a.type, a.form, len(a.children)) != (b.type, b.form, len(b.children)) or sorted(a.attrs) != sorted(b.attrs):
         return False
     return subtree_id(a) is None or call_identity(a, da) == call_identity(b, db)
 
@@ -451,8 +453,8 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
         if proved:
             what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''}, each equal in every "
                     f"context its parent can make and under every environment" if parts
-                    else "the documents' trees are identical, each SubTree call's remapping with its model's "
-                         "defaults too")
+                    else "the documents' trees are the same to BT.CPP (attributes by name, each SubTree "
+                         "call's remapping with its model's defaults)")
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")
             return Verdict(True, True, spent, f"equal by parts: {what} ({_pairs(spent)}, exhausted){errors}",

@@ -8,7 +8,7 @@
                                             outcomes the environment chose so far in this root tick
     memory  = ((path, status, vars), ...)   sorted by path; only nodes that are not IDLE or keep a
                                             variable (a Sequence's child index, a Retry's count)
-    Event   = Event(kind, node, outcome, label)  kind: "tick" | "halt" | "check" | "script" |
+    Event   = Event(kind, node, outcome, label, ports)  kind: "tick" | "halt" | "check" | "script" |
                                             "time" | "choose"; node = (context, identity), where
                                             context is the tuple of SubTree identities above it
     Step    = Await(event, options, config) | RootTicked(status, error, node_ticks, config)
@@ -76,6 +76,7 @@ class Event:
     node: tuple
     outcome: object = None
     label: str = field(default="", compare=False)     # the node's name, for people
+    ports: tuple = field(default=(), compare=False)   # its ports in its element's order, for people
 
 
 @dataclass(frozen=True)
@@ -199,14 +200,15 @@ class _Run:
     def event(self, kind: str, n: PNode, options: tuple, identity=None):
         """Record an event of node `n`; return the environment's outcome (None for no choice)."""
         node = (n.context, identity if identity is not None else n.node.identity)
+        shown = n.node.ports if identity is None else ()
         if self.pos < len(self.pending):
             outcome = self.pending[self.pos]
             if outcome not in options:
                 raise SchemalogError(f"outcome {outcome!r} is not one of {options!r}")
             self.pos += 1
-            self.events.append(Event(kind, node, outcome, n.node.name))
+            self.events.append(Event(kind, node, outcome, n.node.name, shown))
             return outcome
-        raise _Stop(Event(kind, node, None, n.node.name), options)
+        raise _Stop(Event(kind, node, None, n.node.name, shown), options)
 
     def script(self, n: PNode, code: str, key: str) -> None:
         """Execute a script: an event without a choice."""
