@@ -1051,3 +1051,36 @@ def test_a_nav2_tree_with_its_attributes_reordered_runs_alike_in_btcpp(harness, 
         assert run(harness, path, [path], tmp_path, range(10)) == runs, k
         verdict = prove_trees(original, mutant)
         assert verdict.equal and verdict.complete and verdict.states == 0, (k, verdict.reason)
+
+
+MANUAL_SELECTOR = '''<root BTCPP_format="4">
+  <BehaviorTree ID="MainTree">
+    <Repeat num_cycles="3">
+      <ManualSelector repeat_last_selection="0">
+        <SaySomething name="Option1" message="Option1"/>
+        <SaySomething name="Option2" message="Option2"/>
+        <ManualSelector name="YouChoose"/>
+      </ManualSelector>
+    </Repeat>
+  </BehaviorTree>
+</root>
+'''
+
+
+@pytest.mark.parametrize("kind", ["Action", "Condition", "Control", "Decorator", None])
+def test_a_type_used_as_a_leaf_and_with_children_is_refused_by_both(harness, tmp_path, kind):
+    """Issue 48: BT.CPP's ex03 (this tree is its shape) uses ManualSelector with children and as
+    a leaf. However ManualSelector is registered (or not at all), BT.CPP 4.8.2 refuses the file;
+    schemalog imported it, and now refuses it at the second use, naming the first."""
+    tree, nodes = tmp_path / "ex03.xml", tmp_path / "nodes.xml"
+    tree.write_text(MANUAL_SELECTOR)
+    declared = f'<{kind} ID="ManualSelector"><input_port name="repeat_last_selection"/></{kind}>' if kind else ""
+    nodes.write_text(f'<root BTCPP_format="4"><TreeNodesModel><Action ID="SaySomething"><input_port name="message"/>'
+                     f'</Action>{declared}</TreeNodesModel></root>')
+    ok, said = load(harness, tree, [nodes])
+    assert not ok
+    assert "ManualSelector" in said
+    with pytest.raises(SchemalogError) as err:
+        read_tree(tree, [nodes] if kind else [])
+    # where BT.CPP refuses it under that registration; unregistered, at the use that contradicts the first
+    assert (err.value.line, err.value.column) == ((4, 7) if kind in ("Action", "Condition", "Decorator") else (7, 9))

@@ -338,3 +338,36 @@ def test_a_nav2_tree_with_a_nodes_attributes_reordered_is_proved_equal(tmp_path)
     assert r.returncode == 0, r.stdout + r.stderr
     assert r.stdout.startswith("proved equal: equal by parts: the documents' trees are the same to BT.CPP "
                                "(attributes by name"), r.stdout
+
+
+def test_a_type_used_as_a_leaf_and_with_children_is_refused_and_nothing_is_written(tmp_path):
+    """Issue 48: the shape of BT.CPP's ex03 (ManualSelector with children and as a leaf), which
+    BT.CPP refuses however ManualSelector is registered, was imported, and `compress -o` wrote a
+    file its own reader then refused."""
+    (tmp_path / "ex03.xml").write_text(
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="MainTree">\n    <Sequence>\n      <Sequence>\n'
+        '        <ManualSelector>\n          <Say/>\n          <Say/>\n          <ManualSelector/>\n'
+        '        </ManualSelector>\n      </Sequence>\n    </Sequence>\n  </BehaviorTree>\n</root>\n')
+    r = run("compress", "ex03.xml", "-o", "small.xml", cwd=tmp_path)
+    assert r.returncode == 1 and not (tmp_path / "small.xml").exists()
+    assert r.stderr.startswith("ex03.xml:8:11: error: <ManualSelector> has no child here and 3 children at "
+                               "ex03.xml:5:9: BT.CPP registers a node type as a leaf or as a node with children"), \
+        r.stderr
+    assert "Traceback" not in r.stderr
+
+
+def test_compress_never_writes_a_tree_its_own_reader_refuses():
+    """tree_xml reads the XML back before it is written: a Document the reader would refuse (made
+    by hand here: compress keeps what it read) is an error of ours, never an output."""
+    from schemalog.api.behaviour_trees import tree_xml
+    from schemalog.bt.model import Document, Node
+    from schemalog.errors import SchemalogError
+
+    root = Node("Sequence", (), (Node("Pick", (), (Node("A"),)), Node("Pick")))
+    with pytest.raises(SchemalogError) as err:
+        tree_xml(Document((("T", root),), "T"))
+    # write_bt declares Pick an Action (infer_models), which its use with a child contradicts
+    assert err.value.message.startswith("the tree to write would be refused when read back at line 5, column 7 "
+                                        "(The node 'Pick' must not have any child"), err.value.message
+    assert "nothing written" in err.value.message
+    assert tree_xml(Document((("T", root.with_children(root.children[:1])),), "T")).startswith("<?xml")
