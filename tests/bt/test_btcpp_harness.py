@@ -1107,3 +1107,119 @@ def test_an_exported_task_loads_in_btcpp_with_its_ports_and_fails_as_the_executi
         for e in seed_events:
             if e["ev"] == "tick" and e["type"] == first:
                 assert e["ports"] == {port: "spoon"}
+
+
+# -- issue 48: what BT.CPP gives a node, and what it refuses ----------------------------------------
+
+def subtree_call(call: str, ports: str) -> str:
+    """A main tree that calls Sub with the attributes `call`, Sub's model declaring `ports`: Sub
+    succeeds when its `v` is 42, and the main tree when Sub's output `r` reached its `out`."""
+    return f'''<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence>
+      <Script code="v:=43; out:=0; other:=0"/>
+      <SubTree ID="Sub"{call}/>
+      <ScriptCondition code="out==1"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub">
+    <Sequence>
+      <Script code="r:=1"/>
+      <ScriptCondition code="v==42"/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <SubTree ID="Sub">{ports}</SubTree>
+  </TreeNodesModel>
+</root>
+'''
+
+
+V42, OUT = '<input_port name="v" default="42"/>', '<output_port name="r" default="{out}"/>'
+SUBTREE_DEFAULTS = {      # a, b, whether BT.CPP runs them alike
+    "an input default changed": (subtree_call("", V42 + OUT), subtree_call("", V42.replace("42", "43") + OUT), False),
+    "an output default changed": (subtree_call("", V42 + OUT), subtree_call("", V42 + OUT.replace("out", "other")), False),
+    "the default written as the call's remapping": (subtree_call("", V42 + OUT), subtree_call(' v="42" r="{out}"', ""), True),
+    "a remapping beats the default": (subtree_call(' v="42"', V42.replace("42", "43") + OUT), subtree_call("", V42 + OUT), True),
+    "{=} is the port's own name": (subtree_call(' r="{=}"', V42), subtree_call(' r="{r}"', V42), True),
+    "{=} is no other entry": (subtree_call(' r="{=}"', V42), subtree_call(' r="{out}"', V42), False),
+    "_autoremap reads no default": (subtree_call(' _autoremap="true"', V42), subtree_call(' _autoremap="true"', V42.replace("42", "43")), True),
+    "_autoremap against the default": (subtree_call(' _autoremap="true"', V42 + OUT), subtree_call("", V42 + OUT), False),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SUBTREE_DEFAULTS))
+def test_a_subtree_calls_remapping_is_what_btcpp_resolves(harness, tmp_path, case):
+    """Issue 48: a SubTree call gets its model's default of each port it does not remap, unless
+    _autoremap. BT.CPP runs the two files apart exactly when `verify` refutes them (it proved
+    two files that differ only in a default equal, and refuted a remapping that spells the default)."""
+    from schemalog.api.behaviour_trees import prove_trees
+
+    text_a, text_b, alike = SUBTREE_DEFAULTS[case]
+    a, b = tmp_path / "a.xml", tmp_path / "b.xml"
+    a.write_text(text_a)
+    b.write_text(text_b)
+    runs_a, runs_b = run(harness, a, [a], tmp_path, range(3)), run(harness, b, [b], tmp_path, range(3))
+    assert (runs_a == runs_b) == alike, (runs_a, runs_b)
+    verdict = prove_trees(read_tree(a), read_tree(b))
+    assert verdict.complete and verdict.equal == alike, verdict.reason
+
+
+def test_a_nav2_tree_with_its_attributes_reordered_runs_alike_in_btcpp(harness, tmp_path):
+    """Issue 48: the order of a node's attributes is no difference to BT.CPP (it reads ports by
+    name), and `verify` proves every such mutant of the tree: every node of two or more
+    attributes, reversed, one at a time, run under the same draws."""
+    from schemalog.api.behaviour_trees import prove_trees
+
+    original = prepared(NAV2 / "navigate_to_pose_w_replanning_and_recovery.xml")
+    runs = run(harness, written(original, tmp_path / "original.xml"), [tmp_path / "original.xml"], tmp_path,
+               range(10))
+    (_, root), = original.trees
+    reversible = [k for k, n in enumerate(walk(root)) if len(n.attrs) >= 2]
+    assert len(reversible) >= 10
+
+    def reversed_at(node: Node, k: int, count: list) -> Node:
+        at, count[0] = count[0], count[0] + 1
+        kids = tuple(reversed_at(c, k, count) for c in node.children)
+        return Node(node.type, tuple(reversed(node.attrs)) if at == k else node.attrs, kids, node.form)
+
+    for k in reversible:
+        mutant = original.with_trees((("MainTree", reversed_at(root, k, [0])),))
+        assert mutant != original
+        path = written(mutant, tmp_path / f"mutant{k}.xml")
+        assert run(harness, path, [path], tmp_path, range(10)) == runs, k
+        verdict = prove_trees(original, mutant)
+        assert verdict.equal and verdict.complete and verdict.states == 0, (k, verdict.reason)
+
+
+MANUAL_SELECTOR = '''<root BTCPP_format="4">
+  <BehaviorTree ID="MainTree">
+    <Repeat num_cycles="3">
+      <ManualSelector repeat_last_selection="0">
+        <SaySomething name="Option1" message="Option1"/>
+        <SaySomething name="Option2" message="Option2"/>
+        <ManualSelector name="YouChoose"/>
+      </ManualSelector>
+    </Repeat>
+  </BehaviorTree>
+</root>
+'''
+
+
+@pytest.mark.parametrize("kind", ["Action", "Condition", "Control", "Decorator", None])
+def test_a_type_used_as_a_leaf_and_with_children_is_refused_by_both(harness, tmp_path, kind):
+    """Issue 48: BT.CPP's ex03 (this tree is its shape) uses ManualSelector with children and as
+    a leaf. However ManualSelector is registered (or not at all), BT.CPP 4.8.2 refuses the file;
+    schemalog imported it, and now refuses it at the second use, naming the first."""
+    tree, nodes = tmp_path / "ex03.xml", tmp_path / "nodes.xml"
+    tree.write_text(MANUAL_SELECTOR)
+    declared = f'<{kind} ID="ManualSelector"><input_port name="repeat_last_selection"/></{kind}>' if kind else ""
+    nodes.write_text(f'<root BTCPP_format="4"><TreeNodesModel><Action ID="SaySomething"><input_port name="message"/>'
+                     f'</Action>{declared}</TreeNodesModel></root>')
+    ok, said = load(harness, tree, [nodes])
+    assert not ok
+    assert "ManualSelector" in said
+    with pytest.raises(SchemalogError) as err:
+        read_tree(tree, [nodes] if kind else [])
+    # where BT.CPP refuses it under that registration; unregistered, at the use that contradicts the first
+    assert (err.value.line, err.value.column) == ((4, 7) if kind in ("Action", "Condition", "Decorator") else (7, 9))

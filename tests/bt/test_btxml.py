@@ -262,6 +262,14 @@ REFUSED = [
      '  <BehaviorTree ID="T">\n    <SubTree ID="S" a="1"/>\n  </BehaviorTree>\n  <BehaviorTree ID="S"><A/>'
      '</BehaviorTree>\n  <TreeNodesModel><SubTree ID="S"><input_port name="a"/></SubTree><SubTree ID="S">'
      '<input_port name="b"/></SubTree></TreeNodesModel>\n</root>', (3, 5), "[b]"),
+    # issue 48: BT.CPP's ex03 uses ManualSelector with five children and as a leaf; a type is
+    # registered as one kind, so BT.CPP refuses one of the two uses, whatever it is registered as
+    ("a custom type as a leaf and with children", _tree("<Sequence>\n      <Foo>\n        <A/>\n      </Foo>\n"
+                                                       "      <Foo/>\n    </Sequence>"), (7, 7),
+     "<Foo> has no child here and 1 child at bad.xml:4:7"),
+    ("a custom type in generic forms with and without children",
+     _tree('<Sequence>\n      <Action ID="Foo"/>\n      <Control ID="Foo">\n        <A/>\n      </Control>\n'
+           '    </Sequence>'), (5, 7), "<Control ID='Foo'> has 1 child here and no child at bad.xml:4:7"),
     ("malformed XML", _tree('<Sequence>\n      <A x="1">\n    </Sequence>'), (5, 7), "malformed XML"),
     ("an entity", '<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY e "x">]>\n<root/>', None, "entit"),
 ]
@@ -601,3 +609,14 @@ def test_attribute_values_read_as_bt_cpp_reads_them(raw):
 def repr_script(text: str) -> str:
     """Quote `text` as a string literal of BT.CPP's script language."""
     return "'" + text + "'"
+
+
+def test_a_type_used_as_a_leaf_in_an_included_file_and_with_children_here_is_refused():
+    """BT.CPP verifies every file against one registration, so the two uses may be in two files."""
+    main = ('<root BTCPP_format="4" main_tree_to_execute="T">\n  <include path="inc.xml"/>\n'
+            '  <BehaviorTree ID="T">\n    <Pick>\n      <A/>\n    </Pick>\n  </BehaviorTree>\n</root>\n')
+    included = '<root BTCPP_format="4">\n  <BehaviorTree ID="U">\n    <Pick/>\n  </BehaviorTree>\n</root>\n'
+    with pytest.raises(SchemalogError) as err:
+        read_bt(main, "main.xml", read=lambda p: included)
+    assert (err.value.file, err.value.line, err.value.column) == ("main.xml", 4, 5)
+    assert err.value.message.startswith("<Pick> has 1 child here and no child at inc.xml:3:5: BT.CPP registers")

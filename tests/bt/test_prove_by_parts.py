@@ -157,3 +157,21 @@ def test_a_rewrite_is_kept_only_where_its_parent_makes_it_sound():
     unsound = compress(tree)                                 # the rules alone remove both
     assert len(unsound.rewrites) == 2
     assert not prove_by_parts(tree, unsound.document, **LIMITS).equal
+
+
+def test_ports_are_compared_by_name_not_by_their_order_in_the_element():
+    """Issue 48: `p="1" q="2"` and `q="2" p="1"` were refuted (ports a tuple in document order);
+    BT.CPP gives a node its ports by name. Neither the whole trees nor the parts tell them apart,
+    and a real difference still shows each side's ports as its element writes them."""
+    pq = act("X", p="1", q="2")
+    qp = Node("X", (("q", "2"), ("p", "1")), (), "Action")
+    a, b = doc(n("Sequence", pq, A)), doc(n("Sequence", qp, A))
+    whole = prove_equal(a, b, **LIMITS)
+    assert whole.equal and whole.complete
+    assert differing_parts(a.root, b.root) == []
+    by_parts = prove_by_parts(a, b, **LIMITS)
+    assert by_parts.equal and by_parts.complete and by_parts.states == 0, by_parts.reason
+    other = Node("X", (("q", "3"), ("p", "1")), (), "Action")
+    refuted = prove_by_parts(a, doc(n("Sequence", other, A)), **LIMITS)
+    assert not refuted.equal
+    assert refuted.reason == 'the next event differs: a tick X p="1" q="2", b tick X q="3" p="1"'

@@ -366,7 +366,7 @@ def test_subtree_remapping_is_part_of_every_event_inside():
     events = trace[0].events
     assert [e.node[1] for e in events] == [("Move", (("target", "{goal}"),))] * 2
     assert events[0].node != events[1].node
-    assert events[0].node[0] == (("SubTree", "Go", (("goal", "{a}"),), "false"),)
+    assert events[0].node[0] == (("SubTree", "Go", (("goal", "{a}"),), False),)
 
 
 def test_subtree_errors():

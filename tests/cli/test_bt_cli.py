@@ -423,3 +423,82 @@ def test_an_unknown_profile_is_a_usage_error():
         in r.stderr and "Traceback" not in r.stderr, r.stderr
     r = run("verify", ROOT / "kb" / "tasks" / "mix_with_spoon.pl", "--profile", "nav2")
     assert r.returncode == 2 and "--profile applies to BT.CPP trees" in r.stderr, r.stderr
+
+
+SUBTREE_WITH_DEFAULT = '''<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <SubTree ID="Sub"{call}/>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub">
+    <ScriptCondition code="v==42"/>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <SubTree ID="Sub">{ports}</SubTree>
+  </TreeNodesModel>
+</root>
+'''
+
+
+def test_verify_reads_a_subtree_models_defaults_as_the_calls_remapping(tmp_path):
+    """Issue 48: two files that differ only in a SubTree model's default were "proved equal ...
+    the documents' trees are identical", which BT.CPP runs SUCCESS and FAILURE; a remapping that
+    spells out the default was refuted (tests/bt/test_btcpp_harness.py runs both in BT.CPP)."""
+    files = {"a.xml": ("", '<input_port name="v" default="42"/>'),
+             "b.xml": ("", '<input_port name="v" default="43"/>'),
+             "c.xml": (' v="42"', '<input_port name="v"/>')}
+    for name, (call, ports) in files.items():
+        (tmp_path / name).write_text(SUBTREE_WITH_DEFAULT.format(call=call, ports=ports))
+    r = run("verify", "a.xml", "b.xml", cwd=tmp_path)
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert r.stdout.splitlines()[0] == ('refuted after 2 states: the next event differs: a check SubTree Sub v="42" > '
+                                        'ScriptCondition code="v==42", b check SubTree Sub v="43" > ScriptCondition '
+                                        'code="v==42"')
+    r = run("verify", "a.xml", "c.xml", cwd=tmp_path)
+    assert r.returncode == 0 and r.stdout.startswith("proved equal"), r.stdout + r.stderr
+
+
+def test_a_nav2_tree_with_a_nodes_attributes_reordered_is_proved_equal(tmp_path):
+    """Issue 48: all 21 attribute-order mutants of the Nav2 corpus were refuted; BT.CPP reads a
+    node's ports by name (tests/bt/test_btcpp_harness.py runs this pair in BT.CPP)."""
+    text = REPLANNING.read_text()
+    written_so = 'goal="{goal}" path="{path}" planner_id="GridBased"'
+    assert text.count(written_so) == 1
+    edited = tmp_path / "reordered.xml"
+    edited.write_text(text.replace(written_so, 'planner_id="GridBased" path="{path}" goal="{goal}"'))
+    r = run("verify", REPLANNING, edited, "--nodes", NODES)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.stdout.startswith("proved equal: equal by parts: the documents' trees are the same to BT.CPP "
+                               "(attributes by name"), r.stdout
+
+
+def test_a_type_used_as_a_leaf_and_with_children_is_refused_and_nothing_is_written(tmp_path):
+    """Issue 48: the shape of BT.CPP's ex03 (ManualSelector with children and as a leaf), which
+    BT.CPP refuses however ManualSelector is registered, was imported, and `compress -o` wrote a
+    file its own reader then refused."""
+    (tmp_path / "ex03.xml").write_text(
+        '<root BTCPP_format="4">\n  <BehaviorTree ID="MainTree">\n    <Sequence>\n      <Sequence>\n'
+        '        <ManualSelector>\n          <Say/>\n          <Say/>\n          <ManualSelector/>\n'
+        '        </ManualSelector>\n      </Sequence>\n    </Sequence>\n  </BehaviorTree>\n</root>\n')
+    r = run("compress", "ex03.xml", "-o", "small.xml", cwd=tmp_path)
+    assert r.returncode == 1 and not (tmp_path / "small.xml").exists()
+    assert r.stderr.startswith("ex03.xml:8:11: error: <ManualSelector> has no child here and 3 children at "
+                               "ex03.xml:5:9: BT.CPP registers a node type as a leaf or as a node with children"), \
+        r.stderr
+    assert "Traceback" not in r.stderr
+
+
+def test_compress_never_writes_a_tree_its_own_reader_refuses():
+    """tree_xml reads the XML back before it is written: a Document the reader would refuse (made
+    by hand here: compress keeps what it read) is an error of ours, never an output."""
+    from schemalog.api.behaviour_trees import tree_xml
+    from schemalog.bt.model import Document, Node
+    from schemalog.errors import SchemalogError
+
+    root = Node("Sequence", (), (Node("Pick", (), (Node("A"),)), Node("Pick")))
+    with pytest.raises(SchemalogError) as err:
+        tree_xml(Document((("T", root),), "T"))
+    # write_bt declares Pick an Action (infer_models), which its use with a child contradicts
+    assert err.value.message.startswith("the tree to write would be refused when read back at line 5, column 7 "
+                                        "(The node 'Pick' must not have any child"), err.value.message
+    assert "nothing written" in err.value.message
+    assert tree_xml(Document((("T", root.with_children(root.children[:1])),), "T")).startswith("<?xml")

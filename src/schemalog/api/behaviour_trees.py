@@ -213,11 +213,20 @@ def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None, *
     return TreeCompression(document, result.document, result.rewrites, verdict, result.kept)
 
 
-def tree_xml(document) -> str:
-    """The document as BT.CPP 4 XML with a TreeNodesModel (formats/btxml.py)."""
-    from ..formats.btxml import write_bt
+def tree_xml(document, models=()) -> str:
+    """The document as BT.CPP 4 XML with a TreeNodesModel (formats/btxml.py), read back with
+    `models` (the nodes files it was read with) before it is given out."""
+    from ..formats.btxml import read_bt, write_bt
 
-    return write_bt(document)
+    text = write_bt(document)
+    try:
+        read_bt(text, "<the tree to write>", None, models=tuple(models))
+    except SchemalogError as err:
+        # a file our own reader refuses is one BT.CPP refuses too: a bug of ours, never an output
+        where = f" at line {err.pos.line}, column {err.pos.column}" if err.pos else ""
+        raise SchemalogError(f"the tree to write would be refused when read back{where} ({err.message}): "
+                             f"nothing written; please report it with the file") from None
+    return text
 
 
 def verdict_text(verdict, under: str = "") -> str:

@@ -112,7 +112,7 @@ class _Index:
         self.nodes.append((n, -1))
         kids = tuple(self._visit(c, other, table) for c in n.kids)
         node = n.node
-        key = table.setdefault((node.type, node.form, node.attrs, n.rule, n.decorator, n.context, kids), len(table))
+        key = table.setdefault((node.type, node.form, tuple(sorted(node.attrs)), n.rule, n.decorator, n.context, kids), len(table))
         self.nodes[slot] = (n, key)
         if key not in self.size:
             rule = self.prog.rules.get(n.rule)

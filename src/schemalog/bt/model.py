@@ -11,8 +11,10 @@ compression rewrites and the prover work on (docs/semantics.md, "Behaviour trees
 `type` is the node's registration ID: the element's tag (`<ComputePathToPose .../>`), or the ID
 of the generic forms (`<Action ID="ComputePathToPose" .../>`, whose tag `form` keeps so that
 an export writes the element the way it was read). A leaf's identity in a trace is its type
-and its ports (every attribute but `name` and the `_`-attributes): two leaves with the same
-identity do the same thing to the robot, whatever they are called.
+and its ports by name (every attribute but `name` and the `_`-attributes, in no order: BT.CPP
+keeps a node's ports in a map): two leaves with the same identity do the same thing to the
+robot, whatever they are called and in whatever order their element writes the ports. `attrs`
+keeps the document's order, so that a tree is written back as it was read.
 """
 
 from __future__ import annotations
@@ -56,8 +58,10 @@ class Node:
 
     @property
     def identity(self) -> tuple[str, Attrs]:
-        """What a trace records of a tick of this node: its type and its ports."""
-        return (self.type, self.ports)
+        """What a trace records of a tick of this node: its type and its ports, sorted by name."""
+        # BT.CPP gives a node its ports by name (PortsRemapping is a map): `p="1" q="2"` and
+        # `q="2" p="1"` are one node
+        return (self.type, tuple(sorted(self.ports)))
 
     def with_children(self, children: tuple["Node", ...]) -> "Node":
         """This node over other children."""
@@ -82,6 +86,17 @@ class NodeModel:
     type: str
     kind: str
     ports: tuple[Port, ...] = ()
+
+
+def subtree_ports(models) -> tuple[Port, ...]:
+    """The ports of SubTree models of one ID merged as BT.CPP's loadSubtreeModel merges them."""
+    # entry by entry, its input ports, then output, then inout; a later port of a name replaces
+    # the one before (subtree_model.ports[name] = port), keeping its place
+    ports: dict[str, Port] = {}
+    for m in models:
+        for direction in ("input", "output", "inout"):
+            ports.update((p.name, p) for p in m.ports if p.direction == direction)
+    return tuple(ports.values())
 
 
 @dataclass(frozen=True)
@@ -113,6 +128,10 @@ class Document:
             if m.type == node_type:
                 return m
         return None
+
+    def subtree_model(self, tree_id: str) -> NodeModel | None:
+        """The SubTree model the document declares for the tree `tree_id`, or None."""
+        return next((m for m in self.models if m.type == tree_id and m.kind == "SubTree"), None)
 
     def with_trees(self, trees: tuple[tuple[str, Node], ...]) -> "Document":
         """The same document over other trees."""

@@ -27,8 +27,8 @@ from schemalog.bt.congruence import abstract
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
 from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RULES, RUNNING,
-                                    STATEFUL_ACTION, SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status, _rule_key,
-                                    advance, halt_step, initial, program, step)
+                                    STATEFUL_ACTION, SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status,
+                                    _rule_key, advance, call_identity, halt_step, initial, program, step, subtree_id)
 
 
 @dataclass(frozen=True)
@@ -330,7 +330,7 @@ def describe(event: Event) -> str:
         what = f"{head} `{detail}`"                    # a script attribute and its code
     else:
         name = f" \"{event.label}\"" if event.label and event.label != head else ""
-        what = f"{head}{name}{_ports(detail)}"
+        what = f"{head}{name}{_ports(event.ports or detail)}"       # as the element writes them
     verb = {"tick": "tick", "halt": "halt", "check": "check", "script": "run script",
             "time": "time at", "choose": "choice of"}.get(event.kind, event.kind)
     outcome = _outcome(event.outcome)
@@ -366,7 +366,7 @@ def explain(verdict: Verdict, under: str = "") -> str:
     while k < count:
         # a run of root ticks alike (a RUNNING action waited for) is shown once: "x 6"
         same = k + 1
-        while same < count and _alike(cex, same, k):
+        while same < count and _tick_again(cex, same, k):
             same += 1
         lines.append(f"root tick {k + 1}:" if same == k + 1 else
                      f"root ticks {k + 1}-{same} (x {same - k}, each alike):")
@@ -383,7 +383,7 @@ def explain(verdict: Verdict, under: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-def _alike(cex: Counterexample, k: int, first: int) -> bool:
+def _tick_again(cex: Counterexample, k: int, first: int) -> bool:
     """Whether root tick k is root tick `first` again, in both trees."""
     return all(k < len(t) and first < len(t) and t[k] == t[first] and t[k].status is not None
                for t in (cex.ticks_a, cex.ticks_b))
@@ -419,21 +419,33 @@ def simulate(document: Document, seed: int, root_ticks: int, *,
 # ---------------------------------------------------------------------------------------------
 # Proofs by parts: where two documents differ only in some subtrees
 
-def differing_parts(a: Node, b: Node) -> list[tuple[Node, Node]]:
-    """The pairs of subtrees where `a` and `b` part, top-down: below two nodes alike (type,
-    form, attributes, number of children) the children are compared pairwise; elsewhere the
-    two nodes are a part. Equal trees have none."""
-    return [(na, nb) for na, nb, _ in _parts(a, b, None)]
+def differing_parts(a: Node, b: Node, da: Document | None = None,
+                    db: Document | None = None) -> list[tuple[Node, Node]]:
+    """The pairs of subtrees where `a` (of document `da`) and `b` (of `db`) part, top-down: below
+    two nodes alike (_alike) the children are compared pairwise; elsewhere the two nodes are a
+    part. Equal trees of documents whose SubTree calls resolve alike have none."""
+    empty = Document((), "")
+    return [(na, nb) for na, nb, _ in _parts(a, b, None, da or empty, db or empty)]
 
 
-def _parts(a: Node, b: Node, parent: str | None) -> list[tuple[Node, Node, str | None]]:
+def _alike(a: Node, b: Node, da: Document, db: Document) -> bool:
+    """Whether two nodes, their children aside, are one node to BT.CPP: type, form, number of
+    children, attributes by name and, for a SubTree call, its remapping as each document resolves it."""
+    # BT.CPP reads attributes by name, so their order alone is no difference (and no part for the
+    # prover to explore); a SubTree call's remapping takes its model's defaults, which two
+    # documents may declare differently
+    if (a.type, a.form, len(a.children)) != (b.type, b.form, len(b.children)) or sorted(a.attrs) != sorted(b.attrs):
+        return False
+    return subtree_id(a) is None or call_identity(a, da) == call_identity(b, db)
+
+
+def _parts(a: Node, b: Node, parent: str | None, da: Document,
+           db: Document) -> list[tuple[Node, Node, str | None]]:
     """differing_parts, each with the type of the parent it stands under (None: a tree's root)."""
-    if a == b:
-        return []
-    if (a.type, a.form, a.attrs, len(a.children)) != (b.type, b.form, b.attrs, len(b.children)) or not a.children:
+    if not _alike(a, b, da, db):
         return [(a, b, parent)]
     under = a.type if not a.form else None            # a generic-form node is a custom one: opaque
-    return [part for ca, cb in zip(a.children, b.children) for part in _parts(ca, cb, under or "\0custom")]
+    return [part for ca, cb in zip(a.children, b.children) for part in _parts(ca, cb, under or "\0custom", da, db)]
 
 
 def _unreset(parent: str | None, rules: Mapping[str, Rule] | None) -> bool:
@@ -547,7 +559,7 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
     if ids_a == ids_b and a.main == b.main and not differ:
-        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None)]
+        parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None, a, b)]
         proved = True
         thrown = ""
         registered: frozenset = frozenset()
@@ -566,7 +578,8 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
         if proved:
             what = (f"{len(parts)} differing subtree{'s' if len(parts) != 1 else ''} ({_places(parts)}), each "
                     f"equal in every context its parent can make and under every environment" if parts
-                    else "the documents' trees are identical")
+                    else "the documents' trees are the same to BT.CPP (attributes by name, each SubTree "
+                         "call's remapping with its model's defaults)")
             errors = (f"; in both, a differing subtree's runs may end in an error, as BT.CPP's tick throws: "
                       f"{thrown}" if thrown else "")
             if taken:
@@ -639,7 +652,7 @@ def compress_proved(document: Document, *, max_states: int, max_events_per_tick:
             return result, None
         refuted = []
         for (_, ra), (_, rb) in zip(document.trees, result.document.trees):
-            for na, nb, parent in _parts(ra, rb, None):
+            for na, nb, parent in _parts(ra, rb, None, document, result.document):
                 v = prove_equal(_part(document, na), _part(result.document, nb), max_states=max_states,
                                 max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
                                 unreset=_unreset(parent, rules))

@@ -11,7 +11,7 @@
                                             has needed to know (see ACTION below)
     memory  = ((path, status, vars), ...)   sorted by path; only nodes that are not IDLE or keep a
                                             variable (a Sequence's child index, a Retry's count)
-    Event   = Event(kind, node, outcome, label)  kind: "tick" | "halt" | "check" | "script" |
+    Event   = Event(kind, node, outcome, label, where, ports)  kind: "tick" | "halt" | "check" | "script" |
                                             "time" | "choose"; node = (context, identity), where
                                             context is the tuple of SubTree identities above it
     Step    = Await(event, options, config) | RootTicked(status, error, node_ticks, config)
@@ -35,8 +35,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from types import MappingProxyType
 
-from schemalog.bt.model import Document, Node
-from schemalog.bt.ports import TYPE_NAMES, convert
+from schemalog.bt.model import Document, Node, subtree_ports
+from schemalog.bt.ports import TYPE_NAMES, convert, is_port_name
 from schemalog.errors import SchemalogError
 
 
@@ -80,6 +80,7 @@ class Event:
     outcome: object = None
     label: str = field(default="", compare=False)     # the node's name, for people
     where: str = field(default="", compare=False)     # file:line:column of the node, for people
+    ports: tuple = field(default=(), compare=False)   # its ports in its element's order, for people
 
 
 @dataclass(frozen=True)
@@ -225,14 +226,15 @@ class _Run:
     def event(self, kind: str, n: PNode, options: tuple, identity=None):
         """Record an event of node `n`; return the environment's outcome (None for no choice)."""
         node = (() if kind == "registration" else n.context, identity if identity is not None else n.node.identity)
+        shown = n.node.ports if identity is None else ()
         if self.pos < len(self.pending):
             outcome = self.pending[self.pos]
             if outcome not in options:
                 raise SchemalogError(f"outcome {outcome!r} is not one of {options!r}")
             self.pos += 1
-            self.events.append(Event(kind, node, outcome, n.node.name, _where(n.node)))
+            self.events.append(Event(kind, node, outcome, n.node.name, _where(n.node), shown))
             return outcome
-        raise _Stop(Event(kind, node, None, n.node.name, _where(n.node)), options)
+        raise _Stop(Event(kind, node, None, n.node.name, _where(n.node), shown), options)
 
     def script(self, n: PNode, code: str, key: str) -> None:
         """Execute a script: an event without a choice."""
@@ -1169,6 +1171,26 @@ def subtree_id(node: Node) -> str | None:
     return None
 
 
+_TRUE = ("true", "TRUE", "True", "1")                  # convertFromString<bool>'s true (formats.btxml refuses the rest)
+
+
+def call_identity(node: Node, document: Document) -> tuple:
+    """A SubTree call as BT.CPP creates it: ("SubTree", tree ID, effective remapping by port name, _autoremap)."""
+    # recursivelyCreateSubtree (src/xml_parsing.cpp): the call's attributes that are port names,
+    # `{=}` read as `{port}`; then, unless _autoremap, each port of the tree's model the call does
+    # not remap gets the model's default ("remapping is not explicitly defined in the XML: use the
+    # model"; one without a default is refused when the tree is read). Under _autoremap the model
+    # is not read: a port the call leaves out is the parent's entry of that name.
+    tree_id = subtree_id(node)
+    autoremap = node.attr("_autoremap", "false") in _TRUE
+    remap = {k: "{" + k + "}" if v == "{=}" else v for k, v in node.attrs if is_port_name(k)}
+    model = document.subtree_model(tree_id) if not autoremap and tree_id is not None else None
+    for port in subtree_ports((model,)) if model is not None else ():
+        if port.name not in remap and port.default:
+            remap[port.name] = port.default
+    return ("SubTree", tree_id, tuple(sorted(remap.items())), autoremap)
+
+
 def _rule_key(node: Node, document: Document, rules: Mapping[str, Rule]) -> str:
     """The table key of the node's rule: its type, or a leaf kind, or opaque."""
     rule = rules.get(node.type)
@@ -1197,8 +1219,7 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None, *, once
                 raise SchemalogError(f"SubTree {node.name!r} calls tree {tid!r}, which the document does not define")
             if tid in calls:
                 raise SchemalogError(f"SubTree {tid!r} calls itself (through {' -> '.join(calls)})")
-            ports = tuple((k, v) for k, v in node.ports if k != "ID")
-            ident = ("SubTree", tid, ports, node.attr("_autoremap", "false"))
+            ident = call_identity(node, document)
             kid = build(called, context + (ident,), path + (0,), calls + (tid,))
             return PNode(node, "SubTree", (kid,), context, path, True)
         kids = tuple(build(c, context, path + (i,), calls) for i, c in enumerate(node.children))

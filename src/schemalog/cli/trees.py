@@ -149,7 +149,7 @@ def _rules(args: argparse.Namespace):
 
 def run_compress(args: argparse.Namespace) -> int:
     """Compress one BT.CPP tree, prove the result, print or write it."""
-    from ..api.behaviour_trees import compress_tree, read_tree, tree_xml, verdict_text
+    from ..api.behaviour_trees import compress_tree, read_models, read_tree, tree_xml, verdict_text
     from .common import check_output, emit
 
     if len(args.files) != 1:
@@ -189,7 +189,8 @@ def run_compress(args: argparse.Namespace) -> int:
               + (f"\n{kept}" if kept else ""), file=sys.stderr)
         return code
     if fmt == "xml":
-        emit(tree_xml(result.compressed), args.output, inputs, summary.split(": ", 1)[1])
+        emit(tree_xml(result.compressed, read_models(args.nodes, args.max_bytes)), args.output, inputs,
+             summary.split(": ", 1)[1])
     elif fmt == "json":
         emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
                          "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "file": r.file,

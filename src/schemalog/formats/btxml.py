@@ -47,9 +47,10 @@ form or <SubTree> without ID, a <BehaviorTree> without exactly one child (or wit
 other elements, or named after a registered node), a second <TreeNodesModel> in one file, an
 <Action>, <Condition>, <Control>, <Decorator> or <SubTree> right under <root> without ID in a file
 with a <TreeNodesModel> (VerifyXML looks there, not in the TreeNodesModel), a decorator without
-exactly one child, a control node without children, a leaf with children, a <SubTree> with
-children, a main tree that does not exist, an <include> without path or through ros_pkg (no ROS
-package index here), a tree's ID used as a node type (<CheckStatus/> for <SubTree
+exactly one child, a control node without children, a leaf with children, a node type used both
+as a leaf and with children in any trees read (BT.CPP refuses one use whatever the
+registration), a <SubTree> with children, a main tree that does not exist, an <include> without
+path or through ros_pkg (no ROS package index here), a tree's ID used as a node type (<CheckStatus/> for <SubTree
 ID="CheckStatus"/>, or declared by a nodes file), a generic form as a ReactiveSequence's child,
 and, only in the trees BT.CPP creates (the main tree and the SubTrees it reaches:
 createNodeFromXML and recursivelyCreateSubtree check nothing else), an ID on a tag other than the
@@ -61,8 +62,11 @@ declare, a literal that does not convert or without a port its constructor needs
 Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
 include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
 recurses without end), a created tree (SubTrees expanded) deeper than MAX_TREE_DEPTH levels, and
-two trees with one ID (BT.CPP keeps the last silently). A file an <include> reaches is quoted in no
-message until it is a <root> document (btcpp.read_included: it may be any file the process reads).
+two trees with one ID (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
+ID (in several files, or a nodes file) are one model in the Document, merged as loadSubtreeModel
+merges them: a call's remapping takes their defaults (bt/semantics.call_identity). A file an
+<include> reaches is quoted in no message until it is a <root> document (btcpp.read_included:
+it may be any file the process reads).
 
 write_bt writes every tree (in order), main_tree_to_execute and a <TreeNodesModel> with the
 document's models, then a model for every other custom node type used (infer_models: kind from
@@ -80,7 +84,7 @@ import re
 from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
-from ..bt.model import Attrs, Document, Node, NodeModel, Port, walk
+from ..bt.model import Attrs, Document, Node, NodeModel, Port, subtree_ports, walk
 from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
 from ..errors import SchemalogError, SourcePos
 from .btcpp import XNode, parse_xml, read_included
@@ -466,10 +470,11 @@ class _Reader:
         if tag == "BehaviorTree":
             _fail(element, "a <BehaviorTree> inside a tree: trees are defined under <root> and used by <SubTree>")
         # an ID on another tag, an _autoremap that is not a boolean and a generic form naming
-        # SubTree are refused where BT.CPP creates the node only (_subtree_checks)
-        children = tuple(self.node(c) for c in element.children)
+        # SubTree are refused where BT.CPP creates the node only (_subtree_checks); the rest is
+        # checked before the children, as VerifyXML walks a tree (pre-order)
+        count = len(element.children)
         if tag == "SubTree":
-            if children:
+            if count:
                 _fail(element, f"<SubTree> with ID '{node_id}' should not have any child")
             if node_id in BUILTIN:
                 _fail(element, "The attribute [ID] of tag <SubTree> must not use the name of a registered "
@@ -478,7 +483,6 @@ class _Reader:
         generic = tag in GENERIC
         node_type = node_id if generic else tag
         kind = self.kind(node_type, tag if generic else "")
-        count = len(children)
         if kind == "Decorator" and count != 1:
             _fail(element, f"The node '{node_type}' must have exactly 1 child, not {count} (a decorator)")
         if kind == "Control" and count == 0:
@@ -494,6 +498,7 @@ class _Reader:
                                  f"looked up by tag; write <{child.get('ID')}/>)")
             if sum(c.tag == "AsyncSequence" for c in element.children) > 1:
                 _fail(element, "A ReactiveSequence cannot have more than one async child (BT.CPP)")
+        children = tuple(self.node(c) for c in element.children)
         attrs = tuple((k, v) for k, v in element.attrs if not (generic and k == "ID"))
         return Node(node_type, attrs, children, tag if generic else "", element.pos.line, element.pos.column,
                     element.pos.file)
@@ -507,13 +512,7 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     of its model unremapped. (A tree nothing reaches is never created, so BT.CPP checks none of this
     in it.)"""
     trees = {t.id: t for t in reader.trees}
-    # BT.CPP's subtree_models: the ports of every entry of an ID, read file by file (includes
-    # first), input ports, then output, then inout ports; a later port of a name replaces one before
-    ports: dict[str, dict[str, Port]] = {}
-    for m in (*reader.subtree_models, *(m for m in reader.extra if m.kind == "SubTree")):
-        into = ports.setdefault(m.type, {})
-        for direction in ("input", "output", "inout"):
-            into.update((p.name, p) for p in m.ports if p.direction == direction)
+    ports = {tree_id: {p.name: p for p in subtree_ports((m,))} for tree_id, m in _subtree_models(reader).items()}
     done: dict[str, int] = {}          # a tree checked whole, and the depth it was checked at
 
     def visit(tree_id: str, path: tuple[str, ...], depth: int) -> None:
@@ -565,6 +564,45 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     visit(main, (main,), 0)
 
 
+def _subtree_models(reader: _Reader) -> dict[str, NodeModel]:
+    """BT.CPP's subtree_models: one model per tree ID, every entry of the ID merged (bt.model.subtree_ports)."""
+    # read file by file, includes first, then the nodes files; an ID's entries are merged even
+    # across files, as loadSubtreeModel fills one map for the whole factory
+    entries: dict[str, list[NodeModel]] = {}
+    for m in (*reader.subtree_models, *(m for m in reader.extra if m.kind == "SubTree")):
+        entries.setdefault(m.type, []).append(m)
+    return {tree_id: ms[0] if len(ms) == 1 else NodeModel(tree_id, "SubTree", subtree_ports(ms))
+            for tree_id, ms in entries.items()}
+
+
+def _children(node: Node) -> str:
+    """How many children a node has, in words."""
+    count = len(node.children)
+    return f"{count} child{'ren' if count != 1 else ''}" if count else "no child"
+
+
+def _kind_checks(reader: _Reader) -> None:
+    """Refuse a node type used both as a leaf and with children, in any trees of any files read:
+    BT.CPP registers a type as one kind, and VerifyXML checks every tree of every file against it."""
+    # a type of known kind (BT.CPP's own, a model's) had each use checked against that kind
+    # already (_Reader.node); an opaque type, or one written in two generic forms, is checked
+    # here: whatever its registration, VerifyXML refuses one of the two uses (unregistered, both)
+    first: dict[str, Node] = {}
+    for t in reader.trees:
+        for n in walk(t.root):
+            if n.type == "SubTree" and not n.form:
+                continue
+            other = first.setdefault(n.type, n)
+            if bool(other.children) != bool(n.children):
+                where = SourcePos(n.file or t.element.pos.file, n.line, n.column)
+                raise SchemalogError(
+                    f"<{n.form or n.type}{f' ID={n.type!r}' if n.form else ''}> has {_children(n)} here and "
+                    f"{_children(other)} at {SourcePos(other.file, other.line, other.column)}: BT.CPP registers a "
+                    f"node type as a leaf or as a node with children, so it refuses one of the two uses however "
+                    f"{n.type} is registered (\"must not have any child\" as an Action or Condition, \"must have "
+                    f"1 or more children\" as a Control, \"exactly 1 child\" as a Decorator)", where)
+
+
 def _tree_id_checks(reader: _Reader) -> None:
     """Refuse a tree ID that is also a node type: BT.CPP 4 calls a tree only through <SubTree>, so
     <CheckStatus/> naming the tree CheckStatus is "Node not recognized" unless CheckStatus is
@@ -602,6 +640,7 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
                 if any(c.tag == "TreeNodesModel" for c in root.children) else "")
         _fail(root, f"the document defines no <BehaviorTree>{hint}")
     _tree_id_checks(reader)
+    _kind_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
     asked = main or None                # createTree("") is createTree(): the default main tree
     main = asked if asked is not None else root.get("main_tree_to_execute")
@@ -620,6 +659,11 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     own = tuple(NodeModel(m.type, registered.get(m.type, m.kind), m.ports) if m.kind != "SubTree" else m
                 for m in reader.models)
     merged = own + tuple(m for m in reader.extra if all(m.type != k.type for k in own))
+    # a SubTree call gets the defaults of every model entry of its tree's ID (the semantics
+    # reads them), so an ID's entries are kept as one, where the first stood
+    calls = _subtree_models(reader)
+    merged = tuple(calls.pop(m.type) if m.kind == "SubTree" else m for m in merged
+                   if m.kind != "SubTree" or m.type in calls) + tuple(calls.values())
     return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes))
 
 
