@@ -189,27 +189,30 @@ def read_node_types(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> di
     return types
 
 
-def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rules=None):
+def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rules=None, *,
+                run_once: bool = False):
     """Prove two documents equal under BT.CPP 4 semantics, or refute them (bt/prove.py): by the
     subtrees where they differ, each in every context, else by exploring both whole. `rules`:
-    node semantics for custom types (read_semantics)."""
+    node semantics for custom types (read_semantics). `run_once`: for trees ticked until they
+    finish, once, and never halted; by default, also halted (Tree::haltTree) between any two
+    root ticks and ticked anew, as an executor may."""
     from ..bt.prove import prove_by_parts
 
     return prove_by_parts(original, compressed, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
-                          rules=rules)
+                          rules=rules, halts=not run_once)
 
 
 def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None, *,
-                  drop_names: bool = False) -> TreeCompression:
+                  drop_names: bool = False, run_once: bool = False) -> TreeCompression:
     """Apply the BT rewrites to `document`, each kept only where the prover does not refute it
     in its parent's context, and prove the result against it (`rules`: node semantics for custom
     types, read_semantics). A node with a `name` attribute is never removed, for BT.CPP's
     substitution rules, Groot2 and loggers find nodes by name (the result's `kept` lists those
-    a rewrite would have removed), unless `drop_names`."""
+    a rewrite would have removed), unless `drop_names`. `run_once`: as prove_trees."""
     from ..bt.prove import compress_proved
 
     result, verdict = compress_proved(document, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
-                                      rules=rules, keep_names=not drop_names)
+                                      rules=rules, keep_names=not drop_names, halts=not run_once)
     return TreeCompression(document, result.document, result.rewrites, verdict, result.kept)
 
 

@@ -58,7 +58,14 @@ def _halt(run: _Run, n: PNode) -> None:
     run.set_status(n, IDLE)
 
 
-CONGRUENT = Rule(_tick, _halt)
+def _visited(run: _Run, n: PNode) -> None:
+    """Tree::haltTree's visit of the subtree: an event (its label, its status): inside, it puts
+    back what its nodes keep and runs their `_onHalted` scripts, as its history decides."""
+    run.event("visit", n, (None,), _identity(n, run.status(n)))
+    run.set_status(n, IDLE)
+
+
+CONGRUENT = Rule(_tick, _halt, visit=_visited)
 RULE_KEY = "\0congruent"
 
 

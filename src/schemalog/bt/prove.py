@@ -28,7 +28,8 @@ from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
 from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RULES, RUNNING,
                                     STATEFUL_ACTION, SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status,
-                                    _rule_key, advance, call_identity, halt_step, initial, program, step, subtree_id)
+                                    _rule_key, advance, call_identity, halt_step, halt_tree_step, initial, program, step,
+                                    subtree_id, visit_step)
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,7 @@ class TickTrace:
     events: tuple[Event, ...]
     status: Status | None
     error: str = ""
+    move: str = ""                    # not a root tick: "halt" (by its parent), "haltTree", "visit"
 
 
 @dataclass(frozen=True)
@@ -107,7 +109,8 @@ def _outcome(o: object) -> str:
 
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                 rules: Mapping[str, Rule] | None = None, contextual: bool = False,
-                merge: bool = True, unreset: bool = True, programs: tuple[Program, Program] | None = None) -> Verdict:
+                merge: bool = True, unreset: bool = True, programs: tuple[Program, Program] | None = None,
+                halts: bool = False) -> Verdict:
     """Explore both trees under every environment; equal when no environment tells them apart.
 
     `contextual`: the roots stand for two subtrees under any parent, which between two root
@@ -117,8 +120,14 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     `unreset=False`: the parent resets a finished subtree before it ticks it again (one of
     semantics.RESETTING_PARENTS), so that move is left out.
     `merge=False`: memoise on configurations only, never on interrupted ticks (for checking).
-    `programs`: run these for `a` and `b` (bt/congruence.py's abstractions of them)."""
-    pa, pb = programs or (program(a, rules, once=not contextual), program(b, rules, once=not contextual))
+    `programs`: run these for `a` and `b` (bt/congruence.py's abstractions of them).
+    `halts`: the executor may call Tree::haltTree at any point between root ticks, and tick the
+    tree anew after it finished or was halted (what Nav2's navigators do: a cancelled goal, a
+    haltTree after every goal, the next goal on the same tree): the roots are then halted so, or
+    (contextual) visited by haltTree's visitor, besides the other moves. Without it, a run ends
+    when the root finishes (Tree::tickWhileRunning, once)."""
+    once = not contextual and not halts
+    pa, pb = programs or (program(a, rules, once=once), program(b, rules, once=once))
     start = (_TICK, initial(), initial())
     parent: dict[tuple, tuple | None] = {start: None}
     seen: set = set()
@@ -129,7 +138,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     while queue:
         node = queue.popleft()
         phase, ca, cb = node
-        move = step if phase is _TICK else halt_step
+        move = _STEPS[phase]
         sa, sb = move(pa, ca), move(pb, cb)
         asked = _asked(sa) or _asked(sb)
         if asked is not None:
@@ -154,7 +163,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         diff = _difference(sa, sb)
         if diff:
             kinds = ca.kinds
-            if contextual:
+            if contextual or halts:
                 labels = _labels(parent, node)
                 choices = tuple(x for x in labels if x not in _MOVES and x is not _NONE)
                 cex = Counterexample(choices, _trace_moves(pa, labels, kinds), _trace_moves(pb, labels, kinds),
@@ -179,10 +188,15 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
             successors = [((_TICK, sa.config, sb.config), _ROOT)]
             if contextual:
                 successors.append(((_HALT, sa.config, sb.config), _HALT))
-        elif contextual and sa.status is not None:
+            elif halts:
+                successors.append(((_TREE, sa.config, sb.config), _TREE))
+        elif (contextual or halts) and sa.status is not None:
             successors = [((_TICK, sa.config, sb.config), _AGAIN)]
-            if unreset and sa.kept is not None and sb.kept is not None:
+            if contextual and unreset and sa.kept is not None and sb.kept is not None:
                 successors.append(((_TICK, sa.kept, sb.kept), _KEEP))
+            if halts:
+                successors.append(((_VISIT if contextual else _TREE, sa.config, sb.config),
+                                   _VISIT if contextual else _TREE))
         for nxt, label in successors:
             if nxt not in parent:
                 parent[nxt] = (node, label)
@@ -191,7 +205,9 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     if limit:
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}", registered=frozenset(registered))
-    where = "in every context and " if contextual else ""
+    where = ("in every context and " if contextual else
+             "as an executor runs them (ticked, halted by haltTree between any two ticks, ticked anew) and "
+             if halts else "")
     # equal, errors included; but a run that ends in an error is no run a robot finishes
     errors = f"; in both, some runs end in an error, as BT.CPP's tick throws: {thrown}" if thrown else ""
     return Verdict(True, True, explored,
@@ -200,7 +216,9 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
 
 
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
-_HALT = "halt"                                        # or halting them (contextual)
+_HALT = "halt"                                        # or halting them (contextual),
+_TREE = "haltTree"                                    # the executor's Tree::haltTree (halts),
+_VISIT = "visit"                                      # its visitor reaching the roots (contextual, halts)
 _AGAIN = "again"                                      # the label of "a finished root is ticked anew"
 _KEEP = "keep"                                        # "a finished root is ticked again, its status
                                                       # not reset" (WhileDoElse's condition child)
@@ -217,7 +235,8 @@ _ROOT = object()                                      # the label of "the root i
 _NONE = object()                                      # the label of an event without a choice
 
 
-_MOVES = (_ROOT, _HALT, _AGAIN, _KEEP)
+_MOVES = (_ROOT, _HALT, _AGAIN, _KEEP, _TREE, _VISIT)
+_STEPS = {_TICK: step, _HALT: halt_step, _TREE: halt_tree_step, _VISIT: visit_step}
 
 
 @dataclass(frozen=True)
@@ -250,7 +269,7 @@ def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickT
     config, phase, events = Config(kinds=kinds), _TICK, []
     todo = [x for x in labels if x is not _NONE]
     while True:
-        s = (step if phase is _TICK else halt_step)(prog, config)
+        s = _STEPS[phase](prog, config)
         if isinstance(s, Await):
             if s.options == (None,):
                 events.append(s.event)
@@ -263,12 +282,12 @@ def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickT
             events.append(replace(s.event, outcome=outcome))
             config = advance(config, outcome)
             continue
-        ticks.append(TickTrace(s.events, s.status, s.error))
+        ticks.append(TickTrace(s.events, s.status, s.error, "" if phase is _TICK else phase))
         events = []
         if not todo:
             return tuple(ticks)
         move = todo.pop(0)
-        phase = _HALT if move is _HALT else _TICK
+        phase = move if move in (_HALT, _TREE, _VISIT) else _TICK
         config = s.kept if move is _KEEP and s.kept is not None else s.config
 
 
@@ -368,8 +387,11 @@ def explain(verdict: Verdict, under: str = "") -> str:
         same = k + 1
         while same < count and _tick_again(cex, same, k):
             same += 1
-        lines.append(f"root tick {k + 1}:" if same == k + 1 else
-                     f"root ticks {k + 1}-{same} (x {same - k}, each alike):")
+        before = cex.ticks_a[k - 1] if 0 < k <= len(cex.ticks_a) else None
+        anew = (" (the tree ticked anew, what its nodes keep kept)" if before is not None and before.status
+                is not RUNNING and k < len(cex.ticks_a) and not cex.ticks_a[k].move else "")
+        lines.append(f"root tick {k + 1}{anew}:" if same == k + 1 else
+                     f"root ticks {k + 1}-{same} (x {same - k}, each alike){anew}:")
         for side, ticks in (("a", cex.ticks_a), ("b", cex.ticks_b)):
             if k >= len(ticks):
                 continue
@@ -377,10 +399,16 @@ def explain(verdict: Verdict, under: str = "") -> str:
             for j, e in enumerate(t.events):
                 waiting = t.status is None and not t.error and j == len(t.events) - 1
                 lines.append(f"  {side}: {describe(e)}" + ("   <- the trees part here" if waiting else ""))
-            if t.status is not None or t.error:
+            if t.move:
+                lines.append(f"  {side}: {_MOVE_WORDS[t.move]}")
+            elif t.status is not None or t.error:
                 lines.append(f"  {side}: root -> {t.status.value if t.status else 'error: ' + t.error}")
         k = same
     return "\n".join(lines) + "\n"
+
+
+_MOVE_WORDS = {_HALT: "root halted by its parent (haltChild)", _TREE: "tree halted (Tree::haltTree)",
+               _VISIT: "root reached by Tree::haltTree's visitor (haltNode on each node)"}
 
 
 def _tick_again(cex: Counterexample, k: int, first: int) -> bool:
@@ -482,14 +510,17 @@ def _kind_differences(a: Document, b: Document, rules: Mapping[str, Rule] | None
 
 
 def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                   rules: Mapping[str, Rule] | None = None) -> Verdict:
+                   rules: Mapping[str, Rule] | None = None, halts: bool = True) -> Verdict:
     """Prove two documents equal through the subtrees where they differ, each equal in every
     context its parent can make (a congruence: a parent sees a subtree only through its statuses, and the events
     are the same), and where that fails or a document's trees differ, by exploring both whole:
     a refutation is always one of the whole trees. The verdict says which registrations of the
-    actions it covers (`assumed`)."""
-    verdict = _prove_by_parts(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules)
-    return replace(verdict, assumed=assumed(a, b, rules, verdict))
+    actions it covers (`assumed`). `halts` (the default): as an executor may run the trees, halted
+    by Tree::haltTree between any two root ticks and ticked anew (prove_equal); without it, each
+    ticked until it finishes, once, never halted (Tree::tickWhileRunning)."""
+    verdict = _prove_by_parts(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules,
+                              halts=halts)
+    return replace(verdict, assumed=assumed(a, b, rules, verdict, halts))
 
 
 def open_registrations(documents: tuple[Document, ...], rules: Mapping[str, Rule] | None = None) -> list[str]:
@@ -515,7 +546,20 @@ def _names(types) -> str:
     return ", ".join(types[:4]) + (f" and {len(types) - 4} more" if len(types) > 4 else "")
 
 
-def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict: Verdict) -> str:
+def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict: Verdict,
+            halts: bool = True) -> str:
+    """What the verdict covers of what the XML leaves open (how the executor runs the tree, how
+    each action is registered), in a reader's words."""
+    run = ("covers an executor that halts the tree (Tree::haltTree) between any two ticks and ticks it "
+           "anew for the next goal" if halts else
+           "assumes the tree is ticked until it finishes, once, and never halted (--run-once)")
+    if verdict.equal:
+        rest = _registrations(a, b, rules, verdict)
+        return run + ("; it " + rest if rest else "")
+    return _registrations(a, b, rules, verdict) or ("" if halts else run)
+
+
+def _registrations(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict: Verdict) -> str:
     """What the verdict covers of the registrations the XML leaves open, in a reader's words."""
     fixed = sorted(t for t, r in (rules or {}).items() if r in (SYNC_ACTION, STATEFUL_ACTION, RETICKED_ACTION))
     given = f"; {_names(fixed)} as --semantics registers {'them' if len(fixed) > 1 else 'it'}" if fixed else ""
@@ -554,7 +598,7 @@ def _places(parts: list[tuple[Node, Node, str | None]]) -> str:
 
 
 def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                    rules: Mapping[str, Rule] | None = None) -> Verdict:
+                    rules: Mapping[str, Rule] | None = None, halts: bool = True) -> Verdict:
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
@@ -567,7 +611,7 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
         for na, nb, parent in parts:
             v, k = _congruent(_part(a, na), _part(b, nb), max_states=max_states - spent,
                               max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
-                              unreset=_unreset(parent, rules))
+                              unreset=_unreset(parent, rules), halts=halts)
             spent += v.states
             taken += k
             thrown = thrown or v.thrown
@@ -587,7 +631,8 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
                          f"(congruence)")
             return Verdict(True, True, spent, f"equal by parts: {what} ({_pairs(spent)}, exhausted){errors}",
                            thrown=thrown, registered=registered)
-    whole, _ = _congruent(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules)
+    whole, _ = _congruent(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules,
+                          halts=halts)
     if differ and not whole.equal:
         # the usual cause: one file carries a TreeNodesModel (compress -o writes --nodes' models
         # into its output) and the other is read without it
@@ -611,7 +656,7 @@ def _congruent(a: Document, b: Document, *, max_states: int, max_events_per_tick
     pair told apart, perhaps spuriously, or a limit) the concrete pair is explored with the rest,
     so a refutation is always of the trees as they are, and shortest. `states` counts both. The
     second value: how many subtrees a proof took whole (0 without one)."""
-    once = not explore.get("contextual", False)
+    once = not explore.get("contextual", False) and not explore.get("halts", False)
     pa, pb = program(a, rules, once=once), program(b, rules, once=once)
     taken = abstract(pa, pb)
     opts = dict(max_events_per_tick=max_events_per_tick, rules=rules, **explore)
@@ -637,7 +682,7 @@ def _congruent(a: Document, b: Document, *, max_states: int, max_events_per_tick
 
 
 def compress_proved(document: Document, *, max_states: int, max_events_per_tick: int,
-                    rules: Mapping[str, Rule] | None = None, keep_names: bool = True):
+                    rules: Mapping[str, Rule] | None = None, keep_names: bool = True, halts: bool = True):
     """Compress `document` (bt/compress.py) keeping only rewrites proved where they stand: each
     part the rewrites changed is proved in its parent's context, a refuted one is restored as it
     was (its nodes kept) and the rest compressed again. Return the Compressed document and
@@ -655,7 +700,7 @@ def compress_proved(document: Document, *, max_states: int, max_events_per_tick:
             for na, nb, parent in _parts(ra, rb, None, document, result.document):
                 v = prove_equal(_part(document, na), _part(result.document, nb), max_states=max_states,
                                 max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
-                                unreset=_unreset(parent, rules))
+                                unreset=_unreset(parent, rules), halts=halts)
                 if v.complete and not v.equal:
                     refuted.append(na)
         grown = keep | {id(n) for na in refuted for n in walk(na)}
@@ -663,4 +708,4 @@ def compress_proved(document: Document, *, max_states: int, max_events_per_tick:
             break
         keep = grown
     return result, prove_by_parts(document, result.document, max_states=max_states,
-                                  max_events_per_tick=max_events_per_tick, rules=rules)
+                                  max_events_per_tick=max_events_per_tick, rules=rules, halts=halts)

@@ -129,6 +129,7 @@ class Rule:
     tick: Callable[["_Run", "PNode"], Status]
     halt: Callable[["_Run", "PNode"], None] | None = None
     literal: tuple[str, ...] = ()
+    visit: Callable[["_Run", "PNode"], None] | None = None   # haltTree's visit, where not haltNode's
 
 
 @dataclass(frozen=True)
@@ -1340,4 +1341,55 @@ def halt_step(prog: Program, config: Config) -> Await | RootTicked:
     except _Stop as stop:
         return Await(stop.event, stop.options, config)
     run.set_status(prog.root, IDLE)
+    return RootTicked(IDLE, "", run.node_ticks, run.after(), tuple(run.events))
+
+
+def _halt_any(run: _Run, n: PNode) -> None:
+    """TreeNode::haltNode whatever the status, as Tree::haltTree calls it: a leaf's halt() does
+    nothing unless it is RUNNING (StatefulActionNode::halt; an action's halt callback), and the
+    `_onHalted` script runs in any case."""
+    if n.kids or run.status(n) is RUNNING:
+        run.halt_node(n)
+        return
+    code = n.node.attr("_onHalted")
+    if code is not None:
+        run.script(n, code, "_onHalted")
+    run.set_status(n, IDLE)
+
+
+def _visit(run: _Run, n: PNode) -> None:
+    """applyRecursiveVisitor(node, haltNode) (src/behavior_tree.cpp): every node in pre-order."""
+    rule = run.program.rules[n.rule]
+    if rule.visit is not None:
+        rule.visit(run, n)
+        return
+    _halt_any(run, n)
+    for kid in n.kids:
+        _visit(run, kid)
+
+
+def halt_tree_step(prog: Program, config: Config) -> Await | RootTicked:
+    """Tree::haltTree (src/bt_factory.cpp), which an executor calls to cancel a goal or after one
+    (Nav2 does after every goal): haltNode on the root whatever its status, then haltNode on
+    every node in pre-order, root included (its halt resets what the node keeps: a retry count,
+    a RoundRobin's index; its `_onHalted` runs again), then the root's resetStatus. Up to the
+    next event, or to the end: RootTicked with status IDLE."""
+    run = _Run(prog, config, 100_000)
+    try:
+        _halt_any(run, prog.root)
+        _visit(run, prog.root)
+    except _Stop as stop:
+        return Await(stop.event, stop.options, config)
+    run.set_status(prog.root, IDLE)
+    return RootTicked(IDLE, "", run.node_ticks, run.after(), tuple(run.events))
+
+
+def visit_step(prog: Program, config: Config) -> Await | RootTicked:
+    """What Tree::haltTree's visitor does to a subtree that is not RUNNING (its parent halted it
+    first if it was): haltNode on each of its nodes in pre-order. Up to the next event or the end."""
+    run = _Run(prog, config, 100_000)
+    try:
+        _visit(run, prog.root)
+    except _Stop as stop:
+        return Await(stop.event, stop.options, config)
     return RootTicked(IDLE, "", run.node_ticks, run.after(), tuple(run.events))

@@ -29,7 +29,8 @@ def schema_route(args: argparse.Namespace) -> None:
     """Refuse --nodes, --semantics, --profile and --drop-names for task knowledge, which they would
     not change."""
     given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics),
-                            ("--profile", args.profile), ("--drop-names", args.drop_names)) if v]
+                            ("--profile", args.profile), ("--drop-names", args.drop_names),
+                            ("--run-once", args.run_once)) if v]
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
@@ -58,6 +59,11 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
+    p.add_argument("--run-once", action="store_true",
+                   help="BT.CPP trees: prove for trees ticked until they finish, once, and never halted "
+                        "(Tree::tickWhileRunning); by default a proof also covers an executor that halts the "
+                        "tree (Tree::haltTree) between any two ticks and ticks it again for a new goal, as "
+                        "Nav2's navigators do")
     p.add_argument("--drop-names", action="store_true",
                    help="BT.CPP trees: let the rewrites remove nodes that carry a name= attribute too; by "
                         "default they are kept, for BT.CPP's substitution rules, Groot2 and loggers find "
@@ -162,7 +168,7 @@ def run_compress(args: argparse.Namespace) -> int:
     check_output(args.output, _given(args))
     rules = _rules(args)
     document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-    result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names)
+    result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
     verdict, code = result.verdict, _status(result.verdict)
     kept = kept_words(result.kept)
     if verdict is not None and not verdict.equal:
@@ -224,7 +230,7 @@ def run_verify(args: argparse.Namespace) -> int:
     kept: tuple = ()
     if len(args.files) == 1:
         document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names)
+        result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
         original, verdict, includes, kept = document, result.verdict, document.includes, result.kept
         if verdict is None:
             # Nothing rewritten: nothing was checked, and a check that covers nothing is no
@@ -241,7 +247,7 @@ def run_verify(args: argparse.Namespace) -> int:
     elif len(args.files) == 2:
         original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
         compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
-        verdict = prove_trees(original, compressed, args.max_states, rules)
+        verdict = prove_trees(original, compressed, args.max_states, rules, run_once=args.run_once)
         includes = (*original.includes, *compressed.includes)
     else:
         raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed tree")

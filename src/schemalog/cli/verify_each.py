@@ -44,7 +44,8 @@ def run_each(args: argparse.Namespace) -> int:
     from .sweep import progress_display
 
     for option, given in (("--task", args.task), ("--sample", args.sample), ("--scene", args.scene),
-                          ("--seed", args.seed), ("--states", args.states != "default"), ("--drop-names", args.drop_names)):
+                          ("--seed", args.seed), ("--states", args.states != "default"), ("--drop-names", args.drop_names),
+                          ("--run-once", args.run_once)):
         if given:
             raise UsageError(f"{option} is not for --each (each file's tasks are proved from its own initial state)")
     files = files_of(args.files)
