@@ -13,8 +13,8 @@ from schemalog.task.tree import Behaviour, instantiate
 from schemalog.run.verify import Verifier, all_states, constraints, free_atoms, verify_by_parts
 from schemalog.run.world import World, initial_state
 
-from conftest import COFFEE, MIX, wide_task
-from schemalog.testing.strategies import task_trees
+from conftest import COFFEE, MIX, settled, wide_task
+from schemalog.testing.strategies import starts, task_trees, trees
 
 
 def t(text):
@@ -244,17 +244,62 @@ def test_2000_siblings_compress_to_one_merged_leaf_that_is_proved():
     assert report.exhaustive and report.sound and report.complete and report.limit == ""
 
 
+def test_a_chain_of_2000_steps_is_proved_at_the_default_limits():
+    from schemalog.run.verify import prove
+
+    kb, tree = wide_task(2000)
+    world = World(tree, initial_state(kb))
+    report = prove(tree, compress(tree).tree, world, [world.atoms])      # --method auto, default limits
+    assert report.exhaustive and report.sound and report.complete and report.limit == ""
+    assert (report.compressed_states, report.original_states) == (2, 2001)   # one state per step
+
+
+def _chain_work(n: int) -> int:
+    kb, tree = wide_task(n)
+    world = World(tree, initial_state(kb))
+    v = Verifier(tree, compress(tree).tree, world)
+    assert v.verify([world.atoms]).complete
+    return v.meter.work
+
+
+def test_the_work_of_a_chain_grows_with_its_steps_not_their_square():
+    """A state costs what its steps change (Walker): the N-step chain's N + 1 states, each of up
+    to N atoms, once cost N^2 units (decoded, copied, every sibling tested)."""
+    small, large = _chain_work(250), _chain_work(1000)
+    assert large < 6 * small              # x4 the steps: x4 the work (x16 when it was quadratic)
+    assert large < 30 * 1000
+
+
+@settings(max_examples=150, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large])
+@given(st.data(), trees(), st.sampled_from(["none", "pre", "full"]))
+def test_enabled_sets_derived_step_by_step_equal_a_full_scan(data, tree, propagate):
+    from schemalog.run.execute import enabled_indices
+
+    compressed = compress(tree, propagate).tree
+    initial = settled(tree, data.draw(starts(tree)))
+    v = Verifier(tree, compressed, World(tree), max_states=2_000)
+    report = v.verify(initial)
+    assert report.compressed_states > 0
+    for walk in (v.c_walk, v.o_walk):
+        for k, leaves in walk._enabled.items():
+            assert leaves == enabled_indices(walk.model.plan, v.codec.decode(k))
+        for (k, leaf), (actions, codes) in walk._steps.items():     # the steps, against the frozenset model
+            was, states = walk.model.step(v.codec.decode(k), leaf)
+            assert (actions, codes) == (was, tuple(v.codec.encode(s) for s in states))
+
+
 def test_the_state_limit_bounds_the_work_and_a_stopped_verify_proves_nothing():
     kb, tree = wide_task(300)
     compressed = compress(tree).tree
     world = World(tree)
     world.reset(initial_state(kb))
-    v = Verifier(tree, compressed, world, max_states=20)   # 20,000 units: the merged leaf alone needs ~45,000
+    v = Verifier(tree, compressed, world, max_states=1)   # 1,000 units: the merged leaf's 300 actions need ~1,200
     report = v.verify([world.atoms])
     assert not report.exhaustive and "units of work" in report.limit
     assert report.properties["soundness"].holds is None and report.properties["completion"].holds is None
     assert not report.violated
     assert v.meter.spent
-    sampled = Verifier(tree, compressed, world, max_states=20).sample([world.atoms], 1_000_000)
+    sampled = Verifier(tree, compressed, world, max_states=1).sample([world.atoms], 1_000_000)
     assert sampled.sampled and "units of work" in sampled.limit
     assert "stopped after 0 of 1,000,000 runs" in sampled.properties["soundness"].summary

@@ -92,25 +92,225 @@ class Codec:
         self.bit: dict[Term, int] = {}
         self.atoms: list[Term] = []
 
+    def index(self, atom: Term) -> int:
+        """The bit of `atom`, given one if it has none yet."""
+        i = self.bit.get(atom)
+        if i is None:
+            i = self.bit[atom] = len(self.atoms)
+            self.atoms.append(atom)
+        return i
+
     def encode(self, state: State) -> Code:
         code = 0
-        bit = self.bit
+        index = self.index
         for atom in state:
-            i = bit.get(atom)
-            if i is None:
-                i = bit[atom] = len(self.atoms)
-                self.atoms.append(atom)
-            code |= 1 << i
+            code |= 1 << index(atom)
         return code
 
     def decode(self, code: Code) -> State:
         atoms = self.atoms
-        found = []
-        while code:
-            low = code & -code
-            found.append(atoms[low.bit_length() - 1])
-            code ^= low
-        return frozenset(found)
+        return frozenset(atoms[i] for i in bits(code))
+
+
+def bits(x: int):
+    """The positions of the 1 bits of `x`, lowest first. Taking the lowest bit off costs a
+    pass over the whole integer, so a dense `x` is read byte by byte instead: never the bits
+    set times the length (a 10,000-atom state decoded that way took 2.7 ms)."""
+    if x.bit_count() <= 32:
+        while x:
+            low = x & -x
+            yield low.bit_length() - 1
+            x ^= low
+        return
+    for i, byte in enumerate(x.to_bytes((x.bit_length() + 7) // 8, "little")):
+        while byte:
+            low = byte & -byte
+            yield 8 * i + low.bit_length() - 1
+            byte ^= low
+
+
+# ---------------------------------------------------------------------------
+# Exploring on Codes: one live state moved by differences
+
+class Cursor:
+    """One mutable state (a set of atoms) that the explorer moves from Code to Code by their
+    difference, and on which the world executes actions in place. Exploring a state then
+    costs what changes, not what is true: a chain of N steps has N + 1 states of up to N
+    atoms, which decoded whole, copied into each successor and scanned cost N^2."""
+
+    def __init__(self, codec: Codec, world: World, meter: Meter) -> None:
+        self.codec, self.world, self.meter = codec, world, meter
+        self.atoms: set[Term] = set()
+        self.code: Code = 0
+
+    def goto(self, code: Code) -> None:
+        diff = code ^ self.code
+        if diff:
+            atoms, live = self.codec.atoms, self.atoms
+            n = 0
+            for i in bits(diff):
+                a = atoms[i]
+                if a in live:
+                    live.discard(a)
+                else:
+                    live.add(a)
+                n += 1
+            self.meter.spend(n)
+            self.code = code
+
+    def perform(self, post: Condition) -> None:
+        """Execute a leaf with post-condition `post` here: the world settles on this state."""
+        world = self.world
+        world._atoms = self.atoms          # the world's own set is this one while it acts
+        world._hash = None
+        change = world.perform(post)
+        code, index = self.code, self.codec.index
+        n = 1
+        for a in change.added:
+            code ^= 1 << index(a)
+            n += 1
+        for a in change.removed:
+            code ^= 1 << index(a)
+            n += 1
+        self.meter.spend(n)
+        self.code = code
+
+
+LIVE_LIMIT = 1_000_000     # leaf indices kept in a Walker's enabled sets before they are dropped
+
+
+class Walker:
+    """A tree's enabled leaves and steps on Codes, through a Cursor. The enabled set of a
+    state reached by a step is derived from the state before: only behaviours whose pre- or
+    post-condition reads an atom the step changed can change activity, so only the leaves
+    below them are tested again (the incremental selector's index, applied to exploring)."""
+
+    def __init__(self, model: Model, cursor: Cursor) -> None:
+        self.model, self.cursor = model, cursor
+        plan = model.plan
+        n = len(plan)
+        size = [1] * n
+        for i in range(n - 1, 0, -1):
+            size[plan.parent[i]] += size[i]
+        self.size = size                    # pre-order: i's subtree is i .. i + size[i] - 1
+        readers: dict[Term, list[int]] = {}
+        for i in range(n):
+            for c in (plan.pre[i], plan.post[i]):
+                for lit in cond.literals(c):
+                    found = readers.setdefault(lit.atom, [])
+                    if not found or found[-1] != i:
+                        found.append(i)
+        self.readers = readers
+        self._enabled: dict[Code, list[int]] = {}
+        self._kept = 0
+        self._steps: dict[tuple[Code, int], tuple[tuple[Action, ...], tuple[Code, ...]]] = {}
+        self._done: dict[Code, bool] = {}
+
+    def accomplished_at(self, k: Code) -> bool:
+        found = self._done.get(k)
+        if found is None:
+            self.cursor.goto(k)
+            found = self._done[k] = self.model.accomplished(self.cursor.atoms)
+        return found
+
+    def enabled_at(self, k: Code) -> list[int]:
+        """The enabled leaves in `k`, in tree order ([] when the task is accomplished)."""
+        found = self._enabled.get(k)
+        if found is None:
+            plan = self.model.plan
+            self.cursor.goto(k)
+            self.cursor.meter.spend(len(plan))
+            found = enabled_indices(plan, self.cursor.atoms)
+            self._keep(k, found)
+        return found
+
+    def _keep(self, k: Code, leaves: list[int]) -> None:
+        if self._kept > LIVE_LIMIT:
+            self._enabled.clear()
+            self._kept = 0
+        self._enabled[k] = leaves
+        self._kept += len(leaves) + 1
+
+    def outcome(self, k: Code, leaf: int, check=None) -> tuple[tuple[Action, ...], tuple[Code, ...], int]:
+        """The actions leaf `leaf` executes from `k` (accomplished ones skipped), the Code after
+        each, and the index of the first action `check(state, action)` refuses in the state
+        where it runs (-1: none, or no check). A computed step leaves the cursor after it."""
+        key = (k, leaf)
+        if check is None:
+            found = self._steps.get(key)
+            if found is not None:
+                return (*found, -1)
+        cur = self.cursor
+        before = self.enabled_at(k)             # for the state after: derived from this one
+        cur.goto(k)
+        live = cur.atoms
+        actions: list[Action] = []
+        codes: list[Code] = []
+        refused = -1
+        for label, post in self.model.plan.steps[leaf]:
+            if cond.holds(post, live):
+                continue
+            if check is not None and refused < 0 and not check(live, (label, post)):
+                refused = len(actions)
+            cur.perform(post)
+            actions.append((label, post))
+            codes.append(cur.code)
+        after = cur.code
+        if after not in self._enabled:
+            self._keep(after, self._update(before, k ^ after))
+        if len(self._steps) > CACHE_LIMIT:
+            self._steps.clear()
+        self._steps[key] = (tuple(actions), tuple(codes))
+        return tuple(actions), tuple(codes), refused
+
+    def _update(self, enabled: list[int], diff: Code) -> list[int]:
+        """The enabled leaves after a change `diff` (the cursor there), from those before."""
+        from bisect import bisect_left
+
+        plan, atoms, meter = self.model.plan, self.cursor.codec.atoms, self.cursor.meter
+        affected: set[int] = set()
+        for i in bits(diff):
+            affected.update(self.readers.get(atoms[i], ()))
+        if not affected:
+            return enabled
+        meter.spend(len(affected))
+        out: list[int] = []
+        pos, end, size = 0, -1, self.size
+        for t in sorted(affected):
+            if t < end:                       # below an affected behaviour: collected with it
+                continue
+            end = t + size[t]
+            lo = bisect_left(enabled, t, pos)
+            out.extend(enabled[pos:lo])
+            pos = bisect_left(enabled, end, lo)
+            if self._above_live(t):
+                self._collect(t, out)
+        out.extend(enabled[pos:])
+        return out
+
+    def _above_live(self, t: int) -> bool:
+        plan, live, meter = self.model.plan, self.cursor.atoms, self.cursor.meter
+        j = plan.parent[t]
+        while j >= 0:
+            meter.spend(1)
+            if not plan.pre_check[j](live) or plan.post_check[j](live):
+                return False
+            j = plan.parent[j]
+        return True
+
+    def _collect(self, t: int, out: list[int]) -> None:
+        """The enabled leaves of `t`'s subtree, its ancestors live, in tree order."""
+        plan, live, meter = self.model.plan, self.cursor.atoms, self.cursor.meter
+        stack = [t]
+        while stack:
+            i = stack.pop()
+            meter.spend(1)
+            if plan.pre_check[i](live) and not plan.post_check[i](live):
+                kids = plan.children[i]
+                if kids:
+                    stack.extend(reversed(kids))
+                else:
+                    out.append(i)
 
 
 # ---------------------------------------------------------------------------
@@ -364,6 +564,23 @@ class Verifier:
         self.original = Model(original, world, self.meter)
         self.compressed = Model(compressed, world, self.meter)
         self.codec = Codec()
+        self.cursor = Cursor(self.codec, world, self.meter)
+        self._walks: dict[str, Walker] = {}     # built when first explored: a whole task's Verifier
+                                                # often only answers the diagnostics
+
+    @property
+    def c_walk(self) -> Walker:
+        found = self._walks.get("c")
+        if found is None:
+            found = self._walks["c"] = Walker(self.compressed, self.cursor)
+        return found
+
+    @property
+    def o_walk(self) -> Walker:
+        found = self._walks.get("o")
+        if found is None:
+            found = self._walks["o"] = Walker(self.original, self.cursor)
+        return found
 
     @property
     def max_work(self) -> int:
@@ -385,7 +602,7 @@ class Verifier:
         self.meter.limit = None
         props["soundness"] = self._soundness(sound, parent, exhaustive, len(order))
         exhaustive = exhaustive and o_exhaustive
-        good_c = _backward(order, succ, self._decoded(self.compressed.accomplished))
+        good_c = _backward(order, succ, self.c_walk.accomplished_at)
         props["completion"] = self._completion(initial, parent, order, stuck, good_o, good_c, exhaustive)
         props["flexibility"] = self._flexibility(initial)
         props["traces"] = self._traces(initial, good_o) if exhaustive else Verdict(
@@ -482,8 +699,9 @@ class Verifier:
 
     def _explore_compressed(self, initial: list[State]):
         """Breadth first over every enabled behaviour; the first unsound step and stuck state.
-        States are kept as Codes (parent, successors, order, stuck), expanded one at a time."""
-        c, o = self.compressed, self.original
+        States are kept as Codes (parent, successors, order, stuck); the cursor moves between
+        them by their differences (Walker), so a state costs what its steps change."""
+        cw, o = self.c_walk, self.original
         encode, decode = self.codec.encode, self.codec.decode
         parent: dict[Code, tuple[Code, int] | None] = {}
         succ: dict[Code, list[Code]] = {}
@@ -499,30 +717,25 @@ class Verifier:
         exhaustive = True
         while queue:
             k = queue.popleft()
-            s = decode(k)
             try:
-                leaves = [] if c.accomplished(s) else c.enabled(s)
+                done = cw.accomplished_at(k)
+                leaves = [] if done else cw.enabled_at(k)
             except OutOfWork:
                 exhaustive = False
                 break
             order.append(k)
             nexts = succ[k] = []
-            if c.accomplished(s):
+            if done:
                 continue
             if not leaves:
                 stuck.append(k)
                 continue
             try:
                 for leaf in leaves:
-                    actions, states = c.step(s, leaf)
-                    if unsound is None:
-                        before = s
-                        for j, action in enumerate(actions):
-                            if not o.allows(before, action):
-                                unsound = (s, leaf, j, before)
-                                break
-                            before = states[j]
-                    after = encode(states[-1]) if states else k
+                    actions, codes, refused = cw.outcome(k, leaf, o.allows if unsound is None else None)
+                    if refused >= 0:
+                        unsound = (decode(k), leaf, refused, decode(codes[refused - 1] if refused else k))
+                    after = codes[-1] if codes else k
                     if after in parent:
                         nexts.append(after)
                         continue
@@ -548,7 +761,7 @@ class Verifier:
         steps = []
         while parent[k] is not None:
             before, leaf = parent[k]
-            actions, _ = self.compressed.step(self.codec.decode(before), leaf)
+            actions = self.c_walk.outcome(before, leaf)[0]
             steps.append(Step(self.compressed.label(leaf), tuple(a for a, _ in actions)))
             k = before
         return self.codec.decode(k), tuple(reversed(steps))
@@ -577,8 +790,7 @@ class Verifier:
     def _can_complete_original(self, seeds: list[Code]) -> tuple[set[Code], int, bool]:
         """The states, reachable by the original from the compressed tree's states, from which
         the original can complete (as Codes)."""
-        o = self.original
-        encode, decode = self.codec.encode, self.codec.decode
+        ow = self.o_walk
         succ: dict[Code, list[Code]] = {}
         queue = deque(seeds)
         seen: set[Code] = set(seeds)
@@ -587,16 +799,16 @@ class Verifier:
         exhaustive = True
         while queue:
             k = queue.popleft()
-            s = decode(k)
             try:
-                moves = [o.step(s, leaf)[1] for leaf in o.enabled(s)]
+                moves = [ow.outcome(k, leaf)[1] for leaf in ow.enabled_at(k)]
+                ow.accomplished_at(k)
             except OutOfWork:
                 exhaustive = False
                 break
             order.append(k)
             nexts = succ[k] = []
-            for states in moves:
-                after = encode(states[-1]) if states else k
+            for codes in moves:
+                after = codes[-1] if codes else k
                 if after in seen:
                     nexts.append(after)
                     continue
@@ -606,7 +818,7 @@ class Verifier:
                 seen.add(after)
                 nexts.append(after)
                 queue.append(after)
-        return _backward(order, succ, self._decoded(o.accomplished)), len(order), exhaustive
+        return _backward(order, succ, ow.accomplished_at), len(order), exhaustive
 
     def _completion(self, initial, parent, order, stuck, good_o, good_c, exhaustive) -> Verdict:
         o, c = self.original, self.compressed
@@ -677,20 +889,21 @@ class Verifier:
         return Verdict("flexibility", not blocked, summary, None, {"states": rows})
 
     def _traces(self, initial, good_o) -> Verdict:
-        o_counts = count_words(list(dict.fromkeys(initial)), _original_moves(self.original),
-                               self.original.accomplished)
-        c_counter = _CompressedTraces(self.compressed)
+        encode = self.codec.encode
+        starts = list(dict.fromkeys(encode(s) for s in initial))
+        o_counts = count_words(starts, _original_moves(self.o_walk), self.o_walk.accomplished_at)
+        c_counter = _CompressedTraces(self.c_walk)
         rows = []
         example = None
         for s in initial:
-            n_c = c_counter.count(s) if o_counts is not None else None
+            n_c = c_counter.count(encode(s)) if o_counts is not None else None
             if o_counts is None or n_c is None:
                 return Verdict("traces", None, "not counted: too many traces to enumerate "
                                                "(more than 500,000 automaton states)")
-            n_o = o_counts.get(s, 0)
+            n_o = o_counts.get(encode(s), 0)
             rows.append({"state": state_text(s), "original": _num(n_o), "compressed": _num(n_c)})
             if example is None and n_o != n_c:
-                example = _missing_trace(self.original, c_counter, s)
+                example = _missing_trace(self.o_walk, c_counter, encode(s))
                 if example is not None:
                     example = (s, example)
         total_o = _total(r["original"] for r in rows)
@@ -827,21 +1040,23 @@ def count_words(starts, moves, accepting, limit: int = 500_000) -> dict:
     return counts
 
 
-def _original_moves(o: Model):
-    def moves(state: State) -> dict:
-        return {o.plan.steps[leaf][0]: o.step(state, leaf)[1][-1] for leaf in o.enabled(state)}
+def _original_moves(o: Walker):
+    def moves(k: Code) -> dict:
+        plan = o.model.plan
+        return {plan.steps[leaf][0]: o.outcome(k, leaf)[1][-1] for leaf in o.enabled_at(k)}
     return moves
 
 
 class _CompressedTraces:
-    """The compressed tree's complete traces as words of original actions (determinised)."""
+    """The compressed tree's complete traces as words of original actions (determinised).
+    A node is a state (its Code) and the merged behaviours in progress there."""
 
-    def __init__(self, c: Model) -> None:
+    def __init__(self, c: Walker) -> None:
         self.c = c
         self._counts: dict[tuple, int | float] = {}
 
-    def start(self, s: State) -> tuple:
-        return (s, frozenset({(s, -1, 0)}))          # (decision state, leaf, actions done)
+    def start(self, k: Code) -> tuple:
+        return (k, frozenset({(k, -1, 0)}))          # (decision state, leaf, actions done)
 
     def moves(self, node: tuple) -> dict[Action, tuple]:
         """Determinised transitions on each original action."""
@@ -849,14 +1064,14 @@ class _CompressedTraces:
         out: dict[Action, set] = {}
         for (origin, leaf, done) in items:
             if leaf < 0:
-                if self.c.accomplished(origin):
+                if self.c.accomplished_at(origin):
                     continue
-                for l in self.c.enabled(origin):
-                    actions, states = self.c.step(origin, l)
+                for l in self.c.enabled_at(origin):
+                    actions = self.c.outcome(origin, l)[0]
                     if actions:
                         out.setdefault(actions[0], set()).add(self._item(origin, l, 1))
             else:
-                actions, states = self.c.step(origin, leaf)
+                actions = self.c.outcome(origin, leaf)[0]
                 out.setdefault(actions[done], set()).add(self._item(origin, leaf, done + 1))
         result = {}
         for action, new in out.items():
@@ -864,39 +1079,40 @@ class _CompressedTraces:
             result[action] = (nxt_state, frozenset(new))
         return result
 
-    def _item(self, origin: State, leaf: int, done: int) -> tuple:
-        actions, states = self.c.step(origin, leaf)
+    def _item(self, origin: Code, leaf: int, done: int) -> tuple:
+        actions, codes, _ = self.c.outcome(origin, leaf)
         if done >= len(actions):
-            return (states[-1], -1, 0)                 # back at a decision
+            return (codes[-1], -1, 0)                 # back at a decision
         return (origin, leaf, done)
 
-    def _state_of(self, item: tuple) -> State:
+    def _state_of(self, item: tuple) -> Code:
         origin, leaf, done = item
-        return origin if leaf < 0 else self.c.step(origin, leaf)[1][done - 1]
+        return origin if leaf < 0 else self.c.outcome(origin, leaf)[1][done - 1]
 
     def accepting(self, node: tuple) -> bool:
-        return any(leaf < 0 and self.c.accomplished(origin) for origin, leaf, _ in node[1])
+        return any(leaf < 0 and self.c.accomplished_at(origin) for origin, leaf, _ in node[1])
 
-    def count(self, s: State) -> int | float | None:
-        root = self.start(s)
+    def count(self, k: Code) -> int | float | None:
+        root = self.start(k)
         counts = count_words([root], self.moves, self.accepting)
         return None if counts is None else counts.get(root, 0)
 
 
-def _missing_trace(o: Model, c: _CompressedTraces, s: State) -> list[Term] | None:
-    """A shortest complete original trace from `s` that the compressed tree cannot produce."""
-    start = (s, c.start(s))
+def _missing_trace(o: Walker, c: _CompressedTraces, k: Code) -> list[Term] | None:
+    """A shortest complete original trace from `k` that the compressed tree cannot produce."""
+    start = (k, c.start(k))
     parent = {start: None}
     queue = deque([start])
+    moves_o = _original_moves(o)
     while queue:
         node = queue.popleft()
         state, cnode = node
-        if o.accomplished(state):
+        if o.accomplished_at(state):
             if cnode is None or not c.accepting(cnode):
                 return _word(parent, node)
             continue
         moves = c.moves(cnode) if cnode is not None else {}
-        for action, after in _original_moves(o)(state).items():
+        for action, after in moves_o(state).items():
             nxt = (after, moves.get(action))
             if nxt not in parent:
                 parent[nxt] = (node, action[0])
@@ -919,7 +1135,7 @@ def _word(parent, node) -> list[Term]:
 # Parts and phases: exact reductions (run/parts.py; docs/semantics.md, "Independent parts",
 # "Sequential phases"). Each Part is explored; what it found is combined up the pieces.
 
-@dataclass
+@dataclass(slots=True)      # one per part, 50,000 parts at 111,111 behaviours: no __dict__ each
 class Facts:
     """What exploring a piece found, in its own states: a state of a piece is its start with
     its own atoms changed, so it reads the same in every piece around it."""
@@ -1133,12 +1349,12 @@ def _explicit_part(part, max_states: int) -> Facts:
     good_o, o_states, o_exhaustive = v._can_complete_original(order)
     v.meter.limit = None
     decode, encode = v.codec.decode, v.codec.encode
-    good_c = _backward(order, succ, v._decoded(v.compressed.accomplished))
+    good_c = _backward(order, succ, v.c_walk.accomplished_at)
     stuck_state = next((decode(q) for q in stuck if v.original.enabled(decode(q))), None)
     return Facts(
         part.atoms, start, v._soundness(unsound, parent, exhaustive, len(order)),
         next((decode(q) for q in stuck), None),
-        next((decode(q) for q in order if v.compressed.accomplished(decode(q))), None),
+        next((decode(q) for q in order if v.c_walk.accomplished_at(q)), None),
         stuck_state, _offered(v.original, stuck_state) if stuck_state is not None else "",
         next((decode(q) for q in order if q in good_o and q not in good_c), None),
         next((decode(q) for q in order if q in good_o), None),
