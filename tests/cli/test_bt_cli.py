@@ -379,8 +379,44 @@ def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which
     assert r.returncode == 0 and out["proved"], r.stdout + r.stderr
     assert "Follow, which the XML leaves open" in out["covers"] and "Plan as --semantics registers it" in out["covers"]
     r = run("verify", plain, plain)
-    assert r.returncode == 0 and "It covers every registration of the 2 action types the XML leaves open " \
-                                  "(Follow, Plan)" in r.stdout, r.stdout
+    assert r.returncode == 0 and "It covers an executor that halts the tree (Tree::haltTree) between any two " \
+        "ticks and ticks it anew for the next goal; it covers every registration of the 2 action types the XML " \
+        "leaves open (Follow, Plan)" in r.stdout, r.stdout
+    once = run("verify", plain, plain, "--run-once")
+    assert once.returncode == 0 and "It assumes the tree is ticked until it finishes, once, and never halted " \
+        "(--run-once)" in once.stdout, once.stdout
+
+
+ONCE = """<root BTCPP_format="4" main_tree_to_execute="T">
+  <BehaviorTree ID="T">
+    <Sequence>
+      {first}
+      <Action ID="Work"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_a_proof_covers_an_executor_that_halts_the_tree_and_ticks_it_anew(tmp_path):
+    """Issue 48: RunOnce(Calibrate) and Calibrate run alike until the tree first finishes; the next
+    goal ticks the same tree again, and RunOnce remembers. A robot's executor does that (Nav2:
+    haltTree after every goal, then the next one), so the default refutes; --run-once proves."""
+    once, plain = tmp_path / "once.xml", tmp_path / "plain.xml"
+    once.write_text(ONCE.format(first='<RunOnce><Action ID="Calibrate"/></RunOnce>'))
+    plain.write_text(ONCE.format(first='<Action ID="Calibrate"/>'))
+    r = run("verify", once, plain)
+    assert r.returncode == 1 and "root tick 2 (the tree ticked anew, what its nodes keep kept):" in r.stdout, r.stdout
+    assert f"a: tick Work at {once}:5:7   <- the trees part here" in r.stdout, r.stdout
+    r = run("verify", once, plain, "--run-once")
+    assert r.returncode == 0 and "(--run-once)" in r.stdout, r.stdout
+    # a halt's own events: an `_onHalted` script runs when haltTree reaches its node, RUNNING or not
+    halted = tmp_path / "halted.xml"
+    halted.write_text(ONCE.format(first='<Action ID="Calibrate" _onHalted="log()"/>'))
+    r = run("verify", plain, halted)
+    assert r.returncode == 1 and "tree halted (Tree::haltTree)" in r.stdout and "run script _onHalted `log()`" \
+        in r.stdout, r.stdout
+    assert run("verify", plain, halted, "--run-once").returncode == 0
 
 
 def test_verify_with_the_nav2_profile(tmp_path):
@@ -451,8 +487,8 @@ def test_verify_reads_a_subtree_models_defaults_as_the_calls_remapping(tmp_path)
     r = run("verify", "a.xml", "b.xml", cwd=tmp_path)
     assert r.returncode == 1, r.stdout + r.stderr
     assert r.stdout.splitlines()[0] == ('refuted after 2 states: the next event differs: a check SubTree Sub v="42" > '
-                                        'ScriptCondition code="v==42", b check SubTree Sub v="43" > ScriptCondition '
-                                        'code="v==42"')
+                                        'ScriptCondition code="v==42" at a.xml:6:5, b check SubTree Sub v="43" > '
+                                        'ScriptCondition code="v==42" at b.xml:6:5')
     r = run("verify", "a.xml", "c.xml", cwd=tmp_path)
     assert r.returncode == 0 and r.stdout.startswith("proved equal"), r.stdout + r.stderr
 
