@@ -7,7 +7,7 @@ the k-th leaf tick, in either runtime, takes draw k (actions: (SUCCESS, FAILURE,
 conditions: (SUCCESS, FAILURE)[d % 2]; the listed draws, then those of random.Random(seed)). Both runtimes
 are ticked root tick by root tick until the root completes (or MAX_ROOT_TICKS), and the flat
 sequence of ("tick", type, outcome) / ("halt", type) events and the root statuses tick by tick
-must be equal; a run still RUNNING after MAX_ROOT_TICKS is halted (Tree::haltTree, halt_step) and
+must be equal; a run still RUNNING after MAX_ROOT_TICKS is halted (Tree::haltTree, halt_tree_step) and
 its halt events compared too. An error (BT.CPP throws at load or tick; the model's RootTicked
 with an error) must happen in both, after the same events.
 
@@ -34,7 +34,7 @@ from hypothesis import strategies as st
 
 from schemalog.bt.model import Document, Node, NodeModel
 from schemalog.bt.semantics import (ACTION_OUTCOMES, CONDITION_OUTCOMES, RETICKED_ACTION, STATEFUL_ACTION, SYNC_ACTION, Await,
-                                    advance, halt_step, initial, program, step)
+                                    advance, halt_tree_step, initial, program, step)
 from schemalog.formats.btxml import write_bt
 
 try:
@@ -235,9 +235,9 @@ def run_model(root: Node, draws: Draws, sync: bool = False,
         if s.status.name in ("SUCCESS", "FAILURE"):
             break
         config = s.config
-    if statuses and statuses[-1] == "RUNNING":           # Tree::haltTree: halt the root
+    if statuses and statuses[-1] == "RUNNING":           # Tree::haltTree
         while True:
-            h = halt_step(prog, config)
+            h = halt_tree_step(prog, config)
             if isinstance(h, Await):
                 assert h.event.kind == "halt", h.event
                 events.append(("halt", h.event.node[1][0], None))
@@ -341,7 +341,7 @@ def test_a_completed_sync_action_is_ticked_again():
 
 
 @pytest.mark.parametrize("root, listed", [
-    # a run cut short at MAX_ROOT_TICKS is halted (Tree::haltTree / halt_step)
+    # a run cut short at MAX_ROOT_TICKS is halted (Tree::haltTree / halt_tree_step)
     (n("RetryUntilSuccessful", n("KeepRunningUntilFailure", act("A0")), num_attempts="2"), [2] * 12),
     # the RUNNING child of a ReactiveSequence moves back to the first: the second is halted
     (n("ReactiveSequence", act("A0"), act("A1")), [0, 2, 2, 0, 0, 0]),

@@ -47,7 +47,8 @@ from hypothesis import strategies as st
 
 from schemalog.api.behaviour_trees import compress_tree, read_tree
 from schemalog.bt.model import Document, Node, NodeModel, Port, walk
-from schemalog.bt.semantics import RETICKED_ACTION, STATEFUL_ACTION, Await, Status, advance, halt_step, initial, program, step
+from schemalog.bt.semantics import (RETICKED_ACTION, STATEFUL_ACTION, Await, Status, advance, halt_tree_step, initial,
+                                    program, step)
 from schemalog.errors import SchemalogError
 from schemalog.bt.ports import BUILTIN_PORTS
 from schemalog.formats.btxml import BUILTIN, infer_models, read_bt, write_bt
@@ -803,7 +804,7 @@ def replay(document: Document, events: list[dict], stateful: bool) -> None:
             break                                     # SKIPPED: the harness halts only a RUNNING root
         if ticks == MAX_ROOT_TICKS:
             while True:
-                h = halt_step(prog, config)
+                h = halt_tree_step(prog, config)             # the harness calls Tree::haltTree
                 if not isinstance(h, Await):
                     break
                 expect(h.event.kind, h.event.node)

@@ -12,7 +12,8 @@ is explored breadth-first from the initial pair, memoised on pairs (of the inter
 data, semantics._continuation, where it can be frozen; else of configurations); a pair whose next events
 differ (kind, node identity, choices offered), or whose root ticks end differently, refutes.
 The root is ticked again while it returns RUNNING; after SUCCESS, FAILURE or SKIPPED the run
-ends, as Tree::tickWhileRunning does (src/bt_factory.cpp, Tree::tickRoot). `equal` with
+ends, as Tree::tickWhileRunning does (src/bt_factory.cpp, Tree::tickRoot), unless `halts`: then
+the executor may also call Tree::haltTree between any two root ticks and tick the tree anew. `equal` with
 `complete` is a proof; `equal` without it only says no difference was found within the limits.
 """
 
