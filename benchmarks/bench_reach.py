@@ -5,7 +5,8 @@
 Ours is `prove_by_parts` (what `schemalog verify A.xml B.xml` runs: parts in every context,
 identical subtrees taken whole, bt/congruence.py); the reference is `prove_equal` on the two
 whole documents (the product exploration, no parts, no congruence). Both run with the same
-max_states and the default registrations (every Action either way). Each proof runs in a
+max_states, the default registrations (every Action either way) and the default executor (the
+tree may be halted by haltTree between any two ticks and ticked anew). Each proof runs in a
 forked child, so its peak memory (ru_maxrss) is its own. Rows:
 
 - nest N: a flat Sequence of N Action leaves against the same with two middle children nested
@@ -88,9 +89,11 @@ def expanded_nodes(document: Document) -> int:
 
 def _child(conn, build, arg, prover, max_states) -> None:
     a, b = build(*arg)
-    fn = prove_by_parts if prover == "ours" else prove_equal
     t = time.process_time()
-    v = fn(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK)
+    if prover == "ours":
+        v = prove_by_parts(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK)
+    else:
+        v = prove_equal(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK, halts=True)
     seconds = time.process_time() - t
     cex = v.counterexample
     events = sum(len(t.events) for t in cex.ticks_a) if cex else 0
