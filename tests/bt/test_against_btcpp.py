@@ -34,7 +34,7 @@ from hypothesis import strategies as st
 
 from schemalog.bt.model import Document, Node, NodeModel
 from schemalog.bt.semantics import (ACTION_OUTCOMES, CONDITION_OUTCOMES, RETICKED_ACTION, STATEFUL_ACTION, SYNC_ACTION, Await,
-                                    advance, halt_tree_step, initial, program, step)
+                                    Status, advance, halt_tree_step, initial, program, step)
 from schemalog.formats.btxml import write_bt
 
 try:
@@ -402,3 +402,44 @@ def test_a_compressed_tree_runs_as_its_original_in_btcpp(root, listed, seed):
     draws = Draws(listed, seed)
     note(write_bt(small.compressed))
     assert run_btcpp(write_bt(small.compressed), draws) == run_btcpp(write_bt(original), draws)
+
+
+@pytest.mark.parametrize("ticks, expected", [
+    # RUNNING when halted: the cascade halts A1 (its _onHalted once), the root's _onHalted runs,
+    # then the visitor runs every node's haltNode again: root, A0 (never RUNNING), A1
+    (["SUCCESS", "RUNNING"], {"r": 2, "a": 1, "b": 2}),
+    # finished when halted: haltTree still calls haltNode on every node (Nav2 halts the tree after
+    # every goal)
+    (["SUCCESS", "SUCCESS"], {"r": 2, "a": 1, "b": 1}),
+])
+def test_halt_tree_runs_every_nodes_on_halted_script_as_btcpp_does(ticks, expected):
+    """Issue 48: Tree::haltTree calls haltNode on the root, then on every node in pre-order
+    (src/bt_factory.cpp, applyRecursiveVisitor), and haltNode runs `_onHalted` whatever the
+    node's status. The scripts count on the blackboard in BT.CPP; our halt_tree_step makes one
+    `script` event per run of each."""
+    root = n("Sequence", n("A0", _onHalted="a := a + 1"), n("A1", _onHalted="b := b + 1"),
+             _onHalted="r := r + 1")
+    outcomes = iter(getattr(bt.NodeStatus, t) for t in ticks)
+    factory = bt.BehaviorTreeFactory()
+    for t in ("A0", "A1"):
+        factory.register_simple_stateful_action(t, lambda _node: next(outcomes), lambda _node: next(outcomes),
+                                                lambda _node: None)
+    tree = factory.create_tree_from_text(write_bt(document(root)))
+    board = tree.root_blackboard()
+    for key in "rab":
+        board.set_int(key, 0)
+    tree.tick_exactly_once()
+    tree.halt_tree()
+    assert {k: board.get_int(k) for k in "rab"} == expected
+
+    prog = program(document(root), rules={t: STATEFUL_ACTION for t in ACTIONS})
+    config = initial()
+    answers = iter(getattr(Status, t) for t in ticks)
+    while isinstance(s := step(prog, config), Await):
+        config = advance(config, next(answers) if s.event.kind == "tick" else None)
+    config, counts = s.config, {"r": 0, "a": 0, "b": 0}
+    while isinstance(h := halt_tree_step(prog, config), Await):
+        if h.event.kind == "script":
+            counts[h.event.node[1][1][0]] += 1
+        config = advance(config, None)
+    assert counts == expected
