@@ -213,15 +213,24 @@ def test_a_proof_out_of_memory_is_no_proof_not_a_counterexample(wide_task, metho
     assert r.stderr.strip() == NO_PROOF
 
 
+def parallel_of_sequences(k: int, wrap_first: bool) -> str:
+    """A Parallel of k Sequences of three distinct actions (the first wrapped in a Sequence of its
+    own), and, with `wrap_first`, a tree nobody calls: equal documents whose parts cannot be
+    compared pairwise, and whose product of k children's memories no congruence takes whole."""
+    seqs = ["<Sequence>" + "".join(f'<Action ID="A{i}_{j}"/>' for j in range(3)) + "</Sequence>" for i in range(k)]
+    if wrap_first:
+        seqs[0] = f"<Sequence>{seqs[0]}</Sequence>"
+    unused = '<BehaviorTree ID="Unused"><AlwaysSuccess/></BehaviorTree>' if wrap_first else ""
+    return (f'<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main">'
+            f'<Parallel success_count="-1">{"".join(seqs)}</Parallel></BehaviorTree>{unused}</root>\n')
+
+
 def test_a_tree_proof_out_of_memory_is_no_proof(tmp_path):
-    nav2 = ROOT / "tests" / "bt" / "corpus" / "nav2"
-    original = (nav2 / "navigate_on_route_graph_w_recovery.xml").read_text()
-    start = original.index(">", original.index("<BehaviorTree")) + 1
-    end = original.index("</BehaviorTree>")
-    wrapped = tmp_path / "wrapped.xml"                 # the whole tree in a Sequence of one child
-    wrapped.write_text(original[:start] + "<Sequence>" + original[start:end] + "</Sequence>" + original[end:])
-    r = run("verify", nav2 / "navigate_on_route_graph_w_recovery.xml", wrapped, "--nodes",
-            nav2 / "nav2_tree_nodes.xml", "--max-memory", "90M", "--max-states", 10**8)
+    # 8 Sequences take 22,008 pairs of states and 170 MB; 12 take far more than 90 MB
+    a, b = tmp_path / "a.xml", tmp_path / "b.xml"
+    a.write_text(parallel_of_sequences(12, False))
+    b.write_text(parallel_of_sequences(12, True))
+    r = run("verify", a, b, "--max-memory", "90M", "--max-states", 10**8)
     assert r.returncode == 3 and clean(r), r.stderr
     assert r.stderr.strip() == NO_PROOF
 
@@ -509,9 +518,10 @@ def test_every_command_takes_a_10000_child_schema_in_linear_time_but_the_scan(tm
                  ["convert", "-o", tmp_path / "t.yaml"]):
         r = run(*args, path, "--timeout", 60)
         assert r.returncode == 0 and clean(r), (args, r.stderr[-300:])
-    # the proof is bounded: it stops at its work budget with no verdict (docs/semantics.md)
+    # the proof is bounded: 10,000 children released at once are 2^10,000 states; it stops at its
+    # limit with no verdict (docs/semantics.md)
     r = run("verify", path, "--max-states", 3000, "--timeout", 60)
-    assert r.returncode == 3 and "no proof: stopped at the limit of 3,000,000 units of work" in r.stdout, r.stdout
+    assert r.returncode == 3 and "no proof: stopped at the limit of 3,000 states (--max-states)" in r.stdout, r.stdout
 
 
 def flat_file(path, n):
