@@ -41,6 +41,7 @@ class TickTrace:
     status: Status | None
     error: str = ""
     move: str = ""                    # not a root tick: "halt" (by its parent), "haltTree", "visit"
+    woken: bool = False               # it emitted the wake-up signal (tickOnce ticks again at once)
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,12 @@ def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
     if isinstance(sa, RootTicked) and isinstance(sb, RootTicked):
         if sa.status != sb.status or bool(sa.error) != bool(sb.error):
             return f"the root tick ends with {_end(sa)} in a, {_end(sb)} in b"
+        if sa.woken != sb.woken:
+            # Tree::tickOnce (Nav2's executor) ticks the root again within the same call after a
+            # wake-up signal, so a haltTree between the two ticks is possible in one tree only
+            woke = "a" if sa.woken else "b"
+            return (f"the root tick ends with {_end(sa)} in both, but only {woke}'s asks to be ticked again at "
+                    f"once (a wake-up signal: Tree::tickOnce ticks it again within the same call)")
         return ""
     if isinstance(sa, Await):
         return f"a goes on with {describe(sa.event)}, b's root tick ends with {_end(sb)}"
@@ -283,7 +290,7 @@ def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickT
             events.append(replace(s.event, outcome=outcome))
             config = advance(config, outcome)
             continue
-        ticks.append(TickTrace(s.events, s.status, s.error, "" if phase is _TICK else phase))
+        ticks.append(TickTrace(s.events, s.status, s.error, "" if phase is _TICK else phase, s.woken))
         events = []
         if not todo:
             return tuple(ticks)
@@ -326,7 +333,7 @@ def _trace(prog: Program, choices: tuple, max_ticks: int | None = None,
             events.append(replace(s.event, outcome=outcome))
             config, i = advance(config, outcome), i + 1
             continue
-        ticks.append(TickTrace(s.events, s.status, s.error))
+        ticks.append(TickTrace(s.events, s.status, s.error, woken=s.woken))
         events = []
         if s.status is not RUNNING or len(ticks) == max_ticks or (max_ticks is None and i == len(choices)):
             return tuple(ticks)
@@ -391,8 +398,12 @@ def explain(verdict: Verdict, under: str = "") -> str:
         before = cex.ticks_a[k - 1] if 0 < k <= len(cex.ticks_a) else None
         anew = (" (the tree ticked anew, what its nodes keep kept)" if before is not None and before.status
                 is not RUNNING and k < len(cex.ticks_a) and not cex.ticks_a[k].move else "")
-        lines.append(f"root tick {k + 1}{anew}:" if same == k + 1 else
-                     f"root ticks {k + 1}-{same} (x {same - k}, each alike){anew}:")
+        move = cex.ticks_a[k].move if k < len(cex.ticks_a) else ""
+        if move:
+            lines.append(f"then {_MOVE_HEADS[move]}:")
+        else:
+            lines.append(f"root tick {k + 1}{anew}:" if same == k + 1 else
+                         f"root ticks {k + 1}-{same} (x {same - k}, each alike){anew}:")
         for side, ticks in (("a", cex.ticks_a), ("b", cex.ticks_b)):
             if k >= len(ticks):
                 continue
@@ -403,11 +414,14 @@ def explain(verdict: Verdict, under: str = "") -> str:
             if t.move:
                 lines.append(f"  {side}: {_MOVE_WORDS[t.move]}")
             elif t.status is not None or t.error:
-                lines.append(f"  {side}: root -> {t.status.value if t.status else 'error: ' + t.error}")
+                woke = " (a wake-up signal: Tree::tickOnce ticks it again at once)" if t.woken else ""
+                lines.append(f"  {side}: root -> {t.status.value if t.status else 'error: ' + t.error}{woke}")
         k = same
     return "\n".join(lines) + "\n"
 
 
+_MOVE_HEADS = {_HALT: "its parent halts the root", _TREE: "the executor halts the tree",
+               _VISIT: "Tree::haltTree's visitor reaches the root"}
 _MOVE_WORDS = {_HALT: "root halted by its parent (haltChild)", _TREE: "tree halted (Tree::haltTree)",
                _VISIT: "root reached by Tree::haltTree's visitor (haltNode on each node)"}
 
@@ -475,6 +489,15 @@ def _parts(a: Node, b: Node, parent: str | None, da: Document,
         return [(a, b, parent)]
     under = a.type if not a.form else None            # a generic-form node is a custom one: opaque
     return [part for ca, cb in zip(a.children, b.children) for part in _parts(ca, cb, under or "\0custom", da, db)]
+
+
+def _context(main_root: bool, parent: str | None, rules: Mapping[str, Rule] | None, halts: bool) -> dict:
+    """How a differing part is explored: the main tree's root is the whole tree, which the executor
+    runs (its haltTree calls haltNode on the root twice: once itself, once by the visitor); any
+    other part stands under a parent, in every context that parent can make."""
+    if main_root:
+        return dict(halts=halts)
+    return dict(contextual=True, unreset=_unreset(parent, rules), halts=halts)
 
 
 def _unreset(parent: str | None, rules: Mapping[str, Rule] | None) -> bool:
@@ -611,8 +634,8 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
         taken = 0
         for na, nb, parent in parts:
             v, k = _congruent(_part(a, na), _part(b, nb), max_states=max_states - spent,
-                              max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
-                              unreset=_unreset(parent, rules), halts=halts)
+                              max_events_per_tick=max_events_per_tick, rules=rules,
+                              **_context(na is a.root, parent, rules, halts))
             spent += v.states
             taken += k
             thrown = thrown or v.thrown
@@ -700,8 +723,8 @@ def compress_proved(document: Document, *, max_states: int, max_events_per_tick:
         for (_, ra), (_, rb) in zip(document.trees, result.document.trees):
             for na, nb, parent in _parts(ra, rb, None, document, result.document):
                 v = prove_equal(_part(document, na), _part(result.document, nb), max_states=max_states,
-                                max_events_per_tick=max_events_per_tick, rules=rules, contextual=True,
-                                unreset=_unreset(parent, rules), halts=halts)
+                                max_events_per_tick=max_events_per_tick, rules=rules,
+                                **_context(na is document.root, parent, rules, halts))
                 if v.complete and not v.equal:
                     refuted.append(na)
         grown = keep | {id(n) for na in refuted for n in walk(na)}

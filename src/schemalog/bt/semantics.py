@@ -119,6 +119,8 @@ class RootTicked:
     kept: Config | None = None                 # completed: the memory with the root's status kept
                                                # (a parent that does not reset it: WhileDoElse's
                                                # condition, PipelineSequence's finished children)
+    woken: bool = False                        # a node emitted the wake-up signal in this tick
+                                               # (Tree::tickOnce then ticks the root again at once)
 
 
 @dataclass(frozen=True)
@@ -175,6 +177,7 @@ class _Run:
         self.pending = config.pending
         self.kinds = dict(config.kinds)
         self.pos = 0
+        self.woken = False               # emitWakeUpSignal (src/tree_node.cpp) in this tick
         self.events: list[Event] = []
         self.node_ticks = 0
         self.max_node_ticks = max_node_ticks
@@ -460,6 +463,7 @@ def _sequence_like(*, fallback: bool, asynch: bool = False, memory: bool = False
                 run.set_status(child, IDLE)
                 run.put(n, "idx", idx)
                 if yields and prev is IDLE and idx < count:
+                    run.woken = True             # emitWakeUpSignal: tickOnce ticks again at once
                     return RUNNING
             elif s is SKIPPED:
                 idx += 1
@@ -900,6 +904,7 @@ def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Stat
                 loop = count < turns or turns == -1
                 _reset_child(run, n)
                 if prev is IDLE and loop:
+                    run.woken = True             # emitWakeUpSignal (repeat_node.cpp, retry_node.cpp)
                     return RUNNING
             elif s is done:
                 run.put(n, key, 0)
@@ -1269,7 +1274,7 @@ def step(prog: Program, config: Config, *, max_node_ticks: int = 100_000) -> Awa
     if status in COMPLETED:                              # Tree::tickRoot: resetStatus on completion
         kept = run.after()
         run.set_status(prog.root, IDLE)
-    return RootTicked(status, "", run.node_ticks, run.after(), tuple(run.events), kept=kept)
+    return RootTicked(status, "", run.node_ticks, run.after(), tuple(run.events), kept=kept, woken=run.woken)
 
 
 _UNKNOWN = object()

@@ -183,7 +183,8 @@ def run_compress(args: argparse.Namespace) -> int:
     elif not result.rewrites:
         summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
                    f"(a composite inside one of its own type, a single-child Sequence or Fallback, a double "
-                   f"Inverter or Force, each without a pre-condition that its removal would change)")
+                   f"Inverter or Force, each without a pre-condition that its removal would change), or each "
+                   f"that does is refuted where it stands and undone")
     else:
         summary = (f"{shown}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
                    f"{_verdict_words(verdict, _with_profiles(args))}")
