@@ -1352,8 +1352,9 @@ def halt_step(prog: Program, config: Config) -> Await | RootTicked:
 def _halt_any(run: _Run, n: PNode) -> None:
     """TreeNode::haltNode whatever the status, as Tree::haltTree calls it: a leaf's halt() does
     nothing unless it is RUNNING (StatefulActionNode::halt; an action's halt callback), and the
-    `_onHalted` script runs in any case."""
-    if n.kids or run.status(n) is RUNNING:
+    `_onHalted` script runs in any case. A subtree taken whole (bt/congruence.py, a rule with its
+    own visit) is halted as its rule says: what its root's halt does depends on what it holds."""
+    if n.kids or run.status(n) is RUNNING or run.program.rules[n.rule].visit is not None:
         run.halt_node(n)
         return
     code = n.node.attr("_onHalted")
