@@ -53,7 +53,14 @@ def _tick(run: _Run, n: PNode) -> Status:
 
 
 def _halt(run: _Run, n: PNode) -> None:
-    """The abstract halt (haltNode): an event; every halt in the table leaves the root IDLE."""
+    """The abstract halt (haltNode): an event; every halt in the table leaves the root IDLE. One
+    case is no event: a root that is not RUNNING, of a rule of the table, without `_onHalted`
+    (`quiet`). Only Tree::haltTree's own haltNode on the tree's root halts such a node; it halts
+    no child (haltChild halts RUNNING ones only), and what it puts back the visitor's haltNode
+    right after puts back again before any tick reads it: nothing a run can see."""
+    if run.status(n) is not RUNNING and n.node.attr("quiet") == "yes":
+        run.set_status(n, IDLE)
+        return
     run.event("halt", n, (None,), _identity(n, run.status(n)))
     run.set_status(n, IDLE)
 
@@ -151,7 +158,9 @@ def _choose(index: _Index, allowed: set[int]) -> dict[tuple, int]:
 def _rebuild(n: PNode, chosen: dict[tuple, int], labels: dict[tuple, str], skips: dict[int, str | None]) -> PNode:
     if n.path in chosen:
         skip = skips[chosen[n.path]]
-        attrs = (("name", n.node.name), ("subtree", labels[n.path])) + ((("skips", skip),) if skip else ())
+        quiet = n.node.attr("_onHalted") is None and n.rule != "<opaque>"
+        attrs = ((("name", n.node.name), ("subtree", labels[n.path])) + ((("skips", skip),) if skip else ())
+                 + ((("quiet", "yes"),) if quiet else ()))
         return PNode(Node(TYPE, attrs, (), "", n.node.line, n.node.column, n.node.file), RULE_KEY, (),
                      n.context, n.path, False)
     if not any(p[:len(n.path)] == n.path for p in chosen):
