@@ -319,9 +319,10 @@ class Walker:
 class Model:
     """The enabled leaves of one tree in any state, and the steps they take (memoised)."""
 
-    def __init__(self, tree: Behaviour, world: World, meter: Meter | None = None) -> None:
+    def __init__(self, tree: Behaviour, world: World, meter: Meter | None = None,
+                 compiled: dict | None = None) -> None:
         self.tree = tree
-        self.plan = Plan.of(tree)
+        self.plan = Plan.of(tree, compiled)
         self.world = world
         self.meter = meter or Meter()
         self._enabled: dict[State, list[int]] = {}
@@ -561,8 +562,9 @@ class Verifier:
         self.world = world
         self.max_states = max_states
         self.meter = Meter()
-        self.original = Model(original, world, self.meter)
-        self.compressed = Model(compressed, world, self.meter)
+        compiled: dict = {}         # the two trees' conditions, each compiled once for both
+        self.original = Model(original, world, self.meter, compiled)
+        self.compressed = Model(compressed, world, self.meter, compiled)
         self.codec = Codec()
         self.cursor = Cursor(self.codec, world, self.meter)
         self._walks: dict[str, Walker] = {}     # built when first explored: a whole task's Verifier
@@ -930,6 +932,7 @@ class Verifier:
                 ex = Executive(model.tree, world, scene, plan=model.plan)
                 ex.run()
                 traces.append((ex.trace, ex.outcome.status.value))
+                del ex              # its decisions and loop journal, before the other tree's run
             (t_o, st_o), (t_c, st_c) = traces
             diff = next((k for k, (a, b) in enumerate(zip(t_o, t_c)) if a != b),
                         None if len(t_o) == len(t_c) else min(len(t_o), len(t_c)))
