@@ -131,6 +131,11 @@ class RobotManager:
         return True
 
     def state_key(self) -> tuple:
+        if not self.failures:         # the usual case: one key per hand position, not one per call
+            key = self.__dict__.get("_plain_key")
+            if key is None or key[0] != self.hand:
+                key = self._plain_key = (self.hand, ())
+            return key
         return self.hand, tuple(sorted((term_to_text(k), v if v is not None else -1)
                                        for k, v in self.failures.items()))
 
@@ -164,6 +169,7 @@ class Plan:
         parent: list[int] = []
         children: list[list[int]] = []
         keys: list[tuple] = []
+        interned: dict[tuple, tuple] = {}
         stack: list[tuple[Behaviour, int, int]] = [(root, -1, 0)]
         while stack:
             node, up, position = stack.pop()
@@ -173,7 +179,8 @@ class Plan:
             children.append([])
             if up >= 0:
                 children[up].append(i)
-            keys.append(tuple((o.slot, o.position) for o in node.origins) or ((-1, position),))
+            key = tuple((o.slot, o.position) for o in node.origins) or ((-1, position),)
+            keys.append(interned.setdefault(key, key))   # a few dozen distinct keys in 100,000 nodes
             stack.extend((c, i, p) for p, c in reversed(list(enumerate(node.children))))
         disjoint = []
         for kids in children:
