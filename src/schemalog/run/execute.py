@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import enum
 import heapq
+import itertools
 import time
 from collections import Counter
 from dataclasses import dataclass, field, replace
@@ -71,7 +72,7 @@ class Status(enum.Enum):
     """The executive came back to a configuration it had been in: it would loop forever."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)    # one per decision: 100,000 in a run of 111,111 behaviours
 class Decision:
     """One winner-take-all decision and what the robot made of it."""
 
@@ -130,6 +131,11 @@ class RobotManager:
         return True
 
     def state_key(self) -> tuple:
+        if not self.failures:         # the usual case: one key per hand position, not one per call
+            key = self.__dict__.get("_plain_key")
+            if key is None or key[0] != self.hand:
+                key = self._plain_key = (self.hand, ())
+            return key
         return self.hand, tuple(sorted((term_to_text(k), v if v is not None else -1)
                                        for k, v in self.failures.items()))
 
@@ -156,11 +162,14 @@ class Plan:
     post_check: list[cond.Check] = field(default_factory=list)
 
     @classmethod
-    def of(cls, root: Behaviour) -> "Plan":
+    def of(cls, root: Behaviour, compiled: dict | None = None) -> "Plan":
+        """`root`'s plan; `compiled`: condition -> check, shared with other plans of the same
+        task (an original and its compressed tree share most conditions)."""
         nodes: list[Behaviour] = []
         parent: list[int] = []
         children: list[list[int]] = []
         keys: list[tuple] = []
+        interned: dict[tuple, tuple] = {}
         stack: list[tuple[Behaviour, int, int]] = [(root, -1, 0)]
         while stack:
             node, up, position = stack.pop()
@@ -170,7 +179,8 @@ class Plan:
             children.append([])
             if up >= 0:
                 children[up].append(i)
-            keys.append(tuple((o.slot, o.position) for o in node.origins) or ((-1, position),))
+            key = tuple((o.slot, o.position) for o in node.origins) or ((-1, position),)
+            keys.append(interned.setdefault(key, key))   # a few dozen distinct keys in 100,000 nodes
             stack.extend((c, i, p) for p, c in reversed(list(enumerate(node.children))))
         disjoint = []
         for kids in children:
@@ -189,7 +199,8 @@ class Plan:
         obj: list[str | None] = []
         for i, n in enumerate(nodes):
             obj.append(object_name(n.objects[0]) if n.objects else obj[parent[i]] if parent[i] >= 0 else None)
-        compiled: dict[Condition, cond.Check] = {}   # siblings share conditions: compile each once
+        if compiled is None:
+            compiled = {}                            # siblings share conditions: compile each once
 
         def check(c: Condition) -> cond.Check:
             found = compiled.get(c)
@@ -312,7 +323,7 @@ class IncrementalSelector:
                 self._count(plan.parent[i], i, +1)
         self.inhibited: set[int] = set()
         self.live = [False] * size
-        self.live_kids: list[set[int]] = [set() for _ in range(size)]   # the live composite children
+        self.live_kids: dict[int, set[int]] = {}   # the live composite children (made when first live)
         self.mu = [0] * size                                             # of composites; a leaf's is its parent's
         self.version = [0] * size
         # group (parent, obj) -> heap of (-w, order, version) of its live leaves, and how many
@@ -386,14 +397,17 @@ class IncrementalSelector:
                 was = live[i]
                 live[i], mu[i] = now, new_mu
                 if was != now and up >= 0:
-                    (self.live_kids[up].add if now else self.live_kids[up].discard)(i)
+                    if now:
+                        self.live_kids.setdefault(up, set()).add(i)
+                    else:
+                        self.live_kids[up].discard(i)      # made when i became live
                 if was != now:
                     stack.extend(kids)            # every child may become live, or stop being so
                 else:
                     # Liveness unchanged: a child that is not live stays so (its own condition
                     # changes start their own refresh), so only the live composites move, and
                     # the live leaves move as groups: 10,000 siblings cost O(1) per decision.
-                    stack.extend(self.live_kids[i])
+                    stack.extend(self.live_kids.get(i, ()))
                     touched.update(self.groups_of[i] or ())
         for group in touched:
             self._rekey(group)
@@ -559,6 +573,9 @@ def splice(root: Behaviour, path: list[int], parts: tuple[Behaviour, ...]) -> Be
 # ---------------------------------------------------------------------------
 # The executive
 
+_NONE: frozenset = frozenset()      # shared by the loop detector's configurations
+
+
 class Executive:
     """Runs a task tree (original or compressed) against the world of its original task."""
 
@@ -586,7 +603,7 @@ class Executive:
         self.failures: Counter = Counter()       # consecutive failures per leaf
         self.outcome = Outcome(Status.RUNNING)
         self._pending = Change()
-        self._journal: list[Change] = []
+        self._journal: list[tuple[Term, ...]] = []      # the atoms each decision changed
         self._seen: dict[tuple, int] = {}
         self._remember()
 
@@ -679,7 +696,7 @@ class Executive:
         change = Change(frozenset(a for a, was in before.items() if not was and a in self.world),
                         frozenset(a for a, was in before.items() if was and a not in self.world))
         self._pending = change
-        self._journal.append(change)
+        self._journal.append((*change.added, *change.removed))     # what loop detection reads, compactly
         return executed, skipped, failed, failed_step
 
     def _decompress(self, leaf: int, step: int) -> int:
@@ -714,7 +731,8 @@ class Executive:
 
     # -- loops ----------------------------------------------------------------
     def _config(self) -> tuple:
-        return (self.world.hash, self.robot.state_key(), frozenset(self.selector.inhibited),
+        inhibited = self.selector.inhibited      # one empty set for every configuration without any
+        return (self.world.hash, self.robot.state_key(), frozenset(inhibited) if inhibited else _NONE,
                 tuple(sorted(self.failures.items())))
 
     def _remember(self) -> None:
@@ -739,8 +757,8 @@ class Executive:
     def _same_state_since(self, index: int) -> bool:
         """Whether every atom changed an even number of times since decision `index` (exact)."""
         flips: Counter = Counter()
-        for change in self._journal[index:]:
-            flips.update(change.atoms)
+        for atoms in itertools.islice(self._journal, index, None):
+            flips.update(atoms)
         return all(v % 2 == 0 for v in flips.values())
 
     def _last_cycle(self) -> tuple[str, ...]:

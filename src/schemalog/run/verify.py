@@ -319,9 +319,10 @@ class Walker:
 class Model:
     """The enabled leaves of one tree in any state, and the steps they take (memoised)."""
 
-    def __init__(self, tree: Behaviour, world: World, meter: Meter | None = None) -> None:
+    def __init__(self, tree: Behaviour, world: World, meter: Meter | None = None,
+                 compiled: dict | None = None) -> None:
         self.tree = tree
-        self.plan = Plan.of(tree)
+        self.plan = Plan.of(tree, compiled)
         self.world = world
         self.meter = meter or Meter()
         self._enabled: dict[State, list[int]] = {}
@@ -561,8 +562,9 @@ class Verifier:
         self.world = world
         self.max_states = max_states
         self.meter = Meter()
-        self.original = Model(original, world, self.meter)
-        self.compressed = Model(compressed, world, self.meter)
+        compiled: dict = {}         # the two trees' conditions, each compiled once for both
+        self.original = Model(original, world, self.meter, compiled)
+        self.compressed = Model(compressed, world, self.meter, compiled)
         self.codec = Codec()
         self.cursor = Cursor(self.codec, world, self.meter)
         self._walks: dict[str, Walker] = {}     # built when first explored: a whole task's Verifier
@@ -930,6 +932,7 @@ class Verifier:
                 ex = Executive(model.tree, world, scene, plan=model.plan)
                 ex.run()
                 traces.append((ex.trace, ex.outcome.status.value))
+                del ex              # its decisions and loop journal, before the other tree's run
             (t_o, st_o), (t_c, st_c) = traces
             diff = next((k for k, (a, b) in enumerate(zip(t_o, t_c)) if a != b),
                         None if len(t_o) == len(t_c) else min(len(t_o), len(t_c)))
@@ -1176,12 +1179,20 @@ def _moved(ce: Counterexample, f: Facts, base: State, start: State, before: tupl
     return replace(ce, initial=start, path=(*before, *ce.path), state=_put(base, f, ce.state))
 
 
-def _facts(piece, explored: "_Explored") -> Facts:
+class _NeedsPaths(Exception):
+    """A lean combination (no runs kept) met a counterexample whose run it must build."""
+
+
+def _facts(piece, explored: "_Explored", lean: bool = False) -> Facts:
+    """The piece's facts, combined from its parts'. `lean`: without the runs to its states
+    (path None), so that each piece's facts are dropped once combined into its parent's
+    (50,000 parts at 111,111 behaviours); raises _NeedsPaths where a run is needed."""
     if isinstance(piece, parts.Group):
-        return _group([_facts(p, explored) for p in piece.pieces], piece)
+        return _group([_facts(p, explored, lean) for p in piece.pieces], piece, lean)
     if isinstance(piece, parts.Chain):
-        return _chain([_facts(p, explored) for p in piece.phases], piece)
-    return explored.facts(piece)
+        return _chain([_facts(p, explored, lean) for p in piece.phases], piece, lean)
+    found = explored.facts(piece)
+    return replace(found, path=None) if lean else found
 
 
 class _Explored:
@@ -1235,7 +1246,7 @@ def _renamed(facts: Facts, part, atoms: dict, labels: dict) -> Facts:
                    done=state(facts.done), can=state(facts.can), path=path)
 
 
-def _group(facts: list[Facts], piece) -> Facts:
+def _group(facts: list[Facts], piece, lean: bool = False) -> Facts:
     """Independent pieces: every combination of their reachable states is reachable, the
     group has ended when each has, it is quiet where each is quiet or has ended."""
     start = piece.start
@@ -1273,13 +1284,13 @@ def _group(facts: list[Facts], piece) -> Facts:
     if k is not None and all(f.can is not None for j, f in enumerate(facts) if j != k):
         dead = at({j: f.can for j, f in enumerate(facts) if j != k} | {k: facts[k].dead})
     return Facts(piece.atoms, start, soundness, quiet, done, stuck, offered, dead, can,
-                 all(f.o_init for f in facts), all(f.c_init for f in facts), path,
+                 all(f.o_init for f in facts), all(f.c_init for f in facts), None if lean else path,
                  sum(f.states for f in facts), sum(f.o_states for f in facts), all(f.exhaustive for f in facts),
                  next((f.limit for f in facts if f.limit), ""), max(f.nodes for f in facts),
                  sum(f.parts for f in facts))
 
 
-def _chain(facts: list[Facts], piece) -> Facts:
+def _chain(facts: list[Facts], piece, lean: bool = False) -> Facts:
     """Sequential phases: phase i runs from the end of phase i - 1 (it is reachable when every
     earlier phase can end), the others stay as they are; the chain ends with its last phase,
     and it can end from a state of phase i when phase i can and every later phase can from
@@ -1316,6 +1327,8 @@ def _chain(facts: list[Facts], piece) -> Facts:
 
     i = next((i for i, f in enumerate(reachable) if f.soundness.holds is False), None)
     if i is not None:
+        if lean:
+            raise _NeedsPaths
         found = reachable[i].soundness
         soundness = Verdict("soundness", False, found.summary,
                             _moved(found.counterexample, reachable[i], bases[i], start, run_to(i)))
@@ -1329,7 +1342,7 @@ def _chain(facts: list[Facts], piece) -> Facts:
                  bases[-1] if len(bases) == len(facts) + 1 else None,
                  stuck, reachable[i].offered if i is not None else "",
                  first("dead", later_can), first("can", later_can),
-                 all(f.o_init for f in facts), all(f.c_init for f in facts), path,
+                 all(f.o_init for f in facts), all(f.c_init for f in facts), None if lean else path,
                  sum(f.states for f in facts), sum(f.o_states for f in facts), all(f.exhaustive for f in facts),
                  next((f.limit for f in facts if f.limit), ""), max(f.nodes for f in facts),
                  sum(f.parts for f in facts))
@@ -1422,8 +1435,13 @@ def verify_by_parts(original: Behaviour, compressed: Behaviour, world: World, in
         return None
     started = time.perf_counter()
     whole_initial = initial[0]
-    explored = _Explored(method, max_states, max_nodes)
-    top = _facts(piece, explored)
+    try:        # first without the runs to the parts' states: only a counterexample needs them
+        top = _facts(piece, _Explored(method, max_states, max_nodes), lean=True)
+    except _NeedsPaths:
+        top = None
+    if top is None or top.stuck is not None or top.dead is not None:
+        top = _facts(piece, _Explored(method, max_states, max_nodes))     # again, with the runs
+    del piece               # the split and its parts' facts, before the whole task's models are built
     whole = Verifier(original, compressed, world, max_states)
     props: dict[str, Verdict] = {}
     count = top.parts
