@@ -348,15 +348,20 @@ def test_nodes_and_semantics_for_task_knowledge_are_refused():
     assert r.returncode == 2 and "--semantics applies to BT.CPP trees" in r.stderr, r.stderr
 
 
-PIPELINE = """<root BTCPP_format="4" main_tree_to_execute="T">
+TWO_CHILDREN = """<root BTCPP_format="4" main_tree_to_execute="T">
   <BehaviorTree ID="T">
-    <PipelineSequence>
+    <{parent}>
       {first}
-      <Action ID="Follow"/>
-    </PipelineSequence>
+      <Action ID="{second}"/>
+    </{parent}>
   </BehaviorTree>
 </root>
 """
+
+
+def two_children(parent: str, first: str, second: str) -> str:
+    """A tree of one control node over `first` (XML) and an Action `second`; lines as above."""
+    return TWO_CHILDREN.format(parent=parent, first=first, second=second)
 
 
 def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which_it_needs(tmp_path):
@@ -365,8 +370,9 @@ def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which
     two differ: wrapping that child in a SequenceWithMemory (which resets it) is refuted for a
     stateful one, and the counterexample names the registration and each node's place."""
     plain, wrapped = tmp_path / "plain.xml", tmp_path / "wrapped.xml"
-    plain.write_text(PIPELINE.format(first='<Action ID="Plan"/>'))
-    wrapped.write_text(PIPELINE.format(first='<SequenceWithMemory><Action ID="Plan"/></SequenceWithMemory>'))
+    plain.write_text(two_children("PipelineSequence", '<Action ID="Plan"/>', "Follow"))
+    wrapped.write_text(two_children("PipelineSequence", '<SequenceWithMemory><Action ID="Plan"/></SequenceWithMemory>',
+                                    "Follow"))
     r = run("verify", plain, wrapped)
     assert r.returncode == 1, r.stdout + r.stderr
     first = r.stdout.splitlines()[0]
@@ -387,24 +393,13 @@ def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which
         "(--run-once)" in once.stdout, once.stdout
 
 
-ONCE = """<root BTCPP_format="4" main_tree_to_execute="T">
-  <BehaviorTree ID="T">
-    <Sequence>
-      {first}
-      <Action ID="Work"/>
-    </Sequence>
-  </BehaviorTree>
-</root>
-"""
-
-
 def test_a_proof_covers_an_executor_that_halts_the_tree_and_ticks_it_anew(tmp_path):
     """Issue 48: RunOnce(Calibrate) and Calibrate run alike until the tree first finishes; the next
     goal ticks the same tree again, and RunOnce remembers. A robot's executor does that (Nav2:
     haltTree after every goal, then the next one), so the default refutes; --run-once proves."""
     once, plain = tmp_path / "once.xml", tmp_path / "plain.xml"
-    once.write_text(ONCE.format(first='<RunOnce><Action ID="Calibrate"/></RunOnce>'))
-    plain.write_text(ONCE.format(first='<Action ID="Calibrate"/>'))
+    once.write_text(two_children("Sequence", '<RunOnce><Action ID="Calibrate"/></RunOnce>', "Work"))
+    plain.write_text(two_children("Sequence", '<Action ID="Calibrate"/>', "Work"))
     r = run("verify", once, plain)
     assert r.returncode == 1 and "root tick 2 (the tree ticked anew, what its nodes keep kept):" in r.stdout, r.stdout
     assert f"a: tick Work at {once}:5:7   <- the trees part here" in r.stdout, r.stdout
@@ -412,7 +407,7 @@ def test_a_proof_covers_an_executor_that_halts_the_tree_and_ticks_it_anew(tmp_pa
     assert r.returncode == 0 and "(--run-once)" in r.stdout, r.stdout
     # a halt's own events: an `_onHalted` script runs when haltTree reaches its node, RUNNING or not
     halted = tmp_path / "halted.xml"
-    halted.write_text(ONCE.format(first='<Action ID="Calibrate" _onHalted="log()"/>'))
+    halted.write_text(two_children("Sequence", '<Action ID="Calibrate" _onHalted="log()"/>', "Work"))
     r = run("verify", plain, halted)
     assert r.returncode == 1 and "tree halted (Tree::haltTree)" in r.stdout and "run script _onHalted `log()`" \
         in r.stdout, r.stdout
