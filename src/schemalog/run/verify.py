@@ -18,6 +18,7 @@ reachable state is tried, not only the emphasis winner. Properties (docs/semanti
 
 from __future__ import annotations
 
+import functools
 import itertools
 import time
 from collections import Counter, deque
@@ -567,22 +568,16 @@ class Verifier:
         self.compressed = Model(compressed, world, self.meter, compiled)
         self.codec = Codec()
         self.cursor = Cursor(self.codec, world, self.meter)
-        self._walks: dict[str, Walker] = {}     # built when first explored: a whole task's Verifier
-                                                # often only answers the diagnostics
 
-    @property
+    # The walkers are built when first explored: a whole task's Verifier often only answers the
+    # diagnostics.
+    @functools.cached_property
     def c_walk(self) -> Walker:
-        found = self._walks.get("c")
-        if found is None:
-            found = self._walks["c"] = Walker(self.compressed, self.cursor)
-        return found
+        return Walker(self.compressed, self.cursor)
 
-    @property
+    @functools.cached_property
     def o_walk(self) -> Walker:
-        found = self._walks.get("o")
-        if found is None:
-            found = self._walks["o"] = Walker(self.original, self.cursor)
-        return found
+        return Walker(self.original, self.cursor)
 
     @property
     def max_work(self) -> int:
