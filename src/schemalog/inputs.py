@@ -70,6 +70,22 @@ def read_limited(path: str | Path, max_bytes: int, label: str | None = None) -> 
     return data
 
 
+def not_regular(path: str | Path) -> str | None:
+    """What a path names when it is there and is no regular file ("a FIFO", "a directory", ...),
+    else None. A file read on the program's own account (an <include>, a folder's trees) must
+    be a regular file: opening a FIFO waits for a writer without end, a device never ends."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return None                                # reading it says what is wrong
+    for test, what in ((stat.S_ISREG, None), (stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return what
+    return "not a regular file"
+
+
 def read_utf8(path: str | Path, max_bytes: int) -> str:
     """The text of a file (a BOM dropped), at most `max_bytes` of it; bytes that are not UTF-8
     are an error at the line and column where they stand."""

@@ -620,3 +620,15 @@ def test_a_type_used_as_a_leaf_in_an_included_file_and_with_children_here_is_ref
         read_bt(main, "main.xml", read=lambda p: included)
     assert (err.value.file, err.value.line, err.value.column) == ("main.xml", 4, 5)
     assert err.value.message.startswith("<Pick> has 1 child here and no child at inc.xml:3:5: BT.CPP registers")
+
+
+@pytest.mark.parametrize("target", ["fifo.xml", "/dev/zero", "."])
+def test_an_include_of_a_fifo_a_device_or_a_folder_is_refused_without_opening_it(tmp_path, target):
+    """A FIFO would block the reader for a writer that never comes; /dev/zero never ends."""
+    os.mkfifo(tmp_path / "fifo.xml")
+    tree = tmp_path / "t.xml"
+    tree.write_text(_tree("<A/>", f'\n  <include path="{target}"/>'))
+    with pytest.raises(SchemalogError) as err:
+        read_bt(tree.read_text(), str(tree), read=_read_file)
+    assert "not a file" in err.value.message
+    assert (err.value.line, err.value.column) == (5, 3)

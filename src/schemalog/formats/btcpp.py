@@ -881,9 +881,14 @@ class _Importer:
                 if self.read is None:
                     fail(child, f"<include path={path!r}>: includes are read only from files")
                 import os
+
+                from ..inputs import not_regular
                 target = os.path.normpath(os.path.join(os.path.dirname(file), path))
                 if target in chain:
                     fail(child, f"recursive include: {' -> '.join([*chain, target])}")
+                what = not_regular(target)
+                if what is not None:            # a FIFO would wait for a writer without end
+                    fail(child, f"<include path={path!r}>: names {what}, not a file: BT.CPP includes files")
                 self.includes.append(target)
                 try:
                     text = self.read(target)

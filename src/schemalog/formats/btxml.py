@@ -87,6 +87,7 @@ from xml.sax.saxutils import escape
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, subtree_ports, walk
 from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
 from ..errors import SchemalogError, SourcePos
+from ..inputs import not_regular
 from .btcpp import XNode, parse_xml, read_included
 from .quoting import Unquotable, xml_attribute
 
@@ -430,6 +431,9 @@ class _Reader:
             _fail(element, f"recursive include: {' -> '.join([*chain, target])}")
         if len(chain) > MAX_INCLUDE_DEPTH:
             _fail(element, f"includes nest deeper than {MAX_INCLUDE_DEPTH} files")
+        what = not_regular(target)
+        if what is not None:            # a FIFO would wait for a writer without end
+            _fail(element, f"<include path={path!r}>: names {what}, not a file: BT.CPP includes files")
         try:
             text = self.read(target)
         except SchemalogError as err:
