@@ -10,9 +10,6 @@ import sys
 
 from ..errors import SchemalogError, UsageError, readable_name
 
-PROVED, REFUTED, INCONCLUSIVE = 0, 1, 3
-
-
 def tree_route(args: argparse.Namespace) -> bool:
     """Whether the command's files are BT.CPP trees to treat as behaviour trees: every file
     XML (by its content, whatever its name: inputs.is_xml), none schemalog's own export (those
@@ -84,40 +81,6 @@ def _profiles(args: argparse.Namespace) -> list[str]:
     return list(dict.fromkeys(args.profile))
 
 
-def _with_profiles(args: argparse.Namespace) -> str:
-    """How a verdict names the profiles it was proved under: '' or ' with the nav2 profile'."""
-    names = _profiles(args)
-    if not names:
-        return ""
-    return f" with the {' and '.join(names)} profile{'s' if len(names) > 1 else ''}"
-
-
-def _verdict_words(verdict, under: str = "") -> str:
-    if verdict.equal and verdict.complete:
-        covers = f"; it {verdict.assumed}" if verdict.assumed else ""
-        return f"proved equal to the original under BT.CPP 4 semantics{under}: {verdict.reason}{covers}"
-    if verdict.equal:
-        return f"NOT proved: {verdict.reason}"
-    return f"REFUTED: {verdict.reason}"
-
-
-def _under(args: argparse.Namespace) -> str:
-    """What verify's verdict line says it was proved under: '' without a profile (the wording
-    stays as it was), else ' under BT.CPP 4 semantics with the nav2 profile'."""
-    with_ = _with_profiles(args)
-    return f" under BT.CPP 4 semantics{with_}" if with_ else ""
-
-
-def _count(n: int, word: str) -> str:
-    return f"{n:,} {word}{'' if n == 1 else 's'}"
-
-
-def _status(verdict) -> int:
-    if verdict is None or verdict.equal and verdict.complete:
-        return PROVED
-    return INCONCLUSIVE if verdict.equal else REFUTED
-
-
 def _inputs(args: argparse.Namespace, document) -> list[str]:
     return [*_given(args), *document.includes]
 
@@ -127,18 +90,14 @@ def _given(args: argparse.Namespace) -> list[str]:
     return [*args.files, *args.nodes, *args.semantics]
 
 
-def kept_words(kept) -> str:
-    """The named nodes a rewrite would have removed and compress kept, in one line ("" for none)."""
-    if not kept:
-        return ""
-    one = len(kept) == 1
-    return (f"kept {_count(len(kept), 'named node')} a rewrite would remove (--drop-names removes "
-            f"{'it' if one else 'them'}): {', '.join(k.node for k in kept)}")
+def _tree(args: argparse.Namespace, path: str, rules):
+    """The tree in `path` as the command line reads it, with the rules read (_rules), as the API's
+    TreeDocument."""
+    from ..api.behaviour_trees import read_tree
+    from ..api.trees import document_of
 
-
-def _kept_json(kept) -> list[dict]:
-    return [{"rule": k.rule, "type": k.type, "name": k.name, "file": k.file, "line": k.line, "column": k.column}
-            for k in kept]
+    return document_of([path], read_tree(path, args.nodes, args.max_bytes, args.task), args.nodes, args.semantics,
+                       _profiles(args), args.task, rules, max_bytes=args.max_bytes)
 
 
 def _rules(args: argparse.Namespace):
@@ -155,7 +114,8 @@ def _rules(args: argparse.Namespace):
 
 def run_compress(args: argparse.Namespace) -> int:
     """Compress one BT.CPP tree, prove the result, print or write it."""
-    from ..api.behaviour_trees import compress_tree, read_models, read_tree, tree_xml, verdict_text
+    from ..api.behaviour_trees import verdict_text
+    from ..api.trees import INCONCLUSIVE, compress_tree, kept_words
     from .common import check_output, emit
 
     if len(args.files) != 1:
@@ -167,28 +127,17 @@ def run_compress(args: argparse.Namespace) -> int:
                          f"not {args.format or args.output!r}")
     check_output(args.output, _given(args))
     rules = _rules(args)
-    document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-    result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
-    verdict, code = result.verdict, _status(result.verdict)
-    kept = kept_words(result.kept)
+    tree = _tree(args, args.files[0], rules)
+    result = compress_tree(tree, max_states=args.max_states, drop_names=args.drop_names, run_once=args.run_once)
+    verdict, code = result.verdict, result.exit_status
+    kept = kept_words(result.kept_names)
     if verdict is not None and not verdict.equal:
         # A rewrite the prover refutes is a bug of ours: say so, write nothing.
         print(verdict_text(verdict), end="")
         raise SchemalogError(f"the compressed tree differs from {readable_name(args.files[0])}: a rewrite of "
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
-    before, after, shown = result.nodes_before, result.nodes_after, readable_name(args.files[0])
-    if not result.rewrites and result.kept:
-        summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): every rewrite of bt/compress.py "
-                   f"that applies would remove a named node")
-    elif not result.rewrites:
-        summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
-                   f"(a composite inside one of its own type, a single-child Sequence or Fallback, a double "
-                   f"Inverter or Force, each without a pre-condition that its removal would change), or each "
-                   f"that does is refuted where it stands and undone")
-    else:
-        summary = (f"{shown}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
-                   f"{_verdict_words(verdict, _with_profiles(args))}")
-    inputs = _inputs(args, document)
+    summary = result.summary
+    inputs = _inputs(args, tree.document)
     if fmt == "xml" and code == INCONCLUSIVE:
         # An unproved tree is not written where a proved one would be: a script that does not
         # read the exit status must not pick it up.
@@ -196,21 +145,11 @@ def run_compress(args: argparse.Namespace) -> int:
               + (f"\n{kept}" if kept else ""), file=sys.stderr)
         return code
     if fmt == "xml":
-        emit(tree_xml(result.compressed, read_models(args.nodes, args.max_bytes)), args.output, inputs,
-             summary.split(": ", 1)[1])
+        emit(result.xml(), args.output, inputs, summary.split(": ", 1)[1])
     elif fmt == "json":
-        emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
-                         "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "file": r.file,
-                                       "line": r.line, "column": r.column} for r in result.rewrites],
-                         "kept_names": _kept_json(result.kept),
-                         "proved": code == PROVED, "complete": verdict.complete if verdict else True,
-                         "states": verdict.states if verdict else 0,
-                         "reason": verdict.reason if verdict else "nothing rewritten",
-                         "covers": verdict.assumed if verdict else ""}, indent=2) + "\n",
-             args.output, inputs, "JSON")
+        emit(json.dumps(result.as_json(), indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(summary + "\n" + "".join(f"  {r}\n" for r in result.rewrites) + (f"{kept}\n" if kept else ""),
-             args.output, inputs, "text")
+        emit(result.text(), args.output, inputs, "text")
     if kept and fmt == "xml":
         print(kept, file=sys.stderr)     # the text and JSON outputs list them with the rewrites
     if code == INCONCLUSIVE and fmt != "text":
@@ -220,7 +159,7 @@ def run_compress(args: argparse.Namespace) -> int:
 
 def run_verify(args: argparse.Namespace) -> int:
     """Prove a compressed BT.CPP tree against its original (or compress one file and prove it)."""
-    from ..api.behaviour_trees import compress_tree, prove_trees, read_tree, verdict_text
+    from ..api.trees import verify_trees
     from .common import check_output, emit
 
     check_output(args.output, _given(args))
@@ -228,41 +167,20 @@ def run_verify(args: argparse.Namespace) -> int:
         raise UsageError("--drop-names applies when verify compresses one BT.CPP tree; with an original and a "
                          "compressed file nothing is compressed")
     rules = _rules(args)
-    kept: tuple = ()
     if len(args.files) == 1:
-        document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
-        original, verdict, includes, kept = document, result.verdict, document.includes, result.kept
-        if verdict is None:
-            # Nothing rewritten: nothing was checked, and a check that covers nothing is no
-            # proof (exit 3, as a limit's), in text and in JSON alike.
-            reason = "nothing to compress, so nothing was proved (the tree is its own compression)"
-            if args.json:
-                text = json.dumps({"files": args.files, "equal": True, "complete": True, "proved": False,
-                                   "states": 0, "reason": reason, "counterexample": None,
-                                   "kept_names": _kept_json(kept)}, indent=2) + "\n"
-            else:
-                text = f"{readable_name(args.files[0])}: {reason}\n" + (f"{kept_words(kept)}\n" if kept else "")
-            emit(text, args.output, [*_given(args), *includes], "JSON" if args.json else "text")
-            return INCONCLUSIVE
+        # Nothing rewritten is no proof (exit 3, as a limit's): nothing was checked (TreeProof)
+        original = _tree(args, args.files[0], rules)
+        proof = verify_trees(original, max_states=args.max_states, drop_names=args.drop_names, run_once=args.run_once)
+        includes = original.includes
     elif len(args.files) == 2:
-        original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
-        verdict = prove_trees(original, compressed, args.max_states, rules, run_once=args.run_once)
+        original, compressed = _tree(args, args.files[0], rules), _tree(args, args.files[1], rules)
+        proof = verify_trees(original, compressed, max_states=args.max_states, run_once=args.run_once)
         includes = (*original.includes, *compressed.includes)
     else:
         raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed tree")
     inputs = [*_given(args), *includes]
     if args.json:
-        cex = verdict.counterexample
-        fields = {"files": args.files, "profiles": _profiles(args), "equal": verdict.equal,
-                  "complete": verdict.complete, "proved": verdict.equal and verdict.complete,
-                  "states": verdict.states, "reason": verdict.reason, "covers": verdict.assumed,
-                  "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]}
-        if len(args.files) == 1:
-            fields["kept_names"] = _kept_json(kept)
-        emit(json.dumps(fields, indent=2) + "\n", args.output, inputs, "JSON")
+        emit(json.dumps(proof.as_json(), indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(verdict_text(verdict, _under(args)) + (f"{kept_words(kept)}\n" if kept else ""), args.output, inputs,
-             "text")
-    return _status(verdict)
+        emit(proof.text(), args.output, inputs, "text")
+    return proof.exit_status
