@@ -93,6 +93,12 @@ def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
     return f"a's root tick ends with {_end(sa)}, b goes on with {describe(sb.event)}"
 
 
+def _fewer(sa: Await | RootTicked, sb: Await | RootTicked) -> bool:
+    """Whether `b` waits for the event `a` waits for, with outcomes `a` offers too (fewer or the same)."""
+    return (isinstance(sa, Await) and isinstance(sb, Await) and (sa.event.kind, sa.event.node) ==
+            (sb.event.kind, sb.event.node) and set(sb.options) <= set(sa.options))
+
+
 def _end(s: RootTicked) -> str:
     return s.status.value if s.status is not None else f"an error ({s.error})"
 
@@ -118,7 +124,7 @@ def _outcome(o: object) -> str:
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                 rules: Mapping[str, Rule] | None = None, contextual: bool = False,
                 merge: bool = True, unreset: bool = True, programs: tuple[Program, Program] | None = None,
-                halts: bool = False) -> Verdict:
+                halts: bool = False, subset: bool = False) -> Verdict:
     """Explore both trees under every environment; equal when no environment tells them apart.
 
     `contextual`: the roots stand for two subtrees under any parent, which between two root
@@ -133,7 +139,10 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     tree anew after it finished or was halted (what Nav2's navigators do: a cancelled goal, a
     haltTree after every goal, the next goal on the same tree): the roots are then halted so, or
     (contextual) visited by haltTree's visitor, besides the other moves. Without it, a run ends
-    when the root finishes (Tree::tickWhileRunning, once)."""
+    when the root finishes (Tree::tickWhileRunning, once).
+    `subset`: prove only that every run of `b` is a run of `a` (trace inclusion): where both
+    wait for the same event, `b` may offer fewer outcomes than `a` (a Condition where `a` has an
+    Action), and only `b`'s are explored; everything else must be equal, as without it."""
     once = not contextual and not halts
     pa, pb = programs or (program(a, rules, once=once), program(b, rules, once=once))
     start = (_TICK, initial(), initial())
@@ -169,6 +178,8 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         if len(seen) & 1023 == 0 and near_ceiling():    # stop while there is room to say so
             raise CeilingReached("near the memory ceiling")
         diff = _difference(sa, sb)
+        if diff and subset and _fewer(sa, sb):
+            diff = ""
         if diff:
             kinds = ca.kinds
             if contextual or halts:
@@ -187,7 +198,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
                 limit = limit or f"a root tick reached {max_events_per_tick} events (max_events_per_tick)"
                 continue
             successors = [((phase, advance(ca, o), advance(cb, o)),
-                           _NONE if sa.options == (None,) else o) for o in sa.options]
+                           _NONE if sa.options == (None,) else o) for o in (sb.options if subset else sa.options)]
         elif sa.limited or sb.limited:
             limit = limit or sa.error or sb.error
         elif sa.status is None and sa.error:
@@ -213,6 +224,10 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     if limit:
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}", registered=frozenset(registered))
+    if subset:
+        return Verdict(True, True, explored, f"every run of b is a run of a, under every environment "
+                                             f"({_pairs(explored)}, exhausted)", thrown=thrown,
+                       registered=frozenset(registered))
     where = ("in every context and " if contextual else
              "as an executor runs them (ticked, halted by haltTree between any two ticks, ticked anew) and "
              if halts else "")

@@ -37,7 +37,7 @@ def schema_route(args: argparse.Namespace) -> None:
                          f"(a BT.CPP tree is an XML file, and not a tree schemalog exported)")
 
 
-def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> None:
+def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False, drop_names: bool = True) -> None:
     """--nodes FILE: a TreeNodesModel file (Nav2's nav2_tree_nodes.xml) for BT.CPP trees; with
     `max_states`, the prover's --max-states too (compress proves what it rewrote)."""
     if max_states:
@@ -64,6 +64,8 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False) -> No
                         "(Tree::tickWhileRunning); by default a proof also covers an executor that halts the "
                         "tree (Tree::haltTree) between any two ticks and ticks it again for a new goal, as "
                         "Nav2's navigators do")
+    if not drop_names:                  # diff compresses nothing
+        return
     p.add_argument("--drop-names", action="store_true",
                    help="BT.CPP trees: let the rewrites remove nodes that carry a name= attribute too; by "
                         "default they are kept, for BT.CPP's substitution rules, Groot2 and loggers find "
