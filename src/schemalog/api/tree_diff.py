@@ -81,7 +81,7 @@ class DiffReport:
             lines.append(f"{_count(len(same), 'structural change')} with no behavioural difference (a pure "
                          f"refactoring):")
             for p in same:
-                scope = "in every context" if p.effect == "same behaviour" else "in this program (not in every context)"
+                scope = "in every context" if p.effect == "same behaviour" else "in this program, not in every context"
                 lines.append(f"  - {_place_head(p)}: {'; '.join(p.changes) or 'resolved alike'} ({scope})")
         if not d.places and not d.trees_added and not d.trees_removed and d.main[0] == d.main[1]:
             lines.append("no structural change: the trees are the same to BT.CPP (attributes by name, each "
@@ -90,8 +90,13 @@ class DiffReport:
             lines.append("trees: " + "; ".join([*(f"B adds BehaviorTree {t}" for t in d.trees_added),
                                                  *(f"B removes BehaviorTree {t}" for t in d.trees_removed)]))
         if self.covers:
-            lines.append(f"It {self.covers}.")
+            lines.append(self._covers() + ".")
         return "\n".join(lines) + "\n"
+
+    def _covers(self) -> str:
+        """What the verdict covers ("It covers ..."), or the registration its run needs ("Shown on a
+        run with X registered as a StatefulActionNode")."""
+        return f"It {self.covers}" if self.diff.verdict.equal else f"Shown on {self.covers}"
 
     # -- markdown ---------------------------------------------------------------------------
     def markdown(self) -> str:
@@ -123,7 +128,7 @@ class DiffReport:
             out += ["**Trees:** " + _md("; ".join([*(f"B adds {t}" for t in d.trees_added),
                                                     *(f"B removes {t}" for t in d.trees_removed)])), ""]
         if self.covers:
-            out += [f"<sub>It {_md(self.covers)}.</sub>", ""]
+            out += [f"<sub>{_md(self._covers())}.</sub>", ""]
         return "\n".join(out)
 
     # -- JSON -------------------------------------------------------------------------------
