@@ -1,6 +1,7 @@
 """Behaviour trees in and out of BehaviorTree.CPP 4 XML: everything BT.CPP 4 loads, as bt.model.
 
-    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes
+    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes;
+                                          text a sequence of (text, file): several read as one program
     read_models(text, file)               -> models       the <TreeNodesModel> of a nodes file
     write_bt(document)                    -> str          a BTCPP_format="4" document BT.CPP and Groot2 load
     infer_models(document)                -> models       the models write_bt adds for undeclared node types
@@ -39,7 +40,9 @@ every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names it
 (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's
-createTree(name)), else the top file's main_tree_to_execute, else the only tree. Node types that
+createTree(name)), else the top file's main_tree_to_execute, else the only tree. Several documents
+are read in order into one program, as registerBehaviorTreeFromFile reads file after file into one
+factory (a folder's files: api/behaviour_trees.read_tree); a file reached twice is read once. Node types that
 BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
@@ -62,7 +65,7 @@ declare, a literal that does not convert or without a port its constructor needs
 Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
 include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
 recurses without end), a created tree (SubTrees expanded) deeper than MAX_TREE_DEPTH levels, and
-two trees with one ID (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
+two trees with one ID, in one file or two (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
 ID (in several files, or a nodes file) are one model in the Document, merged as loadSubtreeModel
 merges them: a call's remapping takes their defaults (bt/semantics.call_identity). A file an
 <include> reaches is quoted in no message until it is a <root> document (btcpp.read_included:
