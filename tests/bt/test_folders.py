@@ -122,6 +122,21 @@ def test_t14s_files_in_a_folder_read_as_the_two_paths(tmp_path):
 # ---------------------------------------------------------------------------
 # What BT.CPP does with several files, followed
 
+def test_read_bt_reads_texts_as_one_program_with_every_check_across_them():
+    main, sub = tree("Main", '<SubTree ID="Sub"/>', main="Main"), tree("Sub", "<AlwaysSuccess/>")
+    document = read_bt([(main, "main.xml"), (sub, "sub.xml")])
+    assert document.main == "Main" and [k for k, _ in document.trees] == ["Main", "Sub"]
+    # texts no file holds are never taken for one another, whatever their names
+    with pytest.raises(SchemalogError) as err:
+        read_bt([(sub, "<xml>"), (sub, "<xml>")], main="Sub")
+    assert "BehaviorTree Sub is defined twice" in message(err)
+    # a node type used as a leaf in one file and with children in another: BT.CPP refuses one use
+    with pytest.raises(SchemalogError) as err:
+        read_bt([(tree("Main", '<Sequence><Go/><SubTree ID="Sub"/></Sequence>', main="Main"), "main.xml"),
+                 (tree("Sub", "<Go><AlwaysSuccess/></Go>"), "sub.xml")])
+    assert message(err).startswith("sub.xml:3:5: error: <Go> has 1 child here and no child at main.xml:3:15")
+
+
 def test_a_models_only_file_gives_its_subtree_defaults_to_the_program(tmp_path):
     main = tree("Main", '<SubTree ID="Sub"/>', main="Main")
     sub = tree("Sub", '<Script code="x := goal"/>')

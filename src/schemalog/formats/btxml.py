@@ -42,8 +42,8 @@ A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), 
 (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's
 createTree(name)), else the top file's main_tree_to_execute, else the only tree. Several documents
 are read in order into one program, as registerBehaviorTreeFromFile reads file after file into one
-factory (a folder's files: api/behaviour_trees.read_tree); a file reached twice is read once. Node types that
-BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
+factory (a folder's files: api/behaviour_trees.read_tree); a file reached twice is read once.
+Node types that BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
 form or <SubTree> without ID, a <BehaviorTree> without exactly one child (or without an ID beside
