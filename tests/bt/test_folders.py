@@ -337,3 +337,20 @@ def test_the_compressed_sentry_program_runs_in_btcpp_as_its_folder(harness, stat
     assert sum(e["ev"] == "tick" for events in runs_a.values() for e in events) > SEEDS
     for seed, events in runs_a.items():
         assert runs_b[seed] == events, f"seed {seed}: the compressed program differs in BT.CPP"
+
+
+def test_btcpp_loads_a_file_twice_and_a_tree_twice_where_schemalog_reads_once_and_refuses(harness, tmp_path):  # noqa: F811
+    """What the docs say of BT.CPP: a file a folder holds and a sibling includes is loaded twice,
+    without complaint (schemalog reads it once: the same program); a tree defined in two files is
+    kept as read last (schemalog refuses it: which runs would hang on the order)."""
+    folder(tmp_path, {"a_main.xml": tree("Main", '<SubTree ID="Sub"/>', main="Main", extra='  <include path="z_sub.xml"/>\n'),
+                      "z_sub.xml": tree("Sub", "<AlwaysSuccess/>")})
+    files = sorted(tmp_path.glob("*.xml"))
+    ok, said = load(harness, files, [])
+    assert ok and said == "Main" and read_tree(tmp_path).main == "Main"
+    folder(tmp_path, {"y_sub.xml": tree("Sub", "<AlwaysFailure/>")})
+    ok, said = load(harness, sorted(tmp_path.glob("*.xml")), [])
+    assert ok and said == "Main"
+    with pytest.raises(SchemalogError) as err:
+        read_tree(tmp_path)
+    assert "BehaviorTree Sub is defined twice" in message(err)
