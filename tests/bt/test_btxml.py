@@ -27,6 +27,9 @@ V3_NAV2 = NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"
 # createTree(name) names it, or the file is read together with its partner.
 MAIN_OF = {"log_test.xml": "Main", "t15_nodes_mocking.xml": "MainTree"}
 PARTS = {"t14_subtree_model_2.xml"}
+# Folders whose files are one program (SubTrees called across files): read whole, as a robot
+# loads the folder (tests/bt/test_folders.py), never file by file.
+FOLDERS = (CORPUS / "combat" / "behavior_trees",)
 # Files BT.CPP 4.8.2 refuses, and schemalog with them (tests/bt/test_btcpp_harness.py shows BT.CPP's
 # refusal): a tree called by its ID as a tag, <CheckStatus/>, where BT.CPP 4 needs <SubTree>.
 CORPUS_REFUSED = {BTCPP / "examples" / "test_files" / "subtree_test.xml":
@@ -45,7 +48,8 @@ def nav2_models() -> tuple[NodeModel, ...]:
 def corpus_files() -> list[Path]:
     out = []
     for path in sorted(CORPUS.rglob("*.xml")):
-        if path.name == "nav2_tree_nodes.xml" or path == V3_NAV2 or path.name in PARTS or path in CORPUS_REFUSED:
+        if path.name == "nav2_tree_nodes.xml" or path == V3_NAV2 or path.name in PARTS or path in CORPUS_REFUSED \
+                or path.parent in FOLDERS:
             continue
         out.append(path)
     return out

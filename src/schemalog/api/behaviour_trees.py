@@ -2,7 +2,9 @@
 F.xml` and `schemalog verify F.xml SMALL.xml` do with a tree that is not schemalog's own export
 (docs/behaviour_trees.md).
 
-    read_tree(path, nodes=(), max_bytes)   -> Document        the file, its <include>s, --nodes' models
+    read_tree(paths, nodes=(), max_bytes, main) -> Document   one program: a file or several, each a file or
+                                                              a folder of *.xml files, their <include>s,
+                                                              --nodes' models
     read_semantics(paths, profiles=())     -> rules           --semantics, --profile: custom node types as known ones
     compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved;
                                                               named nodes kept unless drop_names
@@ -20,7 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .. import defaults
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_name
 
 EVENTS_PER_TICK = 10_000     # events in one root tick before the prover stops (no proof): a loop
 
@@ -68,14 +70,53 @@ def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:
     return tuple(models)
 
 
-def read_tree(path: str | Path, nodes=(), max_bytes: int = defaults.MAX_BYTES, main: str | None = None):
-    """The BT.CPP 4 document in `path`, the files it includes, the models of `nodes` files;
-    `main` the tree to run (BT.CPP's createTree(main)), else the file's main_tree_to_execute."""
+def tree_files(paths) -> tuple[tuple[str, ...], tuple[str, ...], int | None]:
+    """The files one program is read from, a path or several, each a BT.CPP file or a folder:
+    (the files in reading order, those of them found in folders, the index of the main file).
+    A folder gives its *.xml files, sorted by name, not its subfolders' (inputs.folder_files:
+    Nav2's bt_search_directories and BehaviorTree.ROS2's behavior_trees folders are read so,
+    with std::filesystem::directory_iterator); the main file is the first file named, None when
+    only folders are (the main tree is then the one their files agree on: formats/btxml.read_bt)."""
+    import os
+
+    from ..inputs import folder_files
+
+    given = [paths] if isinstance(paths, (str, os.PathLike)) else list(paths)
+    if not given:
+        raise SchemalogError("no BT.CPP tree file or folder given")
+    files: list[str] = []
+    members: list[str] = []
+    main_from = None
+    for path in map(os.fspath, given):
+        if os.path.isdir(path):
+            found = folder_files(path)
+            if not found:
+                raise SchemalogError(f"{shown_name(path)}: no *.xml file in this folder (schemalog reads the *.xml "
+                                     f"files of a folder, not of its subfolders, as one BT.CPP program)")
+            files.extend(found)
+            members.extend(found)
+        else:
+            main_from = len(files) if main_from is None else main_from
+            files.append(path)
+    return tuple(files), tuple(members), main_from
+
+
+def read_tree(paths, nodes=(), max_bytes: int = defaults.MAX_BYTES, main: str | None = None):
+    """One BT.CPP 4 program: the document in a file, or the documents of several files and
+    folders read as one (tree_files; as BT.CPP's registerBehaviorTreeFromFile reads file after
+    file into one factory), the files they include, the models of `nodes` files; `main` the
+    tree to run (BT.CPP's createTree(main)), else the main file's main_tree_to_execute, else,
+    for folders alone, the one their files agree on. The Document's `includes` lists every file
+    read besides the ones named: a folder's, then those reached through <include>."""
+    from dataclasses import replace
+
     from ..formats.btxml import read_bt
 
-    name = str(path)
-    return read_bt(_decoded(name, max_bytes), name, lambda p: _decoded(p, max_bytes),
-                   models=read_models(nodes, max_bytes), main=main)
+    files, members, main_from = tree_files(paths)
+    documents = [(_decoded(name, max_bytes), name) for name in files]
+    document = read_bt(documents, read=lambda p: _decoded(p, max_bytes), models=read_models(nodes, max_bytes),
+                       main=main, main_from=main_from)
+    return replace(document, includes=tuple(dict.fromkeys((*members, *document.includes))))
 
 
 def is_own_export(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> bool:

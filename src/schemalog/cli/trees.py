@@ -1,5 +1,5 @@
-"""`schemalog compress F.xml` and `schemalog verify F.xml [SMALL.xml]` for behaviour trees that
-are not schemalog's own exports: BT.CPP 4 semantics, the rewrites of bt/compress.py, the
+"""`schemalog compress F.xml|DIR ...` and `schemalog verify A B` (each a file or a folder) for
+behaviour trees that are not schemalog's own exports: BT.CPP 4 semantics, the rewrites of bt/compress.py, the
 prover of bt/prove.py (docs/behaviour_trees.md)."""
 
 from __future__ import annotations
@@ -14,15 +14,18 @@ PROVED, REFUTED, INCONCLUSIVE = 0, 1, 3
 
 
 def tree_route(args: argparse.Namespace) -> bool:
-    """Whether the command's files are BT.CPP trees to treat as behaviour trees: every file
-    XML (by its content, whatever its name: inputs.is_xml), none schemalog's own export (those
-    are task knowledge, the schema route)."""
+    """Whether the command's files are BT.CPP trees to treat as behaviour trees: every one XML
+    (by its content, whatever its name: inputs.is_xml) or a folder (of BT.CPP trees: task
+    knowledge is never a folder), none schemalog's own export (those are task knowledge, the
+    schema route)."""
+    import os
+
     from ..api.behaviour_trees import is_own_export
     from ..inputs import is_xml
 
     files = args.files
-    return bool(files) and all(is_xml(f) for f in files) \
-        and not any(is_own_export(f, args.max_bytes) for f in files)
+    return bool(files) and all(os.path.isdir(f) or is_xml(f) for f in files) \
+        and not any(is_own_export(f, args.max_bytes) for f in files if not os.path.isdir(f))
 
 
 def schema_route(args: argparse.Namespace) -> None:
@@ -124,6 +127,26 @@ def _inputs(args: argparse.Namespace, document) -> list[str]:
     return [*_given(args), *document.includes]
 
 
+def _shown(files) -> str:
+    """The files or folders of one program as a message names them."""
+    return ", ".join(map(readable_name, files))
+
+
+def _not_into_folders(output: str | None, files) -> None:
+    """Refuse an -o FILE.xml inside a folder read as the program: the next reading of the folder
+    would find every tree twice (a usage error, before anything is read)."""
+    import os
+
+    if not output or output == "-" or not output.endswith(".xml"):
+        return
+    where = os.path.realpath(os.path.dirname(os.path.abspath(output)))
+    for f in files:
+        if os.path.isdir(f) and os.path.realpath(f) == where:
+            raise UsageError(f"-o {readable_name(output)} would be written into the folder {readable_name(f)}, "
+                             f"which is read as the program: reading it again would find every tree twice; "
+                             f"write it elsewhere")
+
+
 def _given(args: argparse.Namespace) -> list[str]:
     """The files named on the command line: trees, --nodes, --semantics."""
     return [*args.files, *args.nodes, *args.semantics]
@@ -156,29 +179,29 @@ def _rules(args: argparse.Namespace):
 
 
 def run_compress(args: argparse.Namespace) -> int:
-    """Compress one BT.CPP tree, prove the result, print or write it."""
+    """Compress one BT.CPP program (a file, or several files and folders read as one), prove the
+    result, print or write it."""
     from ..api.behaviour_trees import compress_tree, read_models, read_tree, tree_xml, verdict_text
     from .common import check_output, emit
 
-    if len(args.files) != 1:
-        raise UsageError("compress takes one BT.CPP tree file (its <include>s are read with it)")
     fmt = "json" if args.json else args.format or ("xml" if args.output and args.output.lower().endswith(".xml")
                                                     else "text" if not args.output or args.output == "-" else None)
     if fmt not in ("xml", "text", "json"):
         raise UsageError("a BT.CPP tree compresses to BT.CPP XML (-o FILE.xml), text or JSON (--json); "
                          f"not {args.format or args.output!r}")
     check_output(args.output, _given(args))
+    _not_into_folders(args.output, args.files)
     rules = _rules(args)
-    document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
+    document = read_tree(args.files, args.nodes, args.max_bytes, args.task)
     result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
     verdict, code = result.verdict, _status(result.verdict)
     kept = kept_words(result.kept)
     if verdict is not None and not verdict.equal:
         # A rewrite the prover refutes is a bug of ours: say so, write nothing.
         print(verdict_text(verdict), end="")
-        raise SchemalogError(f"the compressed tree differs from {readable_name(args.files[0])}: a rewrite of "
+        raise SchemalogError(f"the compressed tree differs from {_shown(args.files)}: a rewrite of "
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
-    before, after, shown = result.nodes_before, result.nodes_after, readable_name(args.files[0])
+    before, after, shown = result.nodes_before, result.nodes_after, _shown(args.files)
     if not result.rewrites and result.kept:
         summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): every rewrite of bt/compress.py "
                    f"that applies would remove a named node")
@@ -201,7 +224,7 @@ def run_compress(args: argparse.Namespace) -> int:
         emit(tree_xml(result.compressed, read_models(args.nodes, args.max_bytes)), args.output, inputs,
              summary.split(": ", 1)[1])
     elif fmt == "json":
-        emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
+        emit(json.dumps({"file": args.files[0], "files": args.files, "nodes_before": before, "nodes_after": after,
                          "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "file": r.file,
                                        "line": r.line, "column": r.column} for r in result.rewrites],
                          "kept_names": _kept_json(result.kept),
@@ -221,11 +244,13 @@ def run_compress(args: argparse.Namespace) -> int:
 
 
 def run_verify(args: argparse.Namespace) -> int:
-    """Prove a compressed BT.CPP tree against its original (or compress one file and prove it)."""
+    """Prove a compressed BT.CPP program against its original (or compress one and prove it),
+    each side a file or a folder."""
     from ..api.behaviour_trees import compress_tree, prove_trees, read_tree, verdict_text
     from .common import check_output, emit
 
     check_output(args.output, _given(args))
+    _not_into_folders(args.output, args.files)
     if args.drop_names and len(args.files) != 1:
         raise UsageError("--drop-names applies when verify compresses one BT.CPP tree; with an original and a "
                          "compressed file nothing is compressed")
@@ -253,7 +278,8 @@ def run_verify(args: argparse.Namespace) -> int:
         verdict = prove_trees(original, compressed, args.max_states, rules, run_once=args.run_once)
         includes = (*original.includes, *compressed.includes)
     else:
-        raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed tree")
+        raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed "
+                         "tree; each a file, or a folder whose *.xml files are one program")
     inputs = [*_given(args), *includes]
     if args.json:
         cex = verdict.counterexample

@@ -1,6 +1,7 @@
 """Behaviour trees in and out of BehaviorTree.CPP 4 XML: everything BT.CPP 4 loads, as bt.model.
 
-    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes
+    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes;
+                                          text a sequence of (text, file): several read as one program
     read_models(text, file)               -> models       the <TreeNodesModel> of a nodes file
     write_bt(document)                    -> str          a BTCPP_format="4" document BT.CPP and Groot2 load
     infer_models(document)                -> models       the models write_bt adds for undeclared node types
@@ -39,8 +40,10 @@ every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names it
 (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's
-createTree(name)), else the top file's main_tree_to_execute, else the only tree. Node types that
-BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
+createTree(name)), else the top file's main_tree_to_execute, else the only tree. Several documents
+are read in order into one program, as registerBehaviorTreeFromFile reads file after file into one
+factory (a folder's files: api/behaviour_trees.read_tree); a file reached twice is read once.
+Node types that BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
 form or <SubTree> without ID, a <BehaviorTree> without exactly one child (or without an ID beside
@@ -62,7 +65,7 @@ declare, a literal that does not convert or without a port its constructor needs
 Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
 include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
 recurses without end), a created tree (SubTrees expanded) deeper than MAX_TREE_DEPTH levels, and
-two trees with one ID (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
+two trees with one ID, in one file or two (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
 ID (in several files, or a nodes file) are one model in the Document, merged as loadSubtreeModel
 merges them: a call's remapping takes their defaults (bt/semantics.call_identity). A file an
 <include> reaches is quoted in no message until it is a <root> document (btcpp.read_included:
@@ -86,7 +89,7 @@ from xml.sax.saxutils import escape
 
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, subtree_ports, walk
 from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, readable_name
 from ..inputs import not_regular
 from .btcpp import XNode, parse_xml, read_included
 from .quoting import Unquotable, xml_attribute
@@ -377,6 +380,7 @@ class _Reader:
         self.subtree_models: list[NodeModel] = []       # every SubTree entry, in BT.CPP's reading order
         self.extra = models
         self.includes: list[str] = []
+        self.read_paths: dict[str, _Element] = {}     # the root of every file read, by its real path
         self.suffix = 0
         self.v3_hint = False
 
@@ -395,6 +399,7 @@ class _Reader:
         reached through an <include> (`via`) is quoted only once it is a BT.CPP <root> document."""
         root = _parse(text, file) if via is None else read_included(_parse, text, file, via.get("path"), via.pos)
         _check_root(root)
+        self.read_paths[os.path.realpath(file)] = root
         if len(chain) == 1 and root.get("BTCPP_format") is None:
             self.v3_hint = True
         for child in root.children:
@@ -427,13 +432,18 @@ class _Reader:
         if self.read is None:
             _fail(element, f"<include path={path!r}>: includes are read only from files")
         target = os.path.normpath(os.path.join(os.path.dirname(file), path))
-        if target in chain:
+        real = os.path.realpath(target)
+        if target in chain or any(os.path.realpath(f) == real for f in chain):
             _fail(element, f"recursive include: {' -> '.join([*chain, target])}")
         if len(chain) > MAX_INCLUDE_DEPTH:
             _fail(element, f"includes nest deeper than {MAX_INCLUDE_DEPTH} files")
         what = not_regular(target)
         if what is not None:            # a FIFO would wait for a writer without end
             _fail(element, f"<include path={path!r}>: names {what}, not a file: BT.CPP includes files")
+        if real in self.read_paths:
+            # read already (another file includes it too, or it is one of the files given): BT.CPP
+            # loads it again and registers the same trees and models anew, which changes nothing
+            return
         try:
             text = self.read(target)
         except SchemalogError as err:
@@ -457,7 +467,10 @@ class _Reader:
                            f"Node ({tree_id})")
         for other in self.trees:
             if other.id == tree_id:
-                _fail(element, f"BehaviorTree {tree_id} is defined twice (first at {other.element.pos})")
+                # BT.CPP's loadDocImpl keeps the last silently (tree_roots[name] = ...); Nav2 skips a
+                # later file that defines an ID again: which tree runs would hang on the reading order
+                _fail(element, f"BehaviorTree {tree_id} is defined twice (first at {other.element.pos}): "
+                               f"BT.CPP would keep the one read last")
         if len(element.children) != 1:
             _fail(element, f"The tag <BehaviorTree> with ID '{tree_id}' must have exactly 1 child, not "
                            f"{len(element.children)}")
@@ -630,33 +643,98 @@ def _tree_id_checks(reader: _Reader) -> None:
                                          f"{'an' if m.kind[0] in 'AE' else 'a'} {m.kind}")
 
 
-def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
-            main: str | None = None) -> Document:
-    """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
-    node models from elsewhere (a nodes file: what the program registers) that the document's own
-    models take precedence over, except for a node type's kind, which BT.CPP takes from the
-    registration (the document's TreeNodesModel registers nothing),
-    `main` names the tree to run as BT.CPP's createTree(name) does (default, "" too: as createTreeFromText)."""
+def _distinct(roots: list[_Element]) -> list[_Element]:
+    """`roots` without repeats (a file named twice is read once), in order."""
+    return list({id(r): r for r in roots}.values())
+
+
+def _names(roots: list[_Element], most: int = 4) -> str:
+    """The files of `roots` as a message lists them: the first few, then how many more."""
+    names = [readable_name(r.pos.file) for r in _distinct(roots)]
+    return ", ".join(names[:most]) + (f" and {len(names) - most} more" if len(names) > most else "")
+
+
+def _agreed_main(reader: _Reader, roots: list[_Element]) -> tuple[str, _Element]:
+    """The main tree of files none of which is given first (a folder's): the main_tree_to_execute
+    they agree on, else the only tree; several, or none among several trees, is refused with the
+    candidates (BT.CPP would take the first file opened's, which a folder's order does not say)."""
+    named = [(r, r.get("main_tree_to_execute")) for r in _distinct(roots)
+             if r.get("main_tree_to_execute") is not None]
+    values = list(dict.fromkeys(v for _, v in named))
+    if len(values) == 1:
+        return values[0], named[0][0]
+    if len(values) > 1:
+        said = "; ".join(f"{r.pos}: main_tree_to_execute=\"{v}\"" for r, v in named)
+        raise SchemalogError(f"the files read name different main trees ({said}): name the one to run with "
+                             f"--task", named[1][0].pos)
+    if len(reader.trees) == 1:
+        return reader.trees[0].id, roots[0]
+    called = {n.attr("ID") for t in reader.trees for n in walk(t.root) if n.type == "SubTree" and not n.form}
+    candidates = [t.id for t in reader.trees if t.id not in called] or [t.id for t in reader.trees]
+    raise SchemalogError(f"no file read names main_tree_to_execute, and the {len(_distinct(roots))} files ({_names(roots)}) "
+                         f"define {len(reader.trees)} BehaviorTrees; the trees no <SubTree> calls: "
+                         f"{', '.join(candidates[:10])}{f' and {len(candidates) - 10} more' if len(candidates) > 10 else ''}: name "
+                         f"the one to run with --task")
+
+
+
+def read_bt(text, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
+            main: str | None = None, *, main_from: int | None = 0) -> Document:
+    """Read a BT.CPP 4 document, or several as one program; `read(path) -> str` reads the files
+    they include, `models` are node models from elsewhere (a nodes file: what the program
+    registers) that the documents' own models take precedence over, except for a node type's
+    kind, which BT.CPP takes from the registration (a TreeNodesModel registers nothing),
+    `main` names the tree to run as BT.CPP's createTree(name) does (default, "" too: as createTreeFromText).
+
+    `text` is one document's text (named `file`) or a sequence of (text, file) pairs, read in
+    order into one program as BT.CPP's registerBehaviorTreeFromFile reads file after file into
+    one factory: every check of one document holds for each, and across them (a tree ID defined
+    twice, a node type used both as a leaf and with children, a SubTree naming a tree of another
+    file). A file read already (through an <include>, or named twice) is not read again: BT.CPP
+    would register the same trees anew. Without `main`, the main tree is the main_tree_to_execute
+    of the document `main_from` indexes (BT.CPP's instantiateTree: the first document opened),
+    else the only tree; with `main_from` None (a folder's files, none given first), the one
+    main_tree_to_execute the documents agree on, else the only tree."""
+    documents = ((text, file),) if isinstance(text, str) else tuple(text)
+    if not documents:
+        raise SchemalogError("no BT.CPP document to read")
     reader = _Reader(read, tuple(models))
-    root = reader.document(text, file, (os.path.normpath(file),))
+    roots: list[_Element] = []
+    for body, name in documents:
+        real = os.path.realpath(name)
+        if real in reader.read_paths and os.path.isfile(name):
+            roots.append(reader.read_paths[real])       # read already, through an <include> or named twice
+            continue
+        roots.append(reader.document(body, name, (os.path.normpath(name),)))
+    root, single = roots[0], len(_distinct(roots)) == 1
     if not reader.trees:
         hint = (": it holds a <TreeNodesModel> only, a nodes file (give it with --nodes)"
                 if any(c.tag == "TreeNodesModel" for c in root.children) else "")
+        if not single:
+            raise SchemalogError(f"the {len(_distinct(roots))} files read ({_names(roots)}) define no <BehaviorTree>")
         _fail(root, f"the document defines no <BehaviorTree>{hint}")
     _tree_id_checks(reader)
     _kind_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
     asked = main or None                # createTree("") is createTree(): the default main tree
-    main = asked if asked is not None else root.get("main_tree_to_execute")
-    if main is None:
-        if len(reader.trees) != 1:
-            _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
-                        f"single BehaviorTree (BT.CPP); it holds {len(reader.trees)}: {ids} (name the one "
-                        f"to run: --task on the command line)")
-        main = reader.trees[0].id
-    elif all(t.id != main for t in reader.trees):
+    if asked is None and main_from is None:
+        main, root = _agreed_main(reader, roots)
+    else:
+        if main_from is not None:
+            root = roots[main_from]
+        main = asked if asked is not None else root.get("main_tree_to_execute")
+        if main is None:
+            if len(reader.trees) != 1:
+                where = "Your file must" if single else \
+                    f"the first file ({readable_name(root.pos.file)}) names none, so the files read must"
+                _fail(root, f"If you don't specify the attribute [main_tree_to_execute], {where} contain a "
+                            f"single BehaviorTree (BT.CPP); {'it holds' if single else 'they hold'} "
+                            f"{len(reader.trees)}: {ids} (name the one to run: --task on the command line)")
+            main = reader.trees[0].id
+    if all(t.id != main for t in reader.trees):
         named = f"the tree {main!r} asked for" if asked is not None else f"main_tree_to_execute=\"{main}\""
-        _fail(root, f"{named} names no BehaviorTree; the document's trees: {ids}")
+        _fail(root, f"{named} names no BehaviorTree; the {'document' if single else 'program'}'s "
+                    f"trees: {ids}")
     _subtree_checks(reader, main)
     # the document's own models first, but each with the kind a nodes file registers its type as
     registered = {m.type: m.kind for m in reversed(reader.extra) if m.kind != "SubTree"}
