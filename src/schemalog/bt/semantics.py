@@ -162,6 +162,8 @@ class Program:
     rules: Mapping[str, Rule]
     passing: frozenset = frozenset()    # paths of sequences whose passed children are never ticked again
     version: int = 4                    # the BT.CPP whose executeTick runs it: 3 (3.8) or 4
+    skips: bool = True                  # an opaque node may return SKIPPED (4; not 3.8, nor a 4 tree
+                                        # proved against a 3.8 one: its custom nodes are 3.8's, ported)
 
 
 class _Stop(Exception):
@@ -1057,8 +1059,8 @@ def _opaque(run: _Run, n: PNode) -> Status:
     (Nav2's GoalUpdater) passes a SKIPPED on."""
     if not n.kids:
         return _action(run, n)
-    # no node of BT.CPP 3.8 returns SKIPPED (3.8's NodeStatus has none)
-    statuses = (SUCCESS, FAILURE, RUNNING) if run.program.version == 3 else (SUCCESS, FAILURE, RUNNING, SKIPPED)
+    # no node of BT.CPP 3.8 returns SKIPPED (3.8's NodeStatus has none); Program.skips
+    statuses = (SUCCESS, FAILURE, RUNNING, SKIPPED) if run.program.skips else (SUCCESS, FAILURE, RUNNING)
     options = tuple(range(len(n.kids))) + statuses
     while True:
         choice = run.event("choose", n, options)
@@ -1298,7 +1300,7 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None, *, once
 
     root = build(document.root, (), (), (document.main,))
     return Program(root, MappingProxyType(table), frozenset(_passing(root, table)) if once else frozenset(),
-                   document.version)
+                   document.version, document.version != 3)
 
 
 # Parents that tick a child only when they are ticked, and never tick a finished child again
