@@ -110,13 +110,19 @@ def readings_differ(document, rules=None) -> bool:
 
 
 def _readings(a, b, rules) -> list[tuple]:
-    """The pairs of readings a verdict on `a` and `b` covers: each as read, and an unmarked one
-    (no BTCPP_format, no tell, no --btcpp) under BT.CPP 4 and under 3.8 where the two may run it
-    apart; one program reads both files, so the unmarked ones take one version together."""
-    unmarked = [d for d in (a, b) if d.unmarked]
-    if not unmarked or not any(readings_differ(d, rules) for d in unmarked):
+    """The pairs of readings a verdict on `a` and `b` covers. One program reads both files, so an
+    unmarked one (no BTCPP_format, no tell, no --btcpp) is read under the other's version when the
+    other tells it; when both are unmarked, under BT.CPP 4 and under 3.8 alike, where the two may
+    run them apart (readings_differ)."""
+    marked = {d.version for d in (a, b) if not d.unmarked}
+    if not a.unmarked and not b.unmarked:
         return [(a, b)]
-    return [(a.under(v) if a.unmarked else a, b.under(v) if b.unmarked else b) for v in (4, 3)]
+    if marked:
+        (v,) = marked
+        return [(a.under(v) if a.unmarked else a, b.under(v) if b.unmarked else b)]
+    if not any(readings_differ(d, rules) for d in (a, b)):
+        return [(a, b)]
+    return [(a.under(v), b.under(v)) for v in (4, 3)]
 
 
 def _under(a, b) -> str:
@@ -272,7 +278,7 @@ def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rul
     verdicts = [prove_by_parts(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
                                rules=rules, halts=not run_once) for a, b in pairs]
     if len(pairs) == 1:
-        v = replace(verdicts[0], under=_under(*pairs[0]), assumed=_alike(verdicts[0], original, compressed))
+        v = replace(verdicts[0], under=_under(*pairs[0]), assumed=_alike(verdicts[0], *pairs[0]))
         if original.version != compressed.version:
             ported = ("each custom node is one node in both versions, ported: under 4 it returns SKIPPED no more "
                       "than under 3.8, where there is none")
