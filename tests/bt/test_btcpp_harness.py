@@ -175,8 +175,9 @@ def load(harness: str, tree: Path | list[Path], models: list[Path], main: str | 
 # -- the corpus ----------------------------------------------------------------------------------
 
 def corpus() -> list[Path]:
-    """The corpus's files, but for those of the folders read whole (tests/bt/test_folders.py)."""
-    return sorted(p for p in CORPUS.rglob("*.xml") if p != NODES and p.parent not in FOLDERS)
+    """The corpus's files, but for those of the folders read whole (tests/bt/test_folders.py) and
+    btcpp3/: BT.CPP 3 files and their BT.CPP 4 conversions, read with Nav2's nodes by tests/bt/test_btcpp3.py."""
+    return sorted(p for p in CORPUS.rglob("*.xml") if p != NODES and p.parent not in FOLDERS and "btcpp3" not in p.parts)
 
 
 def nodes_of(path: Path) -> list[Path]:
@@ -184,13 +185,14 @@ def nodes_of(path: Path) -> list[Path]:
 
 
 def readable() -> list[Path]:
-    """The corpus files schemalog reads on their own (the BT.CPP 3 file, a part, not)."""
+    """The corpus files schemalog reads on their own as BT.CPP 4 files (the BT.CPP 3 files, a part, not)."""
     out = []
     for p in corpus():
         if p.name in PARTS:
             continue
         try:
-            read_tree(p, nodes_of(p), main=MAIN_OF.get(p.name))
+            if read_tree(p, nodes_of(p), main=MAIN_OF.get(p.name)).version == 3:
+                continue                   # a BT.CPP 3 file, read under 3.8: not BT.CPP 4's to run
         except SchemalogError:
             continue
         out.append(p)

@@ -198,7 +198,7 @@ def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_
     assert chosen.returncode == 0, chosen.stderr
     by_tag = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml", "--task", "BehaviorTree")
     assert by_tag.returncode == 1 and "subtree_test.xml:8:13: error: <CheckStatus> names the BehaviorTree" in by_tag.stderr
-    v3 = run("compress", NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml")
+    v3 = run("compress", NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml", "--btcpp", "4")
     assert v3.returncode == 1 and ":21:15: error:" in v3.stderr and "BT.CPP 3" in v3.stderr
     bad = tmp_path / "bad.xml"
     bad.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Inverter/></BehaviorTree></root>')

@@ -281,9 +281,29 @@ def diff_trees(a, b, max_states: int = defaults.MAX_STATES, rules=None, *, run_o
     """Compare two BT.CPP documents (read_tree) under BT.CPP 4 semantics: the whole pair proved
     as verify proves it, every place where they part described and decided on runs, the
     direction that holds (bt/diff.py). `rules`, `run_once`: as prove_trees."""
-    from ..bt.diff import diff_documents
-    from ..bt.prove import assumed
+    from dataclasses import replace
 
-    d = diff_documents(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK, rules=rules,
-                       halts=not run_once)
-    return DiffReport(d, a_name, b_name, assumed(a, b, rules, d.verdict, not run_once), under)
+    from ..bt.diff import diff_documents
+    from .behaviour_trees import _readings, _under, version_words
+
+    # each reading BT.CPP allows (behaviour_trees._readings: an unmarked file under 4 and 3.8
+    # where they may run it apart); the report shows the first that is no proof, else the first
+    pairs = _readings(a, b, rules)
+    diffs = [diff_documents(x, y, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK, rules=rules,
+                            halts=not run_once) for x, y in pairs]
+    pick = next((k for k, d in enumerate(diffs) if not d.equal), 0)
+    d, (x, y) = diffs[pick], pairs[pick]
+    words = _under(x, y)
+    covers = d.verdict.assumed
+    if x.version != y.version:
+        covers = (f"{covers}; " if covers else "") + ("the two sides are read under two BT.CPP versions: a node "
+                                                      "written alike may run apart, which the whole verdict covers "
+                                                      "and the places, found in the text, do not name")
+    if len(pairs) > 1:
+        said = ", ".join(version_words(p[0].version) for p in pairs)
+        covers = (f"{covers}; " if covers else "") + (f"the files have no BTCPP_format: compared under {said}, as "
+                                                      f"each loads them; this report is under "
+                                                      f"{version_words(x.version)}")
+    if words:
+        under = f" under {words} semantics{under}"
+    return DiffReport(replace(d), a_name, b_name, covers, under)

@@ -33,7 +33,7 @@ def schema_route(args: argparse.Namespace) -> None:
     not change."""
     given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics),
                             ("--profile", args.profile), ("--drop-names", args.drop_names),
-                            ("--run-once", args.run_once)) if v]
+                            ("--run-once", args.run_once), ("--btcpp", getattr(args, "btcpp", None))) if v]
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
@@ -62,6 +62,12 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False, drop_
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
+    p.add_argument("--btcpp", type=btcpp_versions, default=None, metavar="3|4|3:4",
+                   help="BT.CPP trees: read every file under BT.CPP 3 (3.8) or 4, whatever its BTCPP_format says "
+                        "(a contrary mark is a note on stderr); 3:4 (verify OLD NEW) reads the first under 3.8 and "
+                        "the second under 4. By default a file's BTCPP_format, else what only one version reads "
+                        "(SequenceStar, SubTreePlus: 3.8; Script, _skipIf: 4); a file with neither is proved under "
+                        "both where they can differ (docs/behaviour_trees.md, \"BT.CPP 3 files\")")
     p.add_argument("--run-once", action="store_true",
                    help="BT.CPP trees: prove for trees ticked until they finish, once, and never halted "
                         "(Tree::tickWhileRunning); by default a proof also covers an executor that halts the "
@@ -73,6 +79,36 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False, drop_
                    help="BT.CPP trees: let the rewrites remove nodes that carry a name= attribute too; by "
                         "default they are kept, for BT.CPP's substitution rules, Groot2 and loggers find "
                         "nodes by name (docs/behaviour_trees.md)")
+
+
+def btcpp_versions(text: str) -> tuple[int, ...]:
+    """--btcpp 3|4|3:4: the BT.CPP version of every file, or of the first and the second (exit 2 else)."""
+    parts = text.split(":")
+    if len(parts) > 2 or any(p not in ("3", "4") for p in parts):
+        raise argparse.ArgumentTypeError(f"{text!r}: give 3 (BT.CPP 3.8), 4, or OLD:NEW such as 3:4")
+    return tuple(int(p) for p in parts)
+
+
+def _versions(args: argparse.Namespace, files: int) -> tuple:
+    """The version to read each of `files` files under (None: as the file tells)."""
+    given = getattr(args, "btcpp", None)
+    if given is None:
+        return (None,) * files
+    if len(given) == 2 and files != 2:
+        raise UsageError(f"--btcpp {given[0]}:{given[1]} gives two files their versions (verify OLD NEW); "
+                         f"{'this command reads one' if files == 1 else f'{files} files are given'}: --btcpp 3 or 4")
+    return given * files if len(given) == 1 else given
+
+
+def _read(args: argparse.Namespace, path, version):
+    """read_tree with the command's options, its notes on stderr."""
+    from ..api.behaviour_trees import read_tree
+
+    notes: list[str] = []
+    document = read_tree(path, args.nodes, args.max_bytes, args.task, version=version, notes=notes)
+    for note in notes:
+        print(note, file=sys.stderr)
+    return document
 
 
 def profile_name(text: str) -> str:
@@ -100,16 +136,21 @@ def _with_profiles(args: argparse.Namespace) -> str:
 def _verdict_words(verdict, under: str = "") -> str:
     if verdict.equal and verdict.complete:
         covers = f"; it {verdict.assumed}" if verdict.assumed else ""
-        return f"proved equal to the original under BT.CPP 4 semantics{under}: {verdict.reason}{covers}"
+        return (f"proved equal to the original under {verdict.under or 'BT.CPP 4'} semantics{under}: "
+                f"{verdict.reason}{covers}")
     if verdict.equal:
         return f"NOT proved: {verdict.reason}"
     return f"REFUTED: {verdict.reason}"
 
 
-def _under(args: argparse.Namespace) -> str:
-    """What verify's verdict line says it was proved under: '' without a profile (the wording
-    stays as it was), else ' under BT.CPP 4 semantics with the nav2 profile'."""
+def _under(args: argparse.Namespace, verdict=None) -> str:
+    """What verify's verdict line says it was proved under: '' for BT.CPP 4 alone without a
+    profile (the wording stays as it was), else ' under BT.CPP 3.8 semantics', ' under BT.CPP 3.8 (a)
+    against BT.CPP 4 (b) semantics with the nav2 profile', ..."""
     with_ = _with_profiles(args)
+    under = getattr(verdict, "under", "")
+    if under:
+        return f" under {under} semantics{with_}"
     return f" under BT.CPP 4 semantics{with_}" if with_ else ""
 
 
@@ -181,7 +222,7 @@ def _rules(args: argparse.Namespace):
 def run_compress(args: argparse.Namespace) -> int:
     """Compress one BT.CPP program (a file, or several files and folders read as one), prove the
     result, print or write it."""
-    from ..api.behaviour_trees import compress_tree, read_models, read_tree, tree_xml, verdict_text
+    from ..api.behaviour_trees import compress_tree, read_models, tree_xml, verdict_text
     from .common import check_output, emit
 
     fmt = "json" if args.json else args.format or ("xml" if args.output and args.output.lower().endswith(".xml")
@@ -192,7 +233,7 @@ def run_compress(args: argparse.Namespace) -> int:
     check_output(args.output, _given(args))
     _not_into_folders(args.output, args.files)
     rules = _rules(args)
-    document = read_tree(args.files, args.nodes, args.max_bytes, args.task)
+    document = _read(args, args.files, _versions(args, 1)[0])
     result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
     verdict, code = result.verdict, _status(result.verdict)
     kept = kept_words(result.kept)
@@ -246,7 +287,7 @@ def run_compress(args: argparse.Namespace) -> int:
 def run_verify(args: argparse.Namespace) -> int:
     """Prove a compressed BT.CPP program against its original (or compress one and prove it),
     each side a file or a folder."""
-    from ..api.behaviour_trees import compress_tree, prove_trees, read_tree, verdict_text
+    from ..api.behaviour_trees import compress_tree, prove_trees, verdict_text
     from .common import check_output, emit
 
     check_output(args.output, _given(args))
@@ -256,8 +297,9 @@ def run_verify(args: argparse.Namespace) -> int:
                          "compressed file nothing is compressed")
     rules = _rules(args)
     kept: tuple = ()
+    versions = _versions(args, len(args.files)) if len(args.files) in (1, 2) else ()
     if len(args.files) == 1:
-        document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
+        document = _read(args, args.files[0], versions[0])
         result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
         original, verdict, includes, kept = document, result.verdict, document.includes, result.kept
         if verdict is None:
@@ -273,8 +315,8 @@ def run_verify(args: argparse.Namespace) -> int:
             emit(text, args.output, [*_given(args), *includes], "JSON" if args.json else "text")
             return INCONCLUSIVE
     elif len(args.files) == 2:
-        original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
+        original = _read(args, args.files[0], versions[0])
+        compressed = _read(args, args.files[1], versions[1])
         verdict = prove_trees(original, compressed, args.max_states, rules, run_once=args.run_once)
         includes = (*original.includes, *compressed.includes)
     else:
@@ -283,7 +325,8 @@ def run_verify(args: argparse.Namespace) -> int:
     inputs = [*_given(args), *includes]
     if args.json:
         cex = verdict.counterexample
-        fields = {"files": args.files, "profiles": _profiles(args), "equal": verdict.equal,
+        fields = {"files": args.files, "profiles": _profiles(args), "btcpp": verdict.under or "BT.CPP 4",
+                  "equal": verdict.equal,
                   "complete": verdict.complete, "proved": verdict.equal and verdict.complete,
                   "states": verdict.states, "reason": verdict.reason, "covers": verdict.assumed,
                   "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]}
@@ -291,6 +334,6 @@ def run_verify(args: argparse.Namespace) -> int:
             fields["kept_names"] = _kept_json(kept)
         emit(json.dumps(fields, indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(verdict_text(verdict, _under(args)) + (f"{kept_words(kept)}\n" if kept else ""), args.output, inputs,
+        emit(verdict_text(verdict, _under(args, verdict)) + (f"{kept_words(kept)}\n" if kept else ""), args.output, inputs,
              "text")
     return _status(verdict)
