@@ -135,3 +135,18 @@ def test_bad_input_is_one_message_exit_2_and_nothing_written(tmp_path, case):
                 "task": "is a BT.CPP tree and", "output-over-input": "b.xml",
                 "one-file": "diff takes two versions"}[case]
     assert expected in r.stderr, r.stderr
+
+
+def test_a_bt_cpp_3_tree_against_its_bt_cpp_4_conversion_answers_whether_the_upgrade_changed_it(tmp_path):
+    """Nav2's goal-patience tree before and after its BT.CPP 4 migration (SequenceStar became
+    SequenceWithMemory): under 3.8 the SequenceStar ticks Wait in the same tick; under 4 it returns
+    RUNNING first and PathLongerOnApproach decides again (tests/bt/test_btcpp3.py)."""
+    v3, v4 = ROOT / "tests/bt/corpus/btcpp3/nav2_goal_patience_v3.xml", ROOT / "tests/bt/corpus/btcpp3/nav2_goal_patience_v4.xml"
+    r = run(v3, v4, "--btcpp", "3:4", "--nodes", NODES, "--profile", "nav2", "--json", cwd=tmp_path)
+    assert r.returncode == 1, r.stderr
+    report = json.loads(r.stdout)
+    assert report["first_divergence"]["a"].startswith('tick Wait wait_duration="5.0" at ')
+    assert report["first_divergence"]["b"].startswith("choice of PathLongerOnApproach")
+    (place,) = report["places"]
+    assert (place["a"]["type"], place["b"]["type"]) == ("SequenceStar", "SequenceWithMemory")
+    assert "two BT.CPP versions" in report["note"]

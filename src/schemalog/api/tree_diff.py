@@ -27,6 +27,7 @@ class DiffReport:
     b_name: str
     covers: str = ""                    # what the verdict covers of what the XML leaves open
     under: str = ""                     # " with the nav2 profile", ...
+    note: str = ""                      # the BT.CPP versions the sides were read under, where it matters
 
     @property
     def equal(self) -> bool:
@@ -91,6 +92,8 @@ class DiffReport:
                                                  *(f"B removes BehaviorTree {t}" for t in d.trees_removed)]))
         if self.covers:
             lines.append(self._covers() + ".")
+        if self.note:
+            lines.append(f"note: {self.note}.")
         return "\n".join(lines) + "\n"
 
     def _covers(self) -> str:
@@ -129,6 +132,8 @@ class DiffReport:
                                                     *(f"B removes {t}" for t in d.trees_removed)])), ""]
         if self.covers:
             out += [f"<sub>{_md(self._covers())}.</sub>", ""]
+        if self.note:
+            out += [f"<sub>Note: {_md(self.note)}.</sub>", ""]
         return "\n".join(out)
 
     # -- JSON -------------------------------------------------------------------------------
@@ -141,6 +146,7 @@ class DiffReport:
         return {
             "a": self.a_name, "b": self.b_name, "equal": v.equal, "complete": v.complete,
             "proved": v.equal and v.complete, "states": v.states, "reason": v.reason, "covers": self.covers,
+            "note": self.note,
             "direction": d.direction,
             "first_divergence": None if first is None else {"a": first[0], "b": first[1]},
             "counterexample": None if v.counterexample is None else explain(v).splitlines()[1:],
@@ -281,8 +287,6 @@ def diff_trees(a, b, max_states: int = defaults.MAX_STATES, rules=None, *, run_o
     """Compare two BT.CPP documents (read_tree) under BT.CPP 4 semantics: the whole pair proved
     as verify proves it, every place where they part described and decided on runs, the
     direction that holds (bt/diff.py). `rules`, `run_once`: as prove_trees."""
-    from dataclasses import replace
-
     from ..bt.diff import diff_documents
     from .behaviour_trees import _readings, _under, version_words
 
@@ -294,16 +298,14 @@ def diff_trees(a, b, max_states: int = defaults.MAX_STATES, rules=None, *, run_o
     pick = next((k for k, d in enumerate(diffs) if not d.equal), 0)
     d, (x, y) = diffs[pick], pairs[pick]
     words = _under(x, y)
-    covers = d.verdict.assumed
+    notes = []
     if x.version != y.version:
-        covers = (f"{covers}; " if covers else "") + ("the two sides are read under two BT.CPP versions: a node "
-                                                      "written alike may run apart, which the whole verdict covers "
-                                                      "and the places, found in the text, do not name")
+        notes.append("the two sides are read under two BT.CPP versions: a node written alike may run apart, "
+                     "which the whole verdict covers and the places, found in the text, do not name")
     if len(pairs) > 1:
-        said = ", ".join(version_words(p[0].version) for p in pairs)
-        covers = (f"{covers}; " if covers else "") + (f"the files have no BTCPP_format: compared under {said}, as "
-                                                      f"each loads them; this report is under "
-                                                      f"{version_words(x.version)}")
+        said = " and ".join(version_words(p[0].version) for p in pairs)
+        notes.append(f"the files have no BTCPP_format: compared under {said}, as each loads them; this report "
+                     f"is under {version_words(x.version)}")
     if words:
         under = f" under {words} semantics{under}"
-    return DiffReport(replace(d), a_name, b_name, covers, under)
+    return DiffReport(d, a_name, b_name, d.verdict.assumed, under, "; ".join(notes))
