@@ -19,7 +19,12 @@ def register(sub, parents: Parents) -> None:
                                    "behaviour with its shortest run, the direction that holds, and the structural "
                                    "changes that make no difference. Exit 0: same behaviour; 1: different; "
                                    "2: bad input or usage; 3: no proof either way (a limit).")
-    p.add_argument("files", nargs="+", metavar="A B", help="the old and the new version: BT.CPP XML files")
+    p.add_argument("files", nargs="+", metavar="A B", help="the old and the new version: BT.CPP XML files (with "
+                                                           "--rev: PATH..., each against its version at REV)")
+    p.add_argument("--rev", metavar="REV",
+                   help="compare each PATH (a BT.CPP file) with its own version at git revision REV (HEAD, "
+                        "origin/main, a tag, a hash): a pre-commit hook's and a pull request's check; the exit "
+                        "status is the worst of them, trouble (2) before no proof (3) before a change (1)")
     p.add_argument("--task", help="the BehaviorTree ID to run on both sides (default: each side's "
                                   "main_tree_to_execute)")
     from .. import defaults
@@ -76,6 +81,9 @@ def run(args: argparse.Namespace) -> int:
     from .common import check_output, emit
     from .trees import _given, _read, _rules, _versions, _with_profiles
 
+    if args.rev is not None:                 # schemalog diff --rev REV PATH...: each PATH against git's REV
+        from .diff_rev import run_rev
+        return run_rev(args, _format(args))
     if len(args.files) != 2:
         raise UsageError("diff takes two versions: A (the old) and B (the new)")
     fmt = _format(args)
