@@ -28,9 +28,10 @@ NOTHING_PROVED = "nothing to compress, so nothing was proved (the tree is its ow
 
 @dataclass(frozen=True, eq=False)
 class TreeDocument:
-    """A BT.CPP 4 document as read: the files given (their <include>s read with them), the nodes
-    files whose models it was read with, the semantics files and profiles its custom node types are
-    proved under, the main tree chosen; `notes` what reading the semantics had to say."""
+    """A BT.CPP program as read: the files or folders given (their <include>s read with them), the
+    nodes files whose models it was read with, the semantics files and profiles its custom node types
+    are proved under, the main tree chosen, the BT.CPP version asked for (None: as the files tell;
+    `document.version` is the one read); `notes` what reading had to say."""
 
     files: tuple[str, ...]
     document: Any = field(repr=False)                 # bt/model.py's Document
@@ -40,6 +41,7 @@ class TreeDocument:
     main: str | None = None
     notes: tuple[str, ...] = ()
     max_bytes: int = field(default=defaults.MAX_BYTES, repr=False)
+    version: int | None = None                       # 3 or 4 as asked (--btcpp); None: as the files tell
 
     @property
     def name(self) -> str:
@@ -99,33 +101,37 @@ def _profile_names(profile: str | Iterable[str], where: str) -> tuple[str, ...]:
 
 
 def document_of(files, document, nodes=(), semantics=(), profiles=(), main: str | None = None, rules=None,
-                notes=(), max_bytes: int = defaults.MAX_BYTES) -> TreeDocument:
+                notes=(), max_bytes: int = defaults.MAX_BYTES, version: int | None = None) -> TreeDocument:
     """A TreeDocument of a document read already (cli/trees.py reads its arguments itself),
     with the rules read from `semantics` and `profiles`."""
     tree = TreeDocument(tuple(files), document, tuple(nodes), tuple(semantics), tuple(dict.fromkeys(profiles)),
-                        main, tuple(notes), max_bytes)
+                        main, tuple(notes), max_bytes, version)
     object.__setattr__(tree, "_rules", rules)
     return tree
 
 
 @checked
 def read_tree(paths: Paths, *, nodes: Paths = (), semantics: Paths = (), profile: str | Iterable[str] = (),
-              main: str | None = None, max_bytes: Count = defaults.MAX_BYTES) -> TreeDocument:
-    """Read a BT.CPP 4 tree as `schemalog verify` does: `paths` the file (or its files), `nodes`
-    TreeNodesModel files (Nav2's nav2_tree_nodes.xml), `semantics` YAML files giving custom node
-    types a known type's rule and `profile` the shipped ones (`"nav2"`), read first; `main` the tree
-    to run (BT.CPP's createTree(main)), else the file's main_tree_to_execute."""
+              main: str | None = None, version: int | None = None,
+              max_bytes: Count = defaults.MAX_BYTES) -> TreeDocument:
+    """Read a BT.CPP program as `schemalog verify` does: `paths` a file, or several files and
+    folders read as one program; `nodes` TreeNodesModel files (Nav2's nav2_tree_nodes.xml),
+    `semantics` YAML files giving custom node types a known type's rule and `profile` the shipped
+    ones (`"nav2"`), read first; `main` the tree to run (BT.CPP's createTree(main)), else the main
+    file's main_tree_to_execute; `version` 3 (BT.CPP 3.8) or 4 for every file, as `--btcpp`
+    (default: as each file's BTCPP_format tells)."""
     from .behaviour_trees import read_tree as read_document
 
     profiles = _profile_names(profile, "read_tree()")
     if not paths:
-        raise UsageError("read_tree(): paths is empty; pass a BT.CPP file")
+        raise UsageError("read_tree(): paths is empty; pass a BT.CPP file or folder")
+    if version not in (None, 3, 4):
+        raise UsageError(f"read_tree(): version {version!r}: 3 (BT.CPP 3.8), 4 or None (as the files tell)")
     notes: list[str] = []
     rules = _rules(semantics, profiles, max_bytes, notes)      # its mistakes first, as the command line's
-    # one file as it is; several (one tree from several files) as the reader takes them
-    document = read_document(paths[0] if len(paths) == 1 else paths, nodes, max_bytes, main)
+    document = read_document(paths, nodes, max_bytes, main, version=version, notes=notes)
     return document_of([str(p) for p in paths], document, [str(n) for n in nodes], [str(s) for s in semantics],
-                       profiles, main, rules, notes, max_bytes)
+                       profiles, main, rules, notes, max_bytes, version)
 
 
 def _count(n: int, word: str) -> str:
@@ -162,7 +168,8 @@ def _status(verdict) -> int:
 def _verdict_words(verdict, under: str = "") -> str:
     if verdict.equal and verdict.complete:
         covers = f"; it {verdict.assumed}" if verdict.assumed else ""
-        return f"proved equal to the original under BT.CPP 4 semantics{under}: {verdict.reason}{covers}"
+        return (f"proved equal to the original under {verdict.under or 'BT.CPP 4'} semantics{under}: "
+                f"{verdict.reason}{covers}")
     if verdict.equal:
         return f"NOT proved: {verdict.reason}"
     return f"REFUTED: {verdict.reason}"
@@ -170,13 +177,13 @@ def _verdict_words(verdict, under: str = "") -> str:
 
 @dataclass(frozen=True)
 class TreeCompression:
-    """A BT.CPP tree compressed and the result proved, as `schemalog compress F.xml --json` gives
-    it: the nodes before and after, the rewrites made (bt/compress.py's Rewrite: rule, type, name,
+    """A BT.CPP program compressed and the result proved, as `schemalog compress F.xml --json` gives
+    it: its files, the nodes before and after, the rewrites made (bt/compress.py's Rewrite: rule, type, name,
     file, line, column), the named nodes kept that a rewrite would have removed, and the proof.
     Nothing rewritten is the tree itself, `proved` then True and `reason` "nothing rewritten";
     `equal` False is a rewrite the prover refutes, a bug of schemalog's."""
 
-    file: str
+    files: tuple[str, ...]
     nodes_before: int
     nodes_after: int
     rewrites: tuple
@@ -193,6 +200,11 @@ class TreeCompression:
     verdict: Any = field(default=None, repr=False, compare=False)      # bt/prove.py's Verdict; None: nothing rewritten
 
     @property
+    def file(self) -> str:
+        """The first file or folder of the program."""
+        return self.files[0]
+
+    @property
     def exit_status(self) -> int:
         """`schemalog compress`'s: 0 proved (or nothing rewritten), 1 refuted, 3 no proof (a limit)."""
         return _status(self.verdict)
@@ -200,7 +212,7 @@ class TreeCompression:
     @property
     def summary(self) -> str:
         """The first line `schemalog compress` prints: the sizes and the verdict, or why nothing."""
-        shown = readable_name(self.file)
+        shown = ", ".join(map(readable_name, self.files))
         if not self.rewrites and self.kept_names:
             return (f"{shown}: nothing to compress ({_count(self.nodes_before, 'node')}): every rewrite of "
                     f"bt/compress.py that applies would remove a named node")
@@ -220,7 +232,8 @@ class TreeCompression:
 
     def as_json(self) -> dict:
         """What `schemalog compress F.xml --json` prints."""
-        return {"file": self.file, "nodes_before": self.nodes_before, "nodes_after": self.nodes_after,
+        return {"file": self.file, "files": list(self.files), "nodes_before": self.nodes_before,
+                "nodes_after": self.nodes_after,
                 "rewrites": [_rewrite_json(r) for r in self.rewrites],
                 "kept_names": [_rewrite_json(k) for k in self.kept_names],
                 "proved": self.proved, "complete": self.complete, "states": self.states, "reason": self.reason,
@@ -242,6 +255,7 @@ class TreeProof:
 
     files: tuple[str, ...]
     profiles: tuple[str, ...]
+    btcpp: str                                 # the versions it was proved under: "BT.CPP 4", "BT.CPP 3.8", ...
     equal: bool
     complete: bool
     proved: bool
@@ -266,7 +280,11 @@ class TreeProof:
         kept = f"{kept}\n" if kept else ""
         if self.verdict is None:
             return f"{readable_name(self.files[0])}: {self.reason}\n" + kept
-        under = f" under BT.CPP 4 semantics{_with_profiles(self.profiles)}" if self.profiles else ""
+        with_ = _with_profiles(self.profiles)
+        if self.verdict.under:
+            under = f" under {self.verdict.under} semantics{with_}"
+        else:       # BT.CPP 4 alone, without a profile: the wording as it always was
+            under = f" under BT.CPP 4 semantics{with_}" if with_ else ""
         return verdict_text(self.verdict, under) + kept
 
     def as_json(self) -> dict:
@@ -275,7 +293,7 @@ class TreeProof:
         if self.verdict is None:
             return {"files": list(self.files), "equal": self.equal, "complete": self.complete, "proved": self.proved,
                     "states": self.states, "reason": self.reason, "counterexample": None, **kept}
-        return {"files": list(self.files), "profiles": list(self.profiles), "equal": self.equal,
+        return {"files": list(self.files), "profiles": list(self.profiles), "btcpp": self.btcpp, "equal": self.equal,
                 "complete": self.complete, "proved": self.proved, "states": self.states, "reason": self.reason,
                 "covers": self.covers, "counterexample": None if self.counterexample is None
                 else list(self.counterexample), **kept}
@@ -285,10 +303,10 @@ def _proof(verdict, files, profiles, kept=None, compression=None) -> TreeProof:
     from .behaviour_trees import verdict_text
 
     if verdict is None:        # one tree, nothing rewritten: a check that covers nothing is no proof
-        return TreeProof(tuple(files), tuple(profiles), True, True, False, 0, NOTHING_PROVED, "", None,
+        return TreeProof(tuple(files), tuple(profiles), "", True, True, False, 0, NOTHING_PROVED, "", None,
                          kept, compression, None)
     cex = None if verdict.counterexample is None else tuple(verdict_text(verdict).splitlines()[1:])
-    return TreeProof(tuple(files), tuple(profiles), verdict.equal, verdict.complete,
+    return TreeProof(tuple(files), tuple(profiles), verdict.under or "BT.CPP 4", verdict.equal, verdict.complete,
                      verdict.equal and verdict.complete, verdict.states, verdict.reason, verdict.assumed, cex,
                      kept, compression, verdict)
 
@@ -308,16 +326,17 @@ def _tree(given, reading: dict, where: str, what: str) -> TreeDocument:
 @checked
 def compress_tree(tree: TreeDocument | Paths, *, drop_names: bool = False, run_once: bool = False,
                   max_states: Count = defaults.MAX_STATES, nodes: Paths = (), semantics: Paths = (),
-                  profile: str | Iterable[str] = (), main: str | None = None, max_bytes: Count = defaults.MAX_BYTES,
+                  profile: str | Iterable[str] = (), main: str | None = None, version: int | None = None,
+                  max_bytes: Count = defaults.MAX_BYTES,
                   timeout: Seconds | None = None, max_memory: Size | None = DEFAULT) -> TreeCompression:
-    """Compress a tree (a TreeDocument, or a file read with `nodes`, `semantics`, `profile`,
-    `main` as read_tree reads it) with bt/compress.py's rewrites, each kept only where the
+    """Compress a tree (a TreeDocument, or files read with `nodes`, `semantics`, `profile`,
+    `main`, `version` as read_tree reads them) with bt/compress.py's rewrites, each kept only where the
     prover does not refute it, and prove the result against it, as `schemalog compress F.xml`.
     A node with a name= attribute is never removed unless `drop_names`; `run_once`: for trees
     ticked until they finish, once, and never halted (by default also halted between any two
     ticks and ticked anew, as an executor may); `max_states` bounds the proof (past it: no proof)."""
     with within(timeout, max_memory):
-        original = _tree(tree, dict(nodes=nodes, semantics=semantics, profile=profile, main=main,
+        original = _tree(tree, dict(nodes=nodes, semantics=semantics, profile=profile, main=main, version=version,
                                     max_bytes=max_bytes), "compress_tree()", "tree")
         return _compressed(original, drop_names, run_once, max_states)
 
@@ -330,8 +349,7 @@ def _compressed(original: TreeDocument, drop_names: bool, run_once: bool, max_st
     compressed = document_of((), result.compressed, original.nodes, original.semantics, original.profiles,
                              original.main, original.rules, (), original.max_bytes)
     return TreeCompression(
-        original.files[0] if len(original.files) == 1 else ", ".join(original.files),
-        result.nodes_before, result.nodes_after, tuple(result.rewrites), tuple(result.kept),
+        original.files, result.nodes_before, result.nodes_after, tuple(result.rewrites), tuple(result.kept),
         verdict is None or verdict.equal, verdict is None or verdict.complete, _status(verdict) == PROVED,
         verdict.states if verdict else 0, verdict.reason if verdict else "nothing rewritten",
         verdict.assumed if verdict else "", original.profiles, original, compressed, verdict)
@@ -341,17 +359,20 @@ def _compressed(original: TreeDocument, drop_names: bool, run_once: bool, max_st
 def verify_trees(original: TreeDocument | Paths, compressed: TreeDocument | Paths | None = None, *,
                  drop_names: bool = False, run_once: bool = False, max_states: Count = defaults.MAX_STATES,
                  nodes: Paths = (), semantics: Paths = (), profile: str | Iterable[str] = (),
-                 main: str | None = None, max_bytes: Count = defaults.MAX_BYTES, timeout: Seconds | None = None,
+                 main: str | None = None, version: int | None = None, max_bytes: Count = defaults.MAX_BYTES,
+                 timeout: Seconds | None = None,
                  max_memory: Size | None = DEFAULT) -> TreeProof:
     """Prove two trees equal under BT.CPP 4 semantics, or refute them with a counterexample root tick
     by root tick, as `schemalog verify A.xml B.xml`; with `compressed` None, compress `original` and
     prove the result against it, as `schemalog verify F.xml` (`drop_names` applies there only).
-    Each tree is a TreeDocument or a file read with `nodes`, `semantics`, `profile`, `main` (as
-    read_tree); two TreeDocuments must be read under the same semantics and profiles, which the
-    proof uses. `run_once` and `max_states` as compress_tree."""
+    Each tree is a TreeDocument or files read with `nodes`, `semantics`, `profile`, `main`,
+    `version` (as read_tree; two trees under two versions: read each with its own); two
+    TreeDocuments must be read under the same semantics and profiles, which the proof uses. An
+    unmarked file is proved under the version the other tells, or under both (as `schemalog
+    verify`). `run_once` and `max_states` as compress_tree."""
     from .behaviour_trees import prove_trees
 
-    reading = dict(nodes=nodes, semantics=semantics, profile=profile, main=main, max_bytes=max_bytes)
+    reading = dict(nodes=nodes, semantics=semantics, profile=profile, main=main, version=version, max_bytes=max_bytes)
     if compressed is None:
         with within(timeout, max_memory):
             tree = _tree(original, reading, "verify_trees()", "original")

@@ -27,10 +27,10 @@ from collections.abc import Mapping
 from schemalog.bt.congruence import abstract
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
-from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RULES, RUNNING,
+from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RUNNING,
                                     STATEFUL_ACTION, SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status,
                                     _rule_key, advance, call_identity, halt_step, halt_tree_step, initial, program, step,
-                                    subtree_id, visit_step)
+                                    subtree_id, table_for, visit_step)
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,7 @@ class Verdict:
     thrown: str = ""                  # an error both trees throw in some run (BT.CPP's tick would)
     registered: frozenset = frozenset()   # action types whose registration changed a run explored
     assumed: str = ""                 # what the verdict covers of what the XML leaves open, for people
+    under: str = ""                   # the BT.CPP version(s) it was proved under, for people ("" : 4 alone)
 
 
 def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
@@ -91,6 +92,12 @@ def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
     if isinstance(sa, Await):
         return f"a goes on with {describe(sa.event)}, b's root tick ends with {_end(sb)}"
     return f"a's root tick ends with {_end(sa)}, b goes on with {describe(sb.event)}"
+
+
+def _fewer(sa: Await | RootTicked, sb: Await | RootTicked) -> bool:
+    """Whether `b` waits for the event `a` waits for, with outcomes `a` offers too (fewer or the same)."""
+    return (isinstance(sa, Await) and isinstance(sb, Await) and (sa.event.kind, sa.event.node) ==
+            (sb.event.kind, sb.event.node) and set(sb.options) <= set(sa.options))
 
 
 def _end(s: RootTicked) -> str:
@@ -118,7 +125,7 @@ def _outcome(o: object) -> str:
 def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
                 rules: Mapping[str, Rule] | None = None, contextual: bool = False,
                 merge: bool = True, unreset: bool = True, programs: tuple[Program, Program] | None = None,
-                halts: bool = False) -> Verdict:
+                halts: bool = False, subset: bool = False) -> Verdict:
     """Explore both trees under every environment; equal when no environment tells them apart.
 
     `contextual`: the roots stand for two subtrees under any parent, which between two root
@@ -133,9 +140,12 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     tree anew after it finished or was halted (what Nav2's navigators do: a cancelled goal, a
     haltTree after every goal, the next goal on the same tree): the roots are then halted so, or
     (contextual) visited by haltTree's visitor, besides the other moves. Without it, a run ends
-    when the root finishes (Tree::tickWhileRunning, once)."""
+    when the root finishes (Tree::tickWhileRunning, once).
+    `subset`: prove only that every run of `b` is a run of `a` (trace inclusion): where both
+    wait for the same event, `b` may offer fewer outcomes than `a` (a Condition where `a` has an
+    Action), and only `b`'s are explored; everything else must be equal, as without it."""
     once = not contextual and not halts
-    pa, pb = programs or (program(a, rules, once=once), program(b, rules, once=once))
+    pa, pb = programs or _programs(a, b, rules, once)
     start = (_TICK, initial(), initial())
     parent: dict[tuple, tuple | None] = {start: None}
     seen: set = set()
@@ -169,6 +179,8 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
         if len(seen) & 1023 == 0 and near_ceiling():    # stop while there is room to say so
             raise CeilingReached("near the memory ceiling")
         diff = _difference(sa, sb)
+        if diff and subset and _fewer(sa, sb):
+            diff = ""
         if diff:
             kinds = ca.kinds
             if contextual or halts:
@@ -187,7 +199,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
                 limit = limit or f"a root tick reached {max_events_per_tick} events (max_events_per_tick)"
                 continue
             successors = [((phase, advance(ca, o), advance(cb, o)),
-                           _NONE if sa.options == (None,) else o) for o in sa.options]
+                           _NONE if sa.options == (None,) else o) for o in (sb.options if subset else sa.options)]
         elif sa.limited or sb.limited:
             limit = limit or sa.error or sb.error
         elif sa.status is None and sa.error:
@@ -213,6 +225,10 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     if limit:
         return Verdict(True, False, explored,
                        f"no difference found, but not a proof: {limit}", registered=frozenset(registered))
+    if subset:
+        return Verdict(True, True, explored, f"every run of b is a run of a, under every environment "
+                                             f"({_pairs(explored)}, exhausted)", thrown=thrown,
+                       registered=frozenset(registered))
     where = ("in every context and " if contextual else
              "as an executor runs them (ticked, halted by haltTree between any two ticks, ticked anew) and "
              if halts else "")
@@ -221,6 +237,15 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     return Verdict(True, True, explored,
                    f"equal {where}under every environment ({_pairs(explored)}, exhausted){errors}",
                    thrown=thrown, registered=frozenset(registered))
+
+
+def _programs(a: Document, b: Document, rules: Mapping[str, Rule] | None, once: bool) -> tuple[Program, Program]:
+    """The two documents' programs; of two versions (3.8 against 4), with the custom nodes of the
+    4 one returning no SKIPPED that the 3.8 one cannot: one robot's node, ported (the verdict says so)."""
+    pa, pb = program(a, rules, once=once), program(b, rules, once=once)
+    if a.version != b.version:
+        pa, pb = replace(pa, skips=False), replace(pb, skips=False)
+    return pa, pb
 
 
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
@@ -509,18 +534,18 @@ def _unreset(parent: str | None, rules: Mapping[str, Rule] | None) -> bool:
 def _part(document: Document, node: Node) -> Document:
     """`node` as the main tree of a document that still holds every tree it may call."""
     key = "\0part"                                   # an ID no XML document can hold
-    return Document(document.trees + ((key, node),), key, document.models, document.includes)
+    return Document(document.trees + ((key, node),), key, document.models, document.includes, document.version,
+                    document.unmarked)
 
 
 def _kind_differences(a: Document, b: Document, rules: Mapping[str, Rule] | None) -> list[str]:
     """The node types that get another rule in each document, as "T (a: .., b: ..)": a type may
     be a Condition in one document's TreeNodesModel and unknown in the other's, and then two
     identical subtrees do not run alike (a part compared in one document is not in the other)."""
-    table = {**RULES, **(rules or {})}
     words = {"<action>": "an Action", "<condition>": "a Condition", "<opaque>": "opaque"}
 
     def key(n: Node, d: Document) -> str:
-        k = _rule_key(n, d, table)
+        k = _rule_key(n, d, table_for(d, rules))
         return "<action>" if k == "<opaque>" and not n.children else k   # the same rule for a leaf
 
     differ: dict[str, str] = {}
@@ -550,9 +575,9 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
 def open_registrations(documents: tuple[Document, ...], rules: Mapping[str, Rule] | None = None) -> list[str]:
     """The action types whose registration the XML leaves open (ACTION, or an unknown leaf),
     in document order: a SyncActionNode and a StatefulActionNode load alike and run apart."""
-    table = {**RULES, **(rules or {}), "<opaque>": OPAQUE, "<action>": ACTION}
     found: dict[str, None] = {}
     for d in documents:
+        table = {**table_for(d, rules), "<opaque>": OPAQUE, "<action>": ACTION}
         for _, root in d.trees:
             for n in walk(root):
                 if not n.children and n.type != "SubTree" and n.form != "SubTree" \
@@ -626,7 +651,9 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
-    if ids_a == ids_b and a.main == b.main and not differ:
+    # two versions give one node type two rules: the parts alike in both are no longer alike
+    # (a Repeat of 3.8 is not one of 4), so trees of two versions are explored whole
+    if ids_a == ids_b and a.main == b.main and not differ and a.version == b.version:
         parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None, a, b)]
         proved = True
         thrown = ""
@@ -657,7 +684,7 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
                            thrown=thrown, registered=registered)
     whole, _ = _congruent(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules,
                           halts=halts)
-    if differ and not whole.equal:
+    if differ and not whole.equal and a.version == b.version:
         # the usual cause: one file carries a TreeNodesModel (compress -o writes --nodes' models
         # into its output) and the other is read without it
         note = (f" (the two documents give node types different rules: {', '.join(differ[:3])}"
@@ -681,8 +708,10 @@ def _congruent(a: Document, b: Document, *, max_states: int, max_events_per_tick
     so a refutation is always of the trees as they are, and shortest. `states` counts both. The
     second value: how many subtrees a proof took whole (0 without one)."""
     once = not explore.get("contextual", False) and not explore.get("halts", False)
-    pa, pb = program(a, rules, once=once), program(b, rules, once=once)
-    taken = abstract(pa, pb)
+    pa, pb = _programs(a, b, rules, once)
+    # a subtree identical in two documents read under two versions need not run alike (an opaque
+    # node returns SKIPPED under 4 only): taken whole only within one version
+    taken = abstract(pa, pb) if a.version == b.version else None
     opts = dict(max_events_per_tick=max_events_per_tick, rules=rules, **explore)
     if taken is None:
         return prove_equal(a, b, max_states=max_states, programs=(pa, pb), **opts), 0

@@ -24,7 +24,7 @@ from ..api.limits import (TIMEOUT_EXIT, TimeLimitExceeded, apply_memory_ceiling,
 from .options import shared_parents
 
 # In the order `schemalog --help` lists them: module names in schemalog.cli.
-COMMANDS = ("check", "lint", "show", "compress", "decompress", "run", "verify", "generate", "bench", "sweep", "learn",
+COMMANDS = ("check", "lint", "show", "compress", "decompress", "run", "verify", "diff", "generate", "bench", "sweep", "learn",
             "simulate_demo", "query", "repl", "convert", "export")
 
 
@@ -75,6 +75,7 @@ exit status:
        or bad input (a message with file:line:column), or out of memory
   2    a wrong command line (the command's usage follows); query and repl: also a bad
        query or file, or input that ends inside a query
+       diff: 0 same behaviour, 1 behaviour changed, 2 bad input or usage, 3 no proof
   3    verify, compress --verify: no counterexample, but no proof (a limit, memory
        included, or --sample)
   70   an internal error (please report it; SCHEMALOG_DEBUG=1 shows the traceback)
@@ -142,7 +143,8 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
 
     ceiling = None
     # A proof that runs out of memory is no proof, not a counterexample: exit 3, as at --max-states
-    proving = args.command == "verify" or (args.command == "compress" and getattr(args, "verify", False))
+    proving = args.command in ("verify", "diff") or (args.command == "compress" and getattr(args, "verify", False))
+    trouble = 2 if args.command == "diff" else 1    # diff's 1 means "they differ", as diff(1) has it
     no_proof = ": no proof (exit 3)" if proving else ""
     said = (out_of_memory_text(None) + no_proof + "\n").encode()
     try:
@@ -157,20 +159,20 @@ def _run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
         print(str(err), file=sys.stderr)
         if err.exit_code == 2:
             print(f"(see: schemalog {args.command} --help)", file=sys.stderr)
-        return err.exit_code
+        return trouble if err.exit_code == 1 else err.exit_code
     except PrologError as err:
         from .toplevel import error_text     # the ISO errors in plain words, resource errors' limits
 
         print(error_text(err), file=sys.stderr)
-        return 1
+        return trouble
     except RecursionError:
         print("error: the input nests too deeply to process", file=sys.stderr)
-        return 1
+        return trouble
     except MemoryError:     # not bound: the frames holding the memory go with the traceback
         return _out_of_memory(said, NO_PROOF if proving else 1)
     except OverflowError as err:
         print(f"error: a number is too large to process ({err})", file=sys.stderr)
-        return 1
+        return trouble
     except (TimeLimitExceeded, KeyboardInterrupt, Terminated) as stop:
         return _stopped(stop)
     except BrokenPipeError:
