@@ -1,4 +1,4 @@
-"""BT.CPP 3 files: read as BT.CPP 3.8 reads them, proved under 3.8's rules (bt/semantics_v3.py), and
+"""BT.CPP 3 files: read as BT.CPP 3.8 reads them, proved under 3.8's rules (bt/semantics.py's RULES_V3), and
 against their BT.CPP 4 conversions (docs/behaviour_trees.md, "BT.CPP 3 files").
 
 The golden tests take one rule of 3.8 that differs from 4's: a minimal tree whose runs differ under
@@ -15,7 +15,7 @@ import pytest
 
 from schemalog.api.behaviour_trees import prove_trees, read_tree
 from schemalog.bt.semantics import RULES
-from schemalog.bt.semantics_v3 import RULES_V3
+from schemalog.bt.semantics import RULES_V3
 from schemalog.errors import SchemalogError
 from schemalog.formats.btxml import read_bt
 

@@ -130,7 +130,7 @@ def version_words(version: int) -> str:
 
 def readings_differ(document, rules=None) -> bool:
     """Whether BT.CPP 3.8 and 4 may run an unmarked `document` apart: a node whose rule differs
-    between the two tables (bt/semantics_v3.py), an opaque node with children (SKIPPED under 4
+    between the two tables (bt/semantics.py's RULES and RULES_V3), an opaque node with children (SKIPPED under 4
     only) or a SubTree call that binds other entries (3.8 reads `goal="target"` as a key)."""
     from ..bt.model import walk
     from ..bt.semantics import ACTION, CONDITION, OPAQUE, _rule_key, call_identity, subtree_id, table_for

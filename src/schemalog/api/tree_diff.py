@@ -1,8 +1,8 @@
 """`schemalog diff A B` for BT.CPP programs: what changed in behaviour, for a terminal, a tool, a
 pull-request comment and a picture (docs/behaviour_trees.md, "Reviewing a change").
 
-    diff_trees(a, b, max_states, rules, run_once) -> DiffReport    bt/diff.py's comparison
-    DiffReport.text() / .markdown() / .as_json() / .dot()           the four outputs
+    diff_trees(a, b, max_states, rules, run_once) -> TreeDiff    bt/diff.py's comparison
+    TreeDiff.text() / .markdown() / .as_json() / .dot()           the four outputs
 
 A report names each side by what was read (a file, several, a folder) and states what its
 verdict covers, as verify's does.
@@ -19,10 +19,10 @@ EQUAL, DIFFERENT, UNDECIDED = 0, 1, 3          # the exit statuses of `schemalog
 
 
 @dataclass(frozen=True)
-class DiffReport:
-    """Two BT.CPP programs compared (bt/diff.TreeDiff), with the names of what was read."""
+class TreeDiff:
+    """Two BT.CPP programs compared (bt/diff.Comparison), with the names of what was read."""
 
-    diff: object                        # bt.diff.TreeDiff
+    diff: object                        # bt.diff.Comparison
     a_name: str
     b_name: str
     covers: str = ""                    # what the verdict covers of what the XML leaves open
@@ -33,6 +33,27 @@ class DiffReport:
     def equal(self) -> bool:
         """Whether the two programs are proved to behave alike."""
         return self.diff.equal
+
+    @property
+    def complete(self) -> bool:
+        """Whether the whole pair's search was exhausted (a proof or a refutation, not a limit)."""
+        return self.diff.verdict.complete
+
+    @property
+    def direction(self) -> str:
+        """"equal", "b within a", "a within b", "neither" or "unknown" (bt/diff.py)."""
+        return self.diff.direction
+
+    @property
+    def places(self) -> tuple:
+        """Every place where the programs part (bt/diff.Place: a, b, changes, effect, verdict),
+        those that change behaviour first."""
+        return self.diff.places
+
+    @property
+    def refactorings(self) -> tuple:
+        """The places that make no behavioural difference (in every context, or in this program)."""
+        return self.diff.refactorings
 
     @property
     def exit_status(self) -> int:
@@ -283,7 +304,7 @@ def _cell(text: str) -> str:
 
 
 def diff_trees(a, b, max_states: int = defaults.MAX_STATES, rules=None, *, run_once: bool = False,
-               a_name: str = "A", b_name: str = "B", under: str = "") -> DiffReport:
+               a_name: str = "A", b_name: str = "B", under: str = "") -> TreeDiff:
     """Compare two BT.CPP documents (read_tree) under BT.CPP 4 semantics: the whole pair proved
     as verify proves it, every place where they part described and decided on runs, the
     direction that holds (bt/diff.py). `rules`, `run_once`: as prove_trees."""
@@ -308,4 +329,4 @@ def diff_trees(a, b, max_states: int = defaults.MAX_STATES, rules=None, *, run_o
                      f"is under {version_words(x.version)}")
     if words:
         under = f" under {words} semantics{under}"
-    return DiffReport(d, a_name, b_name, d.verdict.assumed, under, "; ".join(notes))
+    return TreeDiff(d, a_name, b_name, d.verdict.assumed, under, "; ".join(notes))

@@ -390,3 +390,32 @@ def verify_trees(original: TreeDocument | Paths, compressed: TreeDocument | Path
                              f"{list(b.profiles)}): a proof takes one; read both with the same")
         verdict = prove_trees(a.document, b.document, max_states, a.rules, run_once=run_once)
     return _proof(verdict, (*a.files, *b.files), a.profiles)
+
+
+@checked
+def diff_trees(a: TreeDocument | Paths, b: TreeDocument | Paths, *, run_once: bool = False,
+               max_states: Count = defaults.MAX_STATES, nodes: Paths = (), semantics: Paths = (),
+               profile: str | Iterable[str] = (), main: str | None = None, version: int | None = None,
+               max_bytes: Count = defaults.MAX_BYTES, timeout: Seconds | None = None,
+               max_memory: Size | None = DEFAULT):
+    """Compare two versions of a BT.CPP program as `schemalog diff A B`: the whole pair proved as
+    verify_trees proves it, every place where they part with its edits in a reader's words and
+    its effect on the runs, the direction that holds (api/tree_diff.TreeDiff: .equal, .complete,
+    .direction, .places, .refactorings, .exit_status, .text(), .markdown(), .as_json()). Each side
+    is a TreeDocument or files read with the reading keywords, as verify_trees takes them."""
+    from .tree_diff import diff_trees as compare
+
+    reading = dict(nodes=nodes, semantics=semantics, profile=profile, main=main, version=version, max_bytes=max_bytes)
+    with within(timeout, max_memory):
+        x = _tree(a, reading, "diff_trees()", "a")
+        y = _tree(b, reading, "diff_trees()", "b")
+        if (x.semantics, x.profiles) != (y.semantics, y.profiles):
+            raise UsageError("diff_trees(): the two trees were read under different node semantics or profiles: a "
+                             "comparison takes one; read both with the same")
+        return compare(x.document, y.document, max_states, x.rules, run_once=run_once, a_name=_shown(x),
+                       b_name=_shown(y), under=_with_profiles(x.profiles))
+
+
+def _shown(tree: TreeDocument) -> str:
+    """How a report names a side: its files, or what it is when built in Python."""
+    return ", ".join(map(readable_name, tree.files)) or "a tree built in Python"

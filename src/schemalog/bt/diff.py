@@ -1,7 +1,7 @@
 """What changed in behaviour between two versions of a BT.CPP program, place by place, for a
 reviewer (docs/behaviour_trees.md, "Reviewing a change: schemalog diff").
 
-    TreeDiff = TreeDiff(verdict, direction, places, trees_added, trees_removed, first)
+    Comparison = Comparison(verdict, direction, places, trees_added, trees_removed, main)
     Place    = Place(a, b, changes, effect, verdict)    one subtree pair where the programs differ
     Effect   = "changes behaviour" | "same behaviour" | "same behaviour here" | "undecided"
     Direction= "equal" | "b within a" | "a within b" | "neither" | "unknown"
@@ -64,7 +64,7 @@ class Place:
 
 
 @dataclass(frozen=True)
-class TreeDiff:
+class Comparison:
     """Two programs compared: the whole pair's verdict, the direction that holds, the places
     where they part (behavioural first, in document order), trees only one side defines."""
 
@@ -119,7 +119,7 @@ def _last(ticks) -> str:
 
 
 def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                   rules: Mapping[str, Rule] | None = None, halts: bool = True) -> TreeDiff:
+                   rules: Mapping[str, Rule] | None = None, halts: bool = True) -> Comparison:
     """Compare two documents: the whole pair proved as verify proves it, the places where they
     part described and each decided on runs, the direction that holds."""
     whole = prove_by_parts(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules,
@@ -162,7 +162,7 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
     order = {CHANGES: 0, UNDECIDED: 1, SAME_HERE: 2, SAME: 3}
     ranked = tuple(sorted(places, key=lambda p: order[p.effect]))
     total = replace(whole, states=spent)
-    return TreeDiff(total, direction, direction_verdict, ranked,
+    return Comparison(total, direction, direction_verdict, ranked,
                     tuple(t for t in ids_b if t not in ids_a), tuple(t for t in ids_a if t not in ids_b),
                     (a.main, b.main))
 

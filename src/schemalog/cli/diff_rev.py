@@ -44,7 +44,7 @@ class Outcome:
 
     path: str
     status: int
-    report: object = None          # api.tree_diff.DiffReport
+    report: object = None          # api.tree_diff.TreeDiff
     note: str = ""
     documents: tuple = ()          # (A, B) for a picture
 
