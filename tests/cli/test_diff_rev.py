@@ -100,7 +100,7 @@ def test_several_paths_new_files_and_other_xml_and_the_worst_status(repo):
     report = json.loads(changed.stdout)
     assert report["rev"] == "HEAD" and report["exit"] == 1
     assert [(f["path"], f["status"]) for f in report["files"]] == [("trees/main.xml", "changed"),
-                                                                    ("trees/new.xml", "skipped")]
+                                                                    ("trees/new.xml", "new")]
     # trouble beats a change (diff(1)'s 2): a file that cannot be read leaves the whole undecided
     (repo / "trees" / "broken.xml").write_text("<root BTCPP_format=\"4\"><BehaviorTree ID=\"X\">", encoding="utf-8")
     git(repo, "add", "trees/broken.xml")
