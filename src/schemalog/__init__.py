@@ -25,6 +25,10 @@ _EXPORTS = {
     "Run": "schemalog.api.execution", "Finding": "schemalog.run.lint", "LimitExceeded": "schemalog.api.limits",
     "QueryError": "schemalog.api.knowledge",
     "SchemalogError": "schemalog.errors", "UsageError": "schemalog.errors", "SourcePos": "schemalog.errors",
+    # BT.CPP trees (docs/api.md, "Behaviour trees")
+    "read_tree": "schemalog.api.trees", "compress_tree": "schemalog.api.trees", "verify_trees": "schemalog.api.trees",
+    "TreeDocument": "schemalog.api.trees", "TreeCompression": "schemalog.api.trees", "TreeProof": "schemalog.api.trees",
+    # here: "diff_trees" and "TreeDiff" (bt/diff.py; `schemalog diff`)
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])
@@ -35,6 +39,7 @@ if TYPE_CHECKING:  # what type checkers and editors see; at run time __getattr__
     from .api.limits import LimitExceeded
     from .api.report import Counterexample, Report, verify
     from .api.task import Compression, Task
+    from .api.trees import TreeCompression, TreeDocument, TreeProof, compress_tree, read_tree, verify_trees
     from .errors import SchemalogError, SourcePos, UsageError
     from .run.lint import Finding
 

@@ -4,6 +4,7 @@
     missing(path) -> bool                           whether nothing has that name (a name the system
                                                     refuses, too long, is not missing: reading says why)
     is_xml(path) -> bool                            whether a file is XML (a BT.CPP tree): by its content
+    folder_files(folder, suffix) -> names           a folder's regular files named *suffix, sorted, not opened
     check_yaml_nesting(text, file)                  refuse flow collections nested past MAX_YAML_NESTING
 
 Every reader of a user's file (knowledge files and consulted ones, scenes, demonstrations)
@@ -84,6 +85,34 @@ def not_regular(path: str | Path) -> str | None:
         if test(mode):
             return what
     return "not a regular file"
+
+
+def folder_files(folder: str | Path, suffix: str = ".xml") -> tuple[str, ...]:
+    """The files directly in `folder` whose name ends in `suffix` (as written: `.xml`, not `.XML`,
+    and not a file named `.xml` alone, as std::filesystem's extension() reads names, which Nav2
+    and BehaviorTree.ROS2 match), as paths, sorted by name. Subfolders are not entered. A symlink
+    to a regular file is one (colcon --symlink-install installs every file so); one named so that
+    is no regular file (a FIFO, a device, a socket, a directory or a link to one) is refused with
+    its name and never opened: opening a FIFO waits for a writer without end."""
+    label = shown_name(os.fspath(folder))
+    try:
+        names = sorted(os.listdir(folder))
+    except FileNotFoundError:
+        raise SchemalogError(f"{label}: no such folder") from None
+    except OSError as err:
+        raise SchemalogError(f"{label}: cannot read the folder: {err.strerror or err}") from None
+    out = []
+    for name in names:
+        if not name.endswith(suffix) or name == suffix:
+            continue
+        path = os.path.join(os.fspath(folder), name)
+        what = not_regular(path)
+        if what is not None:
+            raise SchemalogError(f"{shown_name(path)}: {what} named *{suffix} in the folder {label}, not a file: "
+                                 f"schemalog reads a folder's regular *{suffix} files (and links to them) and "
+                                 f"does not open it")
+        out.append(path)
+    return tuple(out)
 
 
 def read_utf8(path: str | Path, max_bytes: int) -> str:

@@ -62,6 +62,7 @@ BUILD = HERE / "harness" / "build.sh"
 V3_NAV2 = NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"
 MAIN_OF = {"log_test.xml": "Main", "t15_nodes_mocking.xml": "MainTree"}                      # as tests/bt/test_btxml.py
 PARTS = {"t14_subtree_model_2.xml"}             # read with its partner (t14_subtree_model_1.xml)
+FOLDERS = (CORPUS / "combat" / "behavior_trees",)  # one program each, read whole (as tests/bt/test_btxml.py)
 # the scripting enums BT.CPP's tutorial 9 registers in C++ (registerScriptingEnums<Color>, THE_ANSWER)
 ENUMS = {"t09_scripting.xml": ("THE_ANSWER=42", "RED=1", "BLUE=2", "GREEN=3")}
 # Refused by BT.CPP 4.8.2 under any registration, and by schemalog: <CheckStatus/> calls the
@@ -122,15 +123,18 @@ def draws(seed: int) -> list[int]:
     return [rest[k % 400] for k in range(N_DRAWS)]
 
 
-def run(harness: str, tree: Path, models: list[Path], tmp: Path, seeds=range(SEEDS), *,
+def run(harness: str, tree: Path | list[Path], models: list[Path], tmp: Path, seeds=range(SEEDS), *,
         stateful: bool = False, main: str | None = None, enums=(), substitutions: Path | None = None,
         listed: dict[str, list[int]] | None = None) -> dict[str, list[dict]]:
     """The harness's events for each seed (and each run of `listed` draws): {label: [event, ...]};
-    `substitutions` a file of BT.CPP substitution rules (JSON)."""
+    `tree` one file or several loaded in order as one program; `substitutions` a file of BT.CPP
+    substitution rules (JSON)."""
     draws_file = tmp / "draws.txt"
     draws_file.write_text("".join(f"{s} {' '.join(map(str, draws(s)))}\n" for s in seeds) +
                           "".join(f"{k} {' '.join(map(str, d))}\n" for k, d in (listed or {}).items()))
-    cmd = [harness, "--tree", str(tree), "--draws", str(draws_file), "--max-ticks", str(MAX_ROOT_TICKS)]
+    trees = tree if isinstance(tree, list) else [tree]
+    cmd = [harness, *(a for t in trees for a in ("--tree", str(t))), "--draws", str(draws_file),
+           "--max-ticks", str(MAX_ROOT_TICKS)]
     if substitutions is not None:
         cmd += ["--substitutions", str(substitutions)]
     for m in models:
@@ -154,9 +158,12 @@ def run(harness: str, tree: Path, models: list[Path], tmp: Path, seeds=range(SEE
     return runs
 
 
-def load(harness: str, tree: Path, models: list[Path], main: str | None = None) -> tuple[bool, str]:
-    """Whether BT.CPP loads `tree` (and creates its main tree), and what it said."""
-    cmd = [harness, "--tree", str(tree), "--load-only"] + [a for m in models for a in ("--models", str(m))]
+def load(harness: str, tree: Path | list[Path], models: list[Path], main: str | None = None) -> tuple[bool, str]:
+    """Whether BT.CPP loads `tree` (one file, or several in order as one program) and creates its
+    main tree, and what it said."""
+    trees = tree if isinstance(tree, list) else [tree]
+    cmd = [harness, *(a for t in trees for a in ("--tree", str(t))), "--load-only"] + \
+        [a for m in models for a in ("--models", str(m))]
     if main:
         cmd += ["--main", main]
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
@@ -168,7 +175,9 @@ def load(harness: str, tree: Path, models: list[Path], main: str | None = None) 
 # -- the corpus ----------------------------------------------------------------------------------
 
 def corpus() -> list[Path]:
-    return sorted(p for p in CORPUS.rglob("*.xml") if p != NODES)
+    """The corpus's files, but for those of the folders read whole (tests/bt/test_folders.py) and
+    btcpp3/: BT.CPP 3 files and their BT.CPP 4 conversions, read with Nav2's nodes by tests/bt/test_btcpp3.py."""
+    return sorted(p for p in CORPUS.rglob("*.xml") if p != NODES and p.parent not in FOLDERS and "btcpp3" not in p.parts)
 
 
 def nodes_of(path: Path) -> list[Path]:
@@ -176,13 +185,14 @@ def nodes_of(path: Path) -> list[Path]:
 
 
 def readable() -> list[Path]:
-    """The corpus files schemalog reads on their own (the BT.CPP 3 file, a part, not)."""
+    """The corpus files schemalog reads on their own as BT.CPP 4 files (the BT.CPP 3 files, a part, not)."""
     out = []
     for p in corpus():
         if p.name in PARTS:
             continue
         try:
-            read_tree(p, nodes_of(p), main=MAIN_OF.get(p.name))
+            if read_tree(p, nodes_of(p), main=MAIN_OF.get(p.name)).version == 3:
+                continue                   # a BT.CPP 3 file, read under 3.8: not BT.CPP 4's to run
         except SchemalogError:
             continue
         out.append(p)

@@ -46,6 +46,8 @@ def test_the_readmes_nav2_lines_do_what_they_say(tmp_path):
 
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     lines = [line for line in readme.splitlines() if "nav2_tree_nodes.xml" in line]
+    diff_line = next(line for line in lines if "schemalog diff" in line)
+    lines.remove(diff_line)
     assert len(lines) == 3 and "44 nodes from 45" in lines[0] and "13 other Nav2 trees have nothing" in lines[0]
     script = "\n".join(line.split("   #", 1)[0].replace("small.xml", str(tmp_path / "small.xml")) for line in lines)
     script = re.sub(r"\bschemalog\b", f"{sys.executable} -m schemalog", script)
@@ -54,6 +56,12 @@ def test_the_readmes_nav2_lines_do_what_they_say(tmp_path):
     assert "wrote " in r.stderr and "44 nodes from 45 (1 rewrite), proved equal to the original" in r.stderr
     assert r.stdout.startswith("proved equal")
     assert "\nproved equal under BT.CPP 4 semantics with the nav2 profile: " in r.stdout     # --profile nav2
+    # the diff line: an edit of a Nav2 tree, found by place (exit 1: behaviour changed)
+    script = "N=tests/bt/corpus/nav2\n" + diff_line.split("   #", 1)[0].replace("edited.xml", str(tmp_path / "edited.xml"))
+    r = subprocess.run(["bash", "-c", re.sub(r"\bschemalog\b", f"{sys.executable} -m schemalog", script)],
+                       capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert r.returncode == 1, r.stderr
+    assert 'B retries PipelineSequence "NavigateWithReplanning" 5 times instead of 6' in r.stdout
 
 
 def test_the_compressed_nav2_tree_keeps_every_node_and_port(tmp_path):
@@ -190,7 +198,7 @@ def test_bt_cpp_examples_compress_and_bad_trees_are_refused_with_a_position(tmp_
     assert chosen.returncode == 0, chosen.stderr
     by_tag = run("compress", CORPUS / "btcpp" / "examples" / "test_files" / "subtree_test.xml", "--task", "BehaviorTree")
     assert by_tag.returncode == 1 and "subtree_test.xml:8:13: error: <CheckStatus> names the BehaviorTree" in by_tag.stderr
-    v3 = run("compress", NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml")
+    v3 = run("compress", NAV2 / "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml", "--btcpp", "4")
     assert v3.returncode == 1 and ":21:15: error:" in v3.stderr and "BT.CPP 3" in v3.stderr
     bad = tmp_path / "bad.xml"
     bad.write_text('<root BTCPP_format="4"><BehaviorTree ID="M"><Inverter/></BehaviorTree></root>')

@@ -34,6 +34,7 @@ if TYPE_CHECKING:
 
 # What the annotations of public calls name, for type checkers; KINDS says what each takes.
 Path = str | os.PathLike[str]             # a file name
+Paths = Path | Iterable[Path]             # a file name, or several: given as a tuple
 Name = str                                # a name that may be shown as a file's: no NUL
 Count = int                               # a limit on how many: 1 or more
 Times = int                               # how often: 0 or more
@@ -131,6 +132,25 @@ def _strings(value) -> tuple:
     return items
 
 
+def _paths(value) -> tuple:
+    # one name stands for itself; a list is read once, into a tuple, each item a file name
+    if isinstance(value, (str, os.PathLike)):
+        return (_path(value),)
+    if isinstance(value, (bytes, bytearray)):
+        raise _Refused
+    try:
+        items = tuple(value)
+    except TypeError:
+        raise _Refused from None
+    for item in items:
+        try:
+            _path(item)
+        except _Refused as refused:
+            raise _Refused(refused.why or f"holds {_a(item)}{_value_shown(item)}; each of its items must be a "
+                                          f"file name (a str or a pathlib.Path)") from None
+    return items
+
+
 def _callable(value):
     if callable(value):
         return value
@@ -161,9 +181,11 @@ KINDS: dict[str, Kind] = {
     "Name": Kind("a str", _name),
     "Path": Kind("a file name (a str or a pathlib.Path)", _path),
     "Iterable[str]": Kind("a list of str", _strings),
+    "Paths": Kind("a file name or a list of them", _paths),
     "Callable": Kind("a function", _callable),
     "dict": Kind("a dict", _typed(dict)),
     "Task": Kind("a Task", _api_class("schemalog.api.task", "Task")),
+    "TreeDocument": Kind("a TreeDocument (schemalog.read_tree)", _api_class("schemalog.api.trees", "TreeDocument")),
 }
 
 

@@ -2,7 +2,10 @@
 F.xml` and `schemalog verify F.xml SMALL.xml` do with a tree that is not schemalog's own export
 (docs/behaviour_trees.md).
 
-    read_tree(path, nodes=(), max_bytes)   -> Document        the file, its <include>s, --nodes' models
+    read_tree(paths, nodes=(), max_bytes, main, version=None) -> Document   one program: a file or
+                                                              several, each a file or a folder of *.xml
+                                                              files, their <include>s, --nodes' models;
+                                                              under BT.CPP 3.8 or 4 (version)
     read_semantics(paths, profiles=())     -> rules           --semantics, --profile: custom node types as known ones
     compress_tree(document, max_states)    -> TreeCompression the rewrites (bt/compress.py), proved;
                                                               named nodes kept unless drop_names
@@ -20,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .. import defaults
-from ..errors import SchemalogError, SourcePos
+from ..errors import SchemalogError, SourcePos, shown_name
 
 EVENTS_PER_TICK = 10_000     # events in one root tick before the prover stops (no proof): a loop
 
@@ -68,14 +71,126 @@ def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:
     return tuple(models)
 
 
-def read_tree(path: str | Path, nodes=(), max_bytes: int = defaults.MAX_BYTES, main: str | None = None):
-    """The BT.CPP 4 document in `path`, the files it includes, the models of `nodes` files;
-    `main` the tree to run (BT.CPP's createTree(main)), else the file's main_tree_to_execute."""
+def tree_files(paths) -> tuple[tuple[str, ...], tuple[str, ...], int | None]:
+    """The files one program is read from, a path or several, each a BT.CPP file or a folder:
+    (the files in reading order, those of them found in folders, the index of the main file).
+    A folder gives its *.xml files, sorted by name, not its subfolders' (inputs.folder_files:
+    Nav2's bt_search_directories and BehaviorTree.ROS2's behavior_trees folders are read so,
+    with std::filesystem::directory_iterator); the main file is the first file named, None when
+    only folders are (the main tree is then the one their files agree on: formats/btxml.read_bt)."""
+    import os
+
+    from ..inputs import folder_files
+
+    given = [paths] if isinstance(paths, (str, os.PathLike)) else list(paths)
+    if not given:
+        raise SchemalogError("no BT.CPP tree file or folder given")
+    files: list[str] = []
+    members: list[str] = []
+    main_from = None
+    for path in map(os.fspath, given):
+        if os.path.isdir(path):
+            found = folder_files(path)
+            if not found:
+                raise SchemalogError(f"{shown_name(path)}: no *.xml file in this folder (schemalog reads the *.xml "
+                                     f"files of a folder, not of its subfolders, as one BT.CPP program)")
+            files.extend(found)
+            members.extend(found)
+        else:
+            main_from = len(files) if main_from is None else main_from
+            files.append(path)
+    return tuple(files), tuple(members), main_from
+
+
+def read_tree(paths, nodes=(), max_bytes: int = defaults.MAX_BYTES, main: str | None = None, *,
+              version: int | None = None, notes: list | None = None):
+    """One BT.CPP 4 program: the document in a file, or the documents of several files and
+    folders read as one (tree_files; as BT.CPP's registerBehaviorTreeFromFile reads file after
+    file into one factory), the files they include, the models of `nodes` files; `main` the
+    tree to run (BT.CPP's createTree(main)), else the main file's main_tree_to_execute, else,
+    for folders alone, the one their files agree on. The Document's `includes` lists every file
+    read besides the ones named: a folder's, then those reached through <include>. `version` 3
+    (BT.CPP 3.8) or 4 reads every file under that version whatever its BTCPP_format says (a
+    contrary mark is a note appended to `notes`); by default the files tell (formats/btxml.read_bt)."""
+    from dataclasses import replace
+
     from ..formats.btxml import read_bt
 
-    name = str(path)
-    return read_bt(_decoded(name, max_bytes), name, lambda p: _decoded(p, max_bytes),
-                   models=read_models(nodes, max_bytes), main=main)
+    files, members, main_from = tree_files(paths)
+    documents = [(_decoded(name, max_bytes), name) for name in files]
+    document = read_bt(documents, read=lambda p: _decoded(p, max_bytes), models=read_models(nodes, max_bytes),
+                       main=main, main_from=main_from, version=version, notes=notes)
+    return replace(document, includes=tuple(dict.fromkeys((*members, *document.includes))))
+
+
+def version_words(version: int) -> str:
+    """A BT.CPP version as verdicts name it: "BT.CPP 3.8" or "BT.CPP 4"."""
+    return "BT.CPP 3.8" if version == 3 else "BT.CPP 4"
+
+
+def readings_differ(document, rules=None) -> bool:
+    """Whether BT.CPP 3.8 and 4 may run an unmarked `document` apart: a node whose rule differs
+    between the two tables (bt/semantics_v3.py), an opaque node with children (SKIPPED under 4
+    only) or a SubTree call that binds other entries (3.8 reads `goal="target"` as a key)."""
+    from ..bt.model import walk
+    from ..bt.semantics import ACTION, CONDITION, OPAQUE, _rule_key, call_identity, subtree_id, table_for
+
+    d3, d4 = document.under(3), document.under(4)
+    extra = {"<opaque>": OPAQUE, "<action>": ACTION, "<condition>": CONDITION}
+    t3, t4 = {**table_for(d3, rules), **extra}, {**table_for(d4, rules), **extra}
+    for _, root in document.trees:
+        for n in walk(root):
+            if subtree_id(n) is not None:
+                if call_identity(n, d3) != call_identity(n, d4):
+                    return True
+                continue
+            k3, k4 = _rule_key(n, d3, t3), _rule_key(n, d4, t4)
+            if k3 != k4 or t3[k3] is not t4[k4] or (k4 == "<opaque>" and n.children):
+                return True
+    return False
+
+
+def _readings(a, b, rules) -> list[tuple]:
+    """The pairs of readings a verdict on `a` and `b` covers. One program reads both files, so an
+    unmarked one (no BTCPP_format, no tell, no --btcpp) is read under the other's version when the
+    other tells it; when both are unmarked, under BT.CPP 4 and under 3.8 alike, where the two may
+    run them apart (readings_differ)."""
+    marked = {d.version for d in (a, b) if not d.unmarked}
+    if not a.unmarked and not b.unmarked:
+        return [(a, b)]
+    if marked:
+        (v,) = marked
+        return [(a.under(v) if a.unmarked else a, b.under(v) if b.unmarked else b)]
+    if not any(readings_differ(d, rules) for d in (a, b)):
+        return [(a, b)]
+    return [(a.under(v), b.under(v)) for v in (4, 3)]
+
+
+def _under(a, b) -> str:
+    """The versions a verdict on `a` and `b` was proved under, in words ("" for BT.CPP 4 alone)."""
+    if a.version == b.version:
+        return "" if a.version == 4 else version_words(a.version)
+    return f"{version_words(a.version)} (a) against {version_words(b.version)} (b)"
+
+
+def _combined(verdicts: list, pairs: list) -> object:
+    """One verdict of the proofs under each reading: proved when each is, else the first refutation
+    or the first that is no proof, saying under which reading."""
+    from dataclasses import replace
+
+    named = [replace(v, under=_under(a, b) or version_words(4)) for v, (a, b) in zip(verdicts, pairs)]
+    unmarked = "the file has no BTCPP_format and nothing only one version reads, so BT.CPP 3.8 loads it as 4 does"
+    for v in named:
+        if not v.equal:
+            return replace(v, reason=f"{v.reason} (under {v.under}: {unmarked}; --btcpp 4 proves it under 4 alone)")
+    for v in named:
+        if not v.complete:
+            return replace(v, reason=f"under {v.under}: {v.reason}")
+    states = sum(v.states for v in named)
+    reason = "; ".join(f"under {v.under}: {v.reason}" for v in named)
+    return replace(named[0], states=states, reason=reason, under=" and ".join(v.under for v in named),
+                   assumed=f"{named[0].assumed}; {unmarked}, so it was proved under both" if named[0].assumed
+                   else f"{unmarked}, so it was proved under both")
 
 
 def is_own_export(path: str | Path, max_bytes: int = defaults.MAX_BYTES) -> bool:
@@ -196,10 +311,30 @@ def prove_trees(original, compressed, max_states: int = defaults.MAX_STATES, rul
     node semantics for custom types (read_semantics). `run_once`: for trees ticked until they
     finish, once, and never halted; by default, also halted (Tree::haltTree) between any two
     root ticks and ticked anew, as an executor may."""
+    from dataclasses import replace
+
     from ..bt.prove import prove_by_parts
 
-    return prove_by_parts(original, compressed, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
-                          rules=rules, halts=not run_once)
+    pairs = _readings(original, compressed, rules)
+    verdicts = [prove_by_parts(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
+                               rules=rules, halts=not run_once) for a, b in pairs]
+    if len(pairs) == 1:
+        v = replace(verdicts[0], under=_under(*pairs[0]), assumed=_alike(verdicts[0], *pairs[0]))
+        if original.version != compressed.version:
+            ported = ("each custom node is one node in both versions, ported: under 4 it returns SKIPPED no more "
+                      "than under 3.8, where there is none")
+            v = replace(v, assumed=f"{v.assumed}; {ported}" if v.assumed else ported)
+        return v
+    return _combined(verdicts, pairs)
+
+
+def _alike(verdict, *documents) -> str:
+    """The verdict's `assumed`, with a word on an unmarked file both versions run alike."""
+    if not any(d.unmarked for d in documents):
+        return verdict.assumed
+    said = ("the file has no BTCPP_format and nothing only one version reads: BT.CPP 3.8 loads it too, and runs "
+            "each of its nodes as 4 does, so this holds under both")
+    return f"{verdict.assumed}; {said}" if verdict.assumed else said
 
 
 def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None, *,
@@ -209,11 +344,22 @@ def compress_tree(document, max_states: int = defaults.MAX_STATES, rules=None, *
     types, read_semantics). A node with a `name` attribute is never removed, for BT.CPP's
     substitution rules, Groot2 and loggers find nodes by name (the result's `kept` lists those
     a rewrite would have removed), unless `drop_names`. `run_once`: as prove_trees."""
-    from ..bt.prove import compress_proved
+    from dataclasses import replace
+
+    from ..bt.prove import compress_proved, prove_by_parts
 
     result, verdict = compress_proved(document, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
                                       rules=rules, keep_names=not drop_names, halts=not run_once)
-    return TreeCompression(document, result.document, result.rewrites, verdict, result.kept)
+    compressed = result.document                   # the version and the unmarked flag of `document`
+    if verdict is not None and document.unmarked and readings_differ(document, rules):
+        # the rewrites were kept where 4 proves them; an unmarked file runs under 3.8 too
+        pairs = [(document.under(4), compressed.under(4)), (document.under(3), compressed.under(3))]
+        second = prove_by_parts(*pairs[1], max_states=max_states, max_events_per_tick=EVENTS_PER_TICK,
+                                rules=rules, halts=not run_once)
+        verdict = _combined([verdict, second], pairs)
+    elif verdict is not None:
+        verdict = replace(verdict, under=_under(document, compressed), assumed=_alike(verdict, document))
+    return TreeCompression(document, compressed, result.rewrites, verdict, result.kept)
 
 
 def tree_xml(document, models=()) -> str:

@@ -27,6 +27,7 @@ class DiffReport:
     b_name: str
     covers: str = ""                    # what the verdict covers of what the XML leaves open
     under: str = ""                     # " with the nav2 profile", ...
+    note: str = ""                      # the BT.CPP versions the sides were read under, where it matters
 
     @property
     def equal(self) -> bool:
@@ -81,7 +82,7 @@ class DiffReport:
             lines.append(f"{_count(len(same), 'structural change')} with no behavioural difference (a pure "
                          f"refactoring):")
             for p in same:
-                scope = "in every context" if p.effect == "same behaviour" else "in this program (not in every context)"
+                scope = "in every context" if p.effect == "same behaviour" else "in this program, not in every context"
                 lines.append(f"  - {_place_head(p)}: {'; '.join(p.changes) or 'resolved alike'} ({scope})")
         if not d.places and not d.trees_added and not d.trees_removed and d.main[0] == d.main[1]:
             lines.append("no structural change: the trees are the same to BT.CPP (attributes by name, each "
@@ -90,8 +91,15 @@ class DiffReport:
             lines.append("trees: " + "; ".join([*(f"B adds BehaviorTree {t}" for t in d.trees_added),
                                                  *(f"B removes BehaviorTree {t}" for t in d.trees_removed)]))
         if self.covers:
-            lines.append(f"It {self.covers}.")
+            lines.append(self._covers() + ".")
+        if self.note:
+            lines.append(f"note: {self.note}.")
         return "\n".join(lines) + "\n"
+
+    def _covers(self) -> str:
+        """What the verdict covers ("It covers ..."), or the registration its run needs ("Shown on a
+        run with X registered as a StatefulActionNode")."""
+        return f"It {self.covers}" if self.diff.verdict.equal else f"Shown on {self.covers}"
 
     # -- markdown ---------------------------------------------------------------------------
     def markdown(self) -> str:
@@ -123,7 +131,9 @@ class DiffReport:
             out += ["**Trees:** " + _md("; ".join([*(f"B adds {t}" for t in d.trees_added),
                                                     *(f"B removes {t}" for t in d.trees_removed)])), ""]
         if self.covers:
-            out += [f"<sub>It {_md(self.covers)}.</sub>", ""]
+            out += [f"<sub>{_md(self._covers())}.</sub>", ""]
+        if self.note:
+            out += [f"<sub>Note: {_md(self.note)}.</sub>", ""]
         return "\n".join(out)
 
     # -- JSON -------------------------------------------------------------------------------
@@ -136,6 +146,7 @@ class DiffReport:
         return {
             "a": self.a_name, "b": self.b_name, "equal": v.equal, "complete": v.complete,
             "proved": v.equal and v.complete, "states": v.states, "reason": v.reason, "covers": self.covers,
+            "note": self.note,
             "direction": d.direction,
             "first_divergence": None if first is None else {"a": first[0], "b": first[1]},
             "counterexample": None if v.counterexample is None else explain(v).splitlines()[1:],
@@ -277,8 +288,24 @@ def diff_trees(a, b, max_states: int = defaults.MAX_STATES, rules=None, *, run_o
     as verify proves it, every place where they part described and decided on runs, the
     direction that holds (bt/diff.py). `rules`, `run_once`: as prove_trees."""
     from ..bt.diff import diff_documents
-    from ..bt.prove import assumed
+    from .behaviour_trees import _readings, _under, version_words
 
-    d = diff_documents(a, b, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK, rules=rules,
-                       halts=not run_once)
-    return DiffReport(d, a_name, b_name, assumed(a, b, rules, d.verdict, not run_once), under)
+    # each reading BT.CPP allows (behaviour_trees._readings: an unmarked file under 4 and 3.8
+    # where they may run it apart); the report shows the first that is no proof, else the first
+    pairs = _readings(a, b, rules)
+    diffs = [diff_documents(x, y, max_states=max_states, max_events_per_tick=EVENTS_PER_TICK, rules=rules,
+                            halts=not run_once) for x, y in pairs]
+    pick = next((k for k, d in enumerate(diffs) if not d.equal), 0)
+    d, (x, y) = diffs[pick], pairs[pick]
+    words = _under(x, y)
+    notes = []
+    if x.version != y.version:
+        notes.append("the two sides are read under two BT.CPP versions: a node written alike may run apart, "
+                     "which the whole verdict covers and the places, found in the text, do not name")
+    if len(pairs) > 1:
+        said = " and ".join(version_words(p[0].version) for p in pairs)
+        notes.append(f"the files have no BTCPP_format: compared under {said}, as each loads them; this report "
+                     f"is under {version_words(x.version)}")
+    if words:
+        under = f" under {words} semantics{under}"
+    return DiffReport(d, a_name, b_name, d.verdict.assumed, under, "; ".join(notes))

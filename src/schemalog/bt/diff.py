@@ -54,6 +54,8 @@ class Place:
     changes: tuple[str, ...]
     effect: str = UNDECIDED
     verdict: Verdict | None = None
+    edit: Node | None = None             # what stands for `a` when this edit alone is made (else `b`):
+                                         # B's node over A's children where B changes a node's own attributes
 
     @property
     def where(self) -> str:
@@ -126,18 +128,20 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
     explore = dict(max_events_per_tick=max_events_per_tick, rules=rules)
     units = _units(a, b)
     places: list[Place] = []
-    for tree_id, na, nb, parent in units:
+    for tree_id, na, nb, parent, shown in units:
         changes = tuple(changes_of(na, nb))
         v, _ = _congruent(_part(a, na), _part(b, nb), max_states=max(max_states - spent, 1), **explore,
                           **_context(na is a.root, parent, rules, halts))
         spent += v.states
         effect = SAME if v.equal and v.complete else CHANGES if not v.equal else UNDECIDED
-        places.append(Place(tree_id, na, nb, changes, effect, v))
+        places.append(Place(tree_id, na, shown, changes, effect, v, None if nb is shown else nb))
     # A place not equal in every context may still make no difference in this program, or make
     # the one the whole pair shows: decide it on the program with only this edit made
     open_ = [i for i, p in enumerate(places) if p.effect != SAME]
-    if len(open_) == 1 and whole.complete:
-        # every other place is equal in every context: A with this edit alone is B (congruence)
+    if len(open_) == 1 and whole.complete and all(p.edit is None for p in places):
+        # every other place is a subtree of A replaced by one of B, equal in every context: A
+        # with this edit alone is B (congruence). (An edit of a node's own attributes is
+        # proved over A's children, which B may have changed too: no such shortcut then.)
         i = open_[0]
         places[i] = replace(places[i], effect=SAME_HERE if whole.equal else CHANGES, verdict=whole)
     else:
@@ -148,7 +152,7 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
                                     verdict=Verdict(True, False, 0, f"not decided: {max_states} states explored "
                                                                     f"(max_states) before this place's turn"))
                 continue
-            hybrid = _with(a, p.a, p.b)
+            hybrid = _with(a, p.a, p.edit or p.b)
             v = prove_by_parts(a, hybrid, max_states=max_states - spent, halts=halts, **explore)
             spent += v.states
             effect = (SAME_HERE if v.equal and v.complete else CHANGES if not v.equal else UNDECIDED)
@@ -189,24 +193,32 @@ def _direction(a: Document, b: Document, whole: Verdict, spent: int, max_states:
 def _units(a: Document, b: Document) -> list[tuple[str, Node, Node, str | None]]:
     """The places where the documents part: the main trees' (compared whatever their IDs), then
     every other tree both define, by ID."""
-    out = [(a.main, na, nb, parent) for na, nb, parent in _places(a.root, b.root, None, a, b)]
+    out = [(a.main, *p) for p in _places(a.root, b.root, None, a, b)]
     others_b = dict(b.trees)
     for tree_id, ra in a.trees:
         if tree_id in (a.main, b.main) or tree_id not in others_b:
             continue
-        out.extend((tree_id, na, nb, parent) for na, nb, parent in _places(ra, others_b[tree_id], None, a, b))
+        out.extend((tree_id, *p) for p in _places(ra, others_b[tree_id], None, a, b))
     return out
 
 
-def _places(a: Node, b: Node, parent: str | None, da: Document, db: Document) -> list[tuple[Node, Node, str | None]]:
-    """bt/prove._parts, but a node whose children B reorders is one place (its edits "B ticks X
-    before Y"), not one place per position the reordering moved something into."""
-    if not _alike(a, b, da, db):
-        return [(a, b, parent)]
-    if _moves(a, b):
-        return [(a, b, parent)]
-    under = a.type if not a.form else None            # a generic-form node is a custom one: opaque
-    return [p for ca, cb in zip(a.children, b.children) for p in _places(ca, cb, under or "\0custom", da, db)]
+def _places(a: Node, b: Node, parent: str | None, da: Document,
+            db: Document) -> list[tuple[Node, Node, str | None, Node]]:
+    """bt/prove._parts, each as (A's node, what replaces it for the edit alone, parent type, B's
+    node), but a node whose children B reorders is one place (its edits "B ticks X before Y"),
+    not one per position the reordering moved something into; and a node whose own attributes B
+    changes is a place of its own (B's node over A's children), its children compared apart."""
+    same_shape = (a.type, a.form, len(a.children)) == (b.type, b.form, len(b.children))
+    if not same_shape or _moves(a, b):
+        return [(a, b, parent, b)]
+    under = (a.type if not a.form else None) or "\0custom"      # a generic-form node is a custom one: opaque
+    below = [p for ca, cb in zip(a.children, b.children) for p in _places(ca, cb, under, da, db)]
+    if _alike(a, b, da, db):
+        return below
+    if not a.children:
+        return [(a, b, parent, b)]
+    own = Node(b.type, b.attrs, a.children, b.form, b.line, b.column, b.file)
+    return [(a, own, parent, b), *below]
 
 
 def _with(document: Document, old: Node, new: Node) -> Document:

@@ -6,7 +6,8 @@ compression rewrites and the prover work on (docs/semantics.md, "Behaviour trees
     NodeModel = NodeModel(type, kind, ports)     a node type's kind and ports (TreeNodesModel)
     Kind      = "Action" | "Condition" | "Control" | "Decorator" | "SubTree"
     Document  = Document(trees, main, models)    the <BehaviorTree>s by ID, the one that runs,
-                                                 the TreeNodesModel entries
+                                                 the TreeNodesModel entries, the BT.CPP version
+                                                 (3: 3.8, 4) it was read under
 
 `type` is the node's registration ID: the element's tag (`<ComputePathToPose .../>`), or the ID
 of the generic forms (`<Action ID="ComputePathToPose" .../>`, whose tag `form` keeps so that
@@ -107,6 +108,9 @@ class Document:
     main: str
     models: tuple[NodeModel, ...] = ()
     includes: tuple[str, ...] = ()              # the files read through <include>, in order
+    version: int = 4                            # the BT.CPP it was read under: 3 (3.8) or 4
+    unmarked: bool = False                      # no BTCPP_format, no node of one version only, no
+                                                # --btcpp: BT.CPP 3.8 and 4 both load it
 
     def tree(self, tree_id: str) -> Node | None:
         """The root of the behaviour tree `tree_id`, or None."""
@@ -135,7 +139,11 @@ class Document:
 
     def with_trees(self, trees: tuple[tuple[str, Node], ...]) -> "Document":
         """The same document over other trees."""
-        return Document(tuple(trees), self.main, self.models, self.includes)
+        return Document(tuple(trees), self.main, self.models, self.includes, self.version, self.unmarked)
+
+    def under(self, version: int) -> "Document":
+        """The same document read under BT.CPP `version` (3 or 4), no longer unmarked."""
+        return Document(self.trees, self.main, self.models, self.includes, version, False)
 
 
 def walk(node: Node) -> Iterator[Node]:

@@ -175,6 +175,48 @@ RESERVED = frozenset({"name", "ID", "_autoremap", "_failureIf", "_successIf", "_
                       "_onSuccess", "_onFailure", "_onHalted", "_post"})
 
 
+# The node types BehaviorTreeFactory's constructor registers in BT.CPP 3.8 (3.8.8, src/bt_factory.cpp;
+# ManualSelector only where ncurses was found, so not here: a program without it refuses the tag),
+# and the ports each declares (providedPorts() in include/behaviortree_cpp_v3/...). RetryUntilSuccesful
+# is not among them: 3.8 comments its registration out ("typo but back compatibility").
+BUILTIN_V3: Mapping[str, str] = MappingProxyType({
+    **dict.fromkeys(("Fallback", "Sequence", "SequenceStar", "Parallel", "ReactiveSequence", "ReactiveFallback",
+                     "IfThenElse", "WhileDoElse", "Switch2", "Switch3", "Switch4", "Switch5", "Switch6"), "Control"),
+    **dict.fromkeys(("Inverter", "RetryUntilSuccessful", "KeepRunningUntilFailure", "Repeat", "Timeout", "Delay",
+                     "ForceSuccess", "ForceFailure", "BlackboardCheckInt", "BlackboardCheckDouble",
+                     "BlackboardCheckString", "BlackboardCheckBool"), "Decorator"),
+    **dict.fromkeys(("AlwaysSuccess", "AlwaysFailure", "SetBlackboard"), "Action"),
+    "SubTree": "SubTree", "SubTreePlus": "SubTree",
+})
+BUILTIN_PORTS_V3: Mapping[str, Mapping[str, str]] = MappingProxyType({
+    "Parallel": {"success_threshold": "int", "failure_threshold": "int"},   # controls/parallel_node.h
+    **{f"Switch{n}": {"variable": "text", **{f"case_{i}": "text" for i in range(1, n + 1)}}
+       for n in range(2, 7)},                                               # controls/switch_node.h
+    "Delay": {"delay_msec": "unsigned"}, "Timeout": {"msec": "unsigned"},
+    "Repeat": {"num_cycles": "int"}, "RetryUntilSuccessful": {"num_attempts": "int"},
+    **{f"BlackboardCheck{t}": {"value_A": "any", "value_B": "any", "return_on_mismatch": "status"}
+       for t in ("Int", "Double", "String", "Bool")},                      # decorators/blackboard_precondition.h
+    "SetBlackboard": {"value": "any", "output_key": "any"},               # actions/set_blackboard_node.h
+})
+RESERVED_V3 = frozenset({"ID", "name", "_description"})                 # IsReservedPortname (basic_types.h)
+
+
+def refusal_v3(node_type: str, attrs) -> str | None:
+    """Why BT.CPP 3.8 refuses one of its own node types with these attributes, or None: every
+    attribute but ID, name and _description must be a port the type declares
+    (XMLParser::Pimpl::createNodeFromXML, src/xml_parsing.cpp, "Possible typo?"). 3.8 converts a
+    literal only when the node reads it, so a value is not checked here."""
+    if node_type not in BUILTIN_V3 or node_type in ("SubTree", "SubTreePlus"):
+        return None
+    ports = BUILTIN_PORTS_V3.get(node_type, {})
+    for key, _ in attrs:
+        if key not in RESERVED_V3 and key not in ports:
+            near = get_close_matches(key, list(ports), n=1, cutoff=0.6)
+            return (f"Possible typo? In the XML, you tried to remap port \"{key}\" in node [{node_type}], but the "
+                    f"manifest of this node does not contain a port with this name (BT.CPP 3.8; {node_type} "
+                    f"declares {', '.join(ports) if ports else 'no port'}){f'; did you mean {near[0]}?' if near else ''}")
+    return None
+
 def is_port_name(key: str) -> bool:
     """IsAllowedPortName: a port's name starts with an ASCII letter and is not reserved."""
     return key[:1].isascii() and key[:1].isalpha() and key not in RESERVED

@@ -27,10 +27,10 @@ from collections.abc import Mapping
 from schemalog.bt.congruence import abstract
 from schemalog.bt.model import Document, Node, walk
 from schemalog.memory import CeilingReached, near_ceiling
-from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RULES, RUNNING,
+from schemalog.bt.semantics import (ACTION, KINDS, OPAQUE, RESETTING_PARENTS, RETICKED_ACTION, RUNNING,
                                     STATEFUL_ACTION, SYNC_ACTION, Await, Config, Event, Program, RootTicked, Rule, Status,
                                     _rule_key, advance, call_identity, halt_step, halt_tree_step, initial, program, step,
-                                    subtree_id, visit_step)
+                                    subtree_id, table_for, visit_step)
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,7 @@ class Verdict:
     thrown: str = ""                  # an error both trees throw in some run (BT.CPP's tick would)
     registered: frozenset = frozenset()   # action types whose registration changed a run explored
     assumed: str = ""                 # what the verdict covers of what the XML leaves open, for people
+    under: str = ""                   # the BT.CPP version(s) it was proved under, for people ("" : 4 alone)
 
 
 def _difference(sa: Await | RootTicked, sb: Await | RootTicked) -> str:
@@ -144,7 +145,7 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     wait for the same event, `b` may offer fewer outcomes than `a` (a Condition where `a` has an
     Action), and only `b`'s are explored; everything else must be equal, as without it."""
     once = not contextual and not halts
-    pa, pb = programs or (program(a, rules, once=once), program(b, rules, once=once))
+    pa, pb = programs or _programs(a, b, rules, once)
     start = (_TICK, initial(), initial())
     parent: dict[tuple, tuple | None] = {start: None}
     seen: set = set()
@@ -236,6 +237,15 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
     return Verdict(True, True, explored,
                    f"equal {where}under every environment ({_pairs(explored)}, exhausted){errors}",
                    thrown=thrown, registered=frozenset(registered))
+
+
+def _programs(a: Document, b: Document, rules: Mapping[str, Rule] | None, once: bool) -> tuple[Program, Program]:
+    """The two documents' programs; of two versions (3.8 against 4), with the custom nodes of the
+    4 one returning no SKIPPED that the 3.8 one cannot: one robot's node, ported (the verdict says so)."""
+    pa, pb = program(a, rules, once=once), program(b, rules, once=once)
+    if a.version != b.version:
+        pa, pb = replace(pa, skips=False), replace(pb, skips=False)
+    return pa, pb
 
 
 _TICK = "tick"                                        # the phases of a key: ticking the roots,
@@ -524,18 +534,18 @@ def _unreset(parent: str | None, rules: Mapping[str, Rule] | None) -> bool:
 def _part(document: Document, node: Node) -> Document:
     """`node` as the main tree of a document that still holds every tree it may call."""
     key = "\0part"                                   # an ID no XML document can hold
-    return Document(document.trees + ((key, node),), key, document.models, document.includes)
+    return Document(document.trees + ((key, node),), key, document.models, document.includes, document.version,
+                    document.unmarked)
 
 
 def _kind_differences(a: Document, b: Document, rules: Mapping[str, Rule] | None) -> list[str]:
     """The node types that get another rule in each document, as "T (a: .., b: ..)": a type may
     be a Condition in one document's TreeNodesModel and unknown in the other's, and then two
     identical subtrees do not run alike (a part compared in one document is not in the other)."""
-    table = {**RULES, **(rules or {})}
     words = {"<action>": "an Action", "<condition>": "a Condition", "<opaque>": "opaque"}
 
     def key(n: Node, d: Document) -> str:
-        k = _rule_key(n, d, table)
+        k = _rule_key(n, d, table_for(d, rules))
         return "<action>" if k == "<opaque>" and not n.children else k   # the same rule for a leaf
 
     differ: dict[str, str] = {}
@@ -565,9 +575,9 @@ def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_
 def open_registrations(documents: tuple[Document, ...], rules: Mapping[str, Rule] | None = None) -> list[str]:
     """The action types whose registration the XML leaves open (ACTION, or an unknown leaf),
     in document order: a SyncActionNode and a StatefulActionNode load alike and run apart."""
-    table = {**RULES, **(rules or {}), "<opaque>": OPAQUE, "<action>": ACTION}
     found: dict[str, None] = {}
     for d in documents:
+        table = {**table_for(d, rules), "<opaque>": OPAQUE, "<action>": ACTION}
         for _, root in d.trees:
             for n in walk(root):
                 if not n.children and n.type != "SubTree" and n.form != "SubTree" \
@@ -641,7 +651,9 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
-    if ids_a == ids_b and a.main == b.main and not differ:
+    # two versions give one node type two rules: the parts alike in both are no longer alike
+    # (a Repeat of 3.8 is not one of 4), so trees of two versions are explored whole
+    if ids_a == ids_b and a.main == b.main and not differ and a.version == b.version:
         parts = [p for (_, ra), (_, rb) in zip(a.trees, b.trees) for p in _parts(ra, rb, None, a, b)]
         proved = True
         thrown = ""
@@ -672,7 +684,7 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
                            thrown=thrown, registered=registered)
     whole, _ = _congruent(a, b, max_states=max_states - spent, max_events_per_tick=max_events_per_tick, rules=rules,
                           halts=halts)
-    if differ and not whole.equal:
+    if differ and not whole.equal and a.version == b.version:
         # the usual cause: one file carries a TreeNodesModel (compress -o writes --nodes' models
         # into its output) and the other is read without it
         note = (f" (the two documents give node types different rules: {', '.join(differ[:3])}"
@@ -696,8 +708,10 @@ def _congruent(a: Document, b: Document, *, max_states: int, max_events_per_tick
     so a refutation is always of the trees as they are, and shortest. `states` counts both. The
     second value: how many subtrees a proof took whole (0 without one)."""
     once = not explore.get("contextual", False) and not explore.get("halts", False)
-    pa, pb = program(a, rules, once=once), program(b, rules, once=once)
-    taken = abstract(pa, pb)
+    pa, pb = _programs(a, b, rules, once)
+    # a subtree identical in two documents read under two versions need not run alike (an opaque
+    # node returns SKIPPED under 4 only): taken whole only within one version
+    taken = abstract(pa, pb) if a.version == b.version else None
     opts = dict(max_events_per_tick=max_events_per_tick, rules=rules, **explore)
     if taken is None:
         return prove_equal(a, b, max_states=max_states, programs=(pa, pb), **opts), 0

@@ -26,6 +26,9 @@ answering the i-th event is any function of the events before it.
 
 Node rules live in one table, RULES (type -> Rule). A user passes more in `rules=`; a type the
 table does not define is opaque (docs). Each rule cites the BT.CPP 4 or Nav2 source it follows.
+A document read under BT.CPP 3.8 (Document.version 3) runs under bt/semantics_v3.py's RULES_V3
+instead, which reuses these rules where 3.8 behaves alike, and ticks without 4's pre- and
+post-conditions (3.8's TreeNode::executeTick has none).
 """
 
 from __future__ import annotations
@@ -158,6 +161,9 @@ class Program:
     root: PNode
     rules: Mapping[str, Rule]
     passing: frozenset = frozenset()    # paths of sequences whose passed children are never ticked again
+    version: int = 4                    # the BT.CPP whose executeTick runs it: 3 (3.8) or 4
+    skips: bool = True                  # an opaque node may return SKIPPED (4; not 3.8, nor a 4 tree
+                                        # proved against a 3.8 one: its custom nodes are 3.8's, ported)
 
 
 class _Stop(Exception):
@@ -255,6 +261,15 @@ class _Run:
         if self.node_ticks > self.max_node_ticks:
             raise NodeTickLimit(f"more than {self.max_node_ticks} node ticks in one root tick "
                             f"(a loop without an event, e.g. Repeat num_cycles=-1 over AlwaysSuccess)")
+        if self.program.version == 3:
+            # TreeNode::executeTick (3.8, src/tree_node.cpp): tick(), setStatus; the C++
+            # pre/post-condition callbacks are no part of the XML. DecoratorNode::executeTick
+            # (3.8, src/decorator_node.cpp) resets a completed child as 4's does.
+            new = self.program.rules[n.rule].tick(self, n)
+            self.set_status(n, new)
+            if n.decorator and self.status(n.kids[0]) in COMPLETED:
+                self.set_status(n.kids[0], IDLE)
+            return new
         new = self._pre_conditions(n)
         if new is None:
             new = self.program.rules[n.rule].tick(self, n)
@@ -296,7 +311,7 @@ class _Run:
         """haltNode (src/tree_node.cpp): the rule's halt, then the `_onHalted` script."""
         rule = self.program.rules[n.rule]
         (rule.halt or _halt_children)(self, n)
-        code = n.node.attr("_onHalted")
+        code = n.node.attr("_onHalted") if self.program.version != 3 else None
         if code is not None:
             self.script(n, code, "_onHalted")
 
@@ -426,15 +441,18 @@ def _sleep(run: _Run, n: PNode) -> Status:
 # ---------------------------------------------------------------------------------------------
 # Controls
 
-def _sequence_like(*, fallback: bool, asynch: bool = False, memory: bool = False) -> Rule:
+def _sequence_like(*, fallback: bool, asynch: bool = False, memory: bool = False, yields: bool | None = None,
+                   keep_on_halt: bool | None = None) -> Rule:
     """SequenceNode::tick (src/controls/sequence_node.cpp) and FallbackNode::tick
     (src/controls/fallback_node.cpp): resume at the current child; Async* return RUNNING after
     each child that completed synchronously (the tree's wake-up signal is always set).
     SequenceWithMemory::tick (src/controls/sequence_with_memory_node.cpp) is the asynchronous
     Sequence whose failure keeps the index (halting the children from it on), and whose halt
-    keeps it too (`memory`)."""
+    keeps it too (`memory`). `yields`, `keep_on_halt` (default: asynch or memory, memory) set
+    the two apart for BT.CPP 3.8's SequenceStar (bt/semantics_v3.py)."""
     go_on, stop = (FAILURE, SUCCESS) if fallback else (SUCCESS, FAILURE)
-    yields = asynch or memory
+    yields = (asynch or memory) if yields is None else yields
+    keep_on_halt = memory if keep_on_halt is None else keep_on_halt
 
     def tick(run: _Run, n: PNode) -> Status:
         count = len(n.kids)
@@ -481,7 +499,7 @@ def _sequence_like(*, fallback: bool, asynch: bool = False, memory: bool = False
         _halt_children(run, n)
 
     # SequenceWithMemory::halt keeps the index: ControlNode::halt only
-    return Rule(tick, _halt_children if memory else halt)
+    return Rule(tick, _halt_children if keep_on_halt else halt)
 
 
 def _reactive(*, fallback: bool) -> Rule:
@@ -674,10 +692,11 @@ def _numeric_equal(a: str, b: str) -> bool:
     return False
 
 
-def _switch(cases: int) -> Rule:
+def _switch(cases: int, equal: Callable[[str, str], bool] = _numeric_equal) -> Rule:
     """SwitchNode<N>::tick (include/behaviortree_cpp/controls/switch_node.h): the child of the
     first case equal to `variable`, else the last (default); the one running before is halted.
-    A blackboard variable's value is the environment's choice (a "check" event)."""
+    A blackboard variable's value is the environment's choice (a "check" event). `equal` compares
+    two texts (BT.CPP 3.8's SwitchNode compares strings: bt/semantics_v3.py)."""
     def tick(run: _Run, n: PNode) -> Status:
         if len(n.kids) != cases + 1:
             raise TreeError(f"Wrong number of children in Switch{cases}; must be (num_cases + default)")
@@ -687,7 +706,7 @@ def _switch(cases: int) -> Rule:
         if variable is not None and not _is_ref(variable):
             for i, k in enumerate(keys):
                 v = n.node.attr(k)
-                if v is not None and not _is_ref(v) and _numeric_equal(variable, v):
+                if v is not None and not _is_ref(v) and equal(variable, v):
                     match = i
                     break
         elif variable is not None:
@@ -697,7 +716,7 @@ def _switch(cases: int) -> Rule:
                 v = n.node.attr(k)
                 if v is None:
                     continue
-                if not _is_ref(v) and any(_numeric_equal(v, w) for w in seen):
+                if not _is_ref(v) and any(equal(v, w) for w in seen):
                     continue                                # an earlier equal case always wins
                 if not _is_ref(v):
                     seen.append(v)
@@ -877,12 +896,12 @@ def _force(status: Status) -> Callable[[_Run, PNode], Status]:
     return _completing(status, status)
 
 
-def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Status]:
+def _looping(port: str, key: str, again: Status, yields: bool = True) -> Callable[[_Run, PNode], Status]:
     """A decorator that ticks its child anew while it returns `again`, `port` times (-1: for
     ever), counting in `key`: RetryUntilSuccessful (again FAILURE) and Repeat (again SUCCESS),
     whose sources mirror each other. The other completion ends the loop with it; an `again` from
-    IDLE with turns left returns RUNNING (the wake-up signal); when the turns run out the node
-    returns `again`."""
+    IDLE with turns left returns RUNNING (the wake-up signal) unless not `yields` (BT.CPP 3.8 loops
+    within the tick: bt/semantics_v3.py); when the turns run out the node returns `again`."""
     done = SUCCESS if again is FAILURE else FAILURE
 
     def tick(run: _Run, n: PNode) -> Status:
@@ -903,7 +922,7 @@ def _looping(port: str, key: str, again: Status) -> Callable[[_Run, PNode], Stat
                     run.put(n, key, count)
                 loop = count < turns or turns == -1
                 _reset_child(run, n)
-                if prev is IDLE and loop:
+                if yields and prev is IDLE and loop:
                     run.woken = True             # emitWakeUpSignal (repeat_node.cpp, retry_node.cpp)
                     return RUNNING
             elif s is done:
@@ -1040,7 +1059,9 @@ def _opaque(run: _Run, n: PNode) -> Status:
     (Nav2's GoalUpdater) passes a SKIPPED on."""
     if not n.kids:
         return _action(run, n)
-    options = tuple(range(len(n.kids))) + (SUCCESS, FAILURE, RUNNING, SKIPPED)
+    # no node of BT.CPP 3.8 returns SKIPPED (3.8's NodeStatus has none); Program.skips
+    statuses = (SUCCESS, FAILURE, RUNNING, SKIPPED) if run.program.skips else (SUCCESS, FAILURE, RUNNING)
+    options = tuple(range(len(n.kids))) + statuses
     while True:
         choice = run.event("choose", n, options)
         if isinstance(choice, Status):
@@ -1153,6 +1174,26 @@ DECORATOR_TYPES = frozenset({"Inverter", "ForceSuccess", "ForceFailure", "KeepRu
                              "SubTree", "RateController"})
 
 
+def base_table(version: int) -> Mapping[str, Rule]:
+    """The node table of BT.CPP `version`: RULES (4), or bt/semantics_v3.py's RULES_V3 (3.8)."""
+    if version == 3:
+        from schemalog.bt.semantics_v3 import RULES_V3
+        return RULES_V3
+    return RULES
+
+
+def table_for(document: Document, rules: Mapping[str, Rule] | None = None) -> dict:
+    """The rules `document` runs under: its version's table extended by the user's `rules`."""
+    return {**base_table(document.version), **(rules or {})}
+
+
+def _decorator_types(version: int) -> frozenset:
+    if version == 3:
+        from schemalog.bt.semantics_v3 import DECORATOR_TYPES_V3
+        return DECORATOR_TYPES_V3
+    return DECORATOR_TYPES
+
+
 def _is_decorator(node: Node, document: Document, table: Mapping[str, Rule]) -> bool:
     """Whether BT.CPP runs `node` as a DecoratorNode: the kind its model or generic form gives,
     else the kind of the rule it runs under, else (a custom node no model declares) one child
@@ -1165,14 +1206,15 @@ def _is_decorator(node: Node, document: Document, table: Mapping[str, Rule]) -> 
         return kind == "Decorator"
     rule = table.get(node.type)
     if rule is not None:
-        return any(rule is RULES[t] for t in DECORATOR_TYPES if t in RULES)
+        base = base_table(document.version)
+        return any(rule is base[t] for t in _decorator_types(document.version) if t in base)
     return True
 
 def subtree_id(node: Node) -> str | None:
     """The ID of the tree a SubTree node calls, or None when `node` is no SubTree call."""
     if node.form == "SubTree":
         return node.type
-    if node.type == "SubTree":
+    if node.type in ("SubTree", "SubTreePlus"):          # SubTreePlus: BT.CPP 3.8's (formats/btxml.py)
         return node.attr("ID")
     return None
 
@@ -1188,12 +1230,36 @@ def call_identity(node: Node, document: Document) -> tuple:
     # model"; one without a default is refused when the tree is read). Under _autoremap the model
     # is not read: a port the call leaves out is the parent's entry of that name.
     tree_id = subtree_id(node)
+    if document.version == 3:
+        return _call_identity_v3(node, tree_id)
     autoremap = node.attr("_autoremap", "false") in _TRUE
     remap = {k: "{" + k + "}" if v == "{=}" else v for k, v in node.attrs if is_port_name(k)}
     model = document.subtree_model(tree_id) if not autoremap and tree_id is not None else None
     for port in subtree_ports((model,)) if model is not None else ():
         if port.name not in remap and port.default:
             remap[port.name] = port.default
+    return ("SubTree", tree_id, tuple(sorted(remap.items())), autoremap)
+
+
+def _call_identity_v3(node: Node, tree_id: str | None) -> tuple:
+    """A SubTree or SubTreePlus call read under BT.CPP 3.8 (recursivelyCreateTree, 3.8's
+    src/xml_parsing.cpp) in call_identity's terms, so that a call of 3.8 and its BT.CPP 4
+    conversion are one context where they bind the same entries:
+    <SubTree ID="T" __shared_blackboard="true"/>   the parent's blackboard itself, the other
+                                                   attributes unread: as 4's _autoremap="true"
+    <SubTree ID="T" goal="target"/>                isolated, `goal` is the parent's `target`
+                                                   (addSubtreeRemapping): 4's goal="{target}"
+    <SubTreePlus ID="T" goal="{target}" n="3" __autoremap="1"/>   `{key}` a remapping, anything
+                                                   else a constant, __autoremap: as 4's SubTree"""
+    if node.type == "SubTree":
+        if node.attr("__shared_blackboard", "false") in _TRUE:
+            return ("SubTree", tree_id, (), True)
+        # __shared_blackboard="false" is remapped too (it is no reserved name), a key no node reads
+        remap = {k: "{" + v + "}" for k, v in node.attrs
+                 if k not in ("ID", "name", "_description", "__shared_blackboard")}
+        return ("SubTree", tree_id, tuple(sorted(remap.items())), False)
+    autoremap = node.attr("__autoremap", "false") in _TRUE
+    remap = {k: v for k, v in node.attrs if k not in ("ID", "name", "_description", "__autoremap")}
     return ("SubTree", tree_id, tuple(sorted(remap.items())), autoremap)
 
 
@@ -1215,7 +1281,7 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None, *, once
     """The document's main tree with its SubTrees expanded, under RULES extended by `rules`.
     `once`: the root is never ticked again once it finished nor halted (a run that ends with
     the root's status, as the prover's), so what the sequences on its way passed is not state."""
-    table = {**RULES, **(rules or {}), "<opaque>": OPAQUE, "<action>": ACTION, "<condition>": CONDITION}
+    table = {**table_for(document, rules), "<opaque>": OPAQUE, "<action>": ACTION, "<condition>": CONDITION}
 
     def build(node: Node, context: tuple, path: tuple, calls: tuple) -> PNode:
         tid = subtree_id(node)
@@ -1233,7 +1299,8 @@ def program(document: Document, rules: Mapping[str, Rule] | None = None, *, once
                      _is_decorator(node, document, table))
 
     root = build(document.root, (), (), (document.main,))
-    return Program(root, MappingProxyType(table), frozenset(_passing(root, table)) if once else frozenset())
+    return Program(root, MappingProxyType(table), frozenset(_passing(root, table)) if once else frozenset(),
+                   document.version, document.version != 3)
 
 
 # Parents that tick a child only when they are ticked, and never tick a finished child again
@@ -1297,7 +1364,7 @@ def _freeze_local(value: object) -> object:
     return _UNKNOWN
 
 
-_FRAME_MODULES = frozenset({__name__, "schemalog.bt.congruence"})   # rules whose frames freeze: the
+_FRAME_MODULES = frozenset({__name__, "schemalog.bt.congruence", "schemalog.bt.semantics_v3"})   # rules whose frames freeze: the
                                                                     # table's, and bt/congruence.py's node
 
 
@@ -1357,7 +1424,7 @@ def _halt_any(run: _Run, n: PNode) -> None:
     if n.kids or run.status(n) is RUNNING or run.program.rules[n.rule].visit is not None:
         run.halt_node(n)
         return
-    code = n.node.attr("_onHalted")
+    code = n.node.attr("_onHalted") if run.program.version != 3 else None
     if code is not None:
         run.script(n, code, "_onHalted")
     run.set_status(n, IDLE)

@@ -13,7 +13,8 @@ def register(sub, parents: Parents) -> None:
     """Add `schemalog compress` and its arguments to the command line."""
     p = sub.add_parser("compress", parents=[parents.limits, parents.resources, parents.output],
                        help="merge sequential behaviours (Definition 1, Algorithm 1)")
-    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to compress, {TOGETHER}")
+    p.add_argument("files", nargs="+", metavar="FILE", help=f"knowledge files holding the task to compress, {TOGETHER}; "
+                        "or BT.CPP tree files and folders of them (each folder's *.xml files), read as one program")
     p.add_argument("--task", help="the task to compress (default: the first task/1); for a BT.CPP tree, the "
                         "BehaviorTree ID to run (default: main_tree_to_execute)")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",

@@ -74,12 +74,12 @@ def run(args: argparse.Namespace) -> int:
     """Compare two versions of a BT.CPP program and report what changed in behaviour."""
     import json
 
-    from ..api.behaviour_trees import is_own_export, read_tree
+    from ..api.behaviour_trees import is_own_export
     from ..api.tree_diff import diff_trees
     from ..errors import UsageError, readable_name
     from ..inputs import is_xml
     from .common import check_output, emit
-    from .trees import _given, _rules, _with_profiles
+    from .trees import _given, _read, _rules, _versions, _with_profiles
 
     if args.rev is not None:                 # schemalog diff --rev REV PATH...: each PATH against git's REV
         from .diff_rev import run_rev
@@ -97,8 +97,8 @@ def run(args: argparse.Namespace) -> int:
         return run_tasks(args, fmt)
     check_output(args.output, _given(args))
     rules = _rules(args)
-    a = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-    b = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
+    versions = _versions(args, 2)
+    a, b = _read(args, args.files[0], versions[0]), _read(args, args.files[1], versions[1])
     report = diff_trees(a, b, args.max_states, rules, run_once=args.run_once, a_name=readable_name(args.files[0]),
                         b_name=readable_name(args.files[1]), under=_with_profiles(args))
     inputs = [*_given(args), *a.includes, *b.includes]

@@ -1,5 +1,5 @@
-"""`schemalog compress F.xml` and `schemalog verify F.xml [SMALL.xml]` for behaviour trees that
-are not schemalog's own exports: BT.CPP 4 semantics, the rewrites of bt/compress.py, the
+"""`schemalog compress F.xml|DIR ...` and `schemalog verify A B` (each a file or a folder) for
+behaviour trees that are not schemalog's own exports: BT.CPP 4 semantics, the rewrites of bt/compress.py, the
 prover of bt/prove.py (docs/behaviour_trees.md)."""
 
 from __future__ import annotations
@@ -10,19 +10,19 @@ import sys
 
 from ..errors import SchemalogError, UsageError, readable_name
 
-PROVED, REFUTED, INCONCLUSIVE = 0, 1, 3
-
-
 def tree_route(args: argparse.Namespace) -> bool:
-    """Whether the command's files are BT.CPP trees to treat as behaviour trees: every file
-    XML (by its content, whatever its name: inputs.is_xml), none schemalog's own export (those
-    are task knowledge, the schema route)."""
+    """Whether the command's files are BT.CPP trees to treat as behaviour trees: every one XML
+    (by its content, whatever its name: inputs.is_xml) or a folder (of BT.CPP trees: task
+    knowledge is never a folder), none schemalog's own export (those are task knowledge, the
+    schema route)."""
+    import os
+
     from ..api.behaviour_trees import is_own_export
     from ..inputs import is_xml
 
     files = args.files
-    return bool(files) and all(is_xml(f) for f in files) \
-        and not any(is_own_export(f, args.max_bytes) for f in files)
+    return bool(files) and all(os.path.isdir(f) or is_xml(f) for f in files) \
+        and not any(is_own_export(f, args.max_bytes) for f in files if not os.path.isdir(f))
 
 
 def schema_route(args: argparse.Namespace) -> None:
@@ -30,7 +30,7 @@ def schema_route(args: argparse.Namespace) -> None:
     not change."""
     given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics),
                             ("--profile", args.profile), ("--drop-names", args.drop_names),
-                            ("--run-once", args.run_once)) if v]
+                            ("--run-once", args.run_once), ("--btcpp", getattr(args, "btcpp", None))) if v]
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files)) or 'the input'} is read as task knowledge "
@@ -59,6 +59,12 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False, drop_
     p.add_argument("--nodes", action="append", default=[], metavar="FILE",
                    help="BT.CPP trees: a file of <TreeNodesModel> declarations (e.g. Nav2's "
                         "nav2_tree_nodes.xml); repeatable")
+    p.add_argument("--btcpp", type=btcpp_versions, default=None, metavar="3|4|3:4",
+                   help="BT.CPP trees: read every file under BT.CPP 3 (3.8) or 4, whatever its BTCPP_format says "
+                        "(a contrary mark is a note on stderr); 3:4 (verify OLD NEW) reads the first under 3.8 and "
+                        "the second under 4. By default a file's BTCPP_format, else what only one version reads "
+                        "(SequenceStar, SubTreePlus: 3.8; Script, _skipIf: 4); a file with neither is proved under "
+                        "both where they can differ (docs/behaviour_trees.md, \"BT.CPP 3 files\")")
     p.add_argument("--run-once", action="store_true",
                    help="BT.CPP trees: prove for trees ticked until they finish, once, and never halted "
                         "(Tree::tickWhileRunning); by default a proof also covers an executor that halts the "
@@ -70,6 +76,36 @@ def add_nodes_option(p: argparse.ArgumentParser, max_states: bool = False, drop_
                    help="BT.CPP trees: let the rewrites remove nodes that carry a name= attribute too; by "
                         "default they are kept, for BT.CPP's substitution rules, Groot2 and loggers find "
                         "nodes by name (docs/behaviour_trees.md)")
+
+
+def btcpp_versions(text: str) -> tuple[int, ...]:
+    """--btcpp 3|4|3:4: the BT.CPP version of every file, or of the first and the second (exit 2 else)."""
+    parts = text.split(":")
+    if len(parts) > 2 or any(p not in ("3", "4") for p in parts):
+        raise argparse.ArgumentTypeError(f"{text!r}: give 3 (BT.CPP 3.8), 4, or OLD:NEW such as 3:4")
+    return tuple(int(p) for p in parts)
+
+
+def _versions(args: argparse.Namespace, files: int) -> tuple:
+    """The version to read each of `files` files under (None: as the file tells)."""
+    given = getattr(args, "btcpp", None)
+    if given is None:
+        return (None,) * files
+    if len(given) == 2 and files != 2:
+        raise UsageError(f"--btcpp {given[0]}:{given[1]} gives two files their versions (verify OLD NEW); "
+                         f"{'this command reads one' if files == 1 else f'{files} files are given'}: --btcpp 3 or 4")
+    return given * files if len(given) == 1 else given
+
+
+def _read(args: argparse.Namespace, path, version):
+    """read_tree with the command's options, its notes on stderr."""
+    from ..api.behaviour_trees import read_tree
+
+    notes: list[str] = []
+    document = read_tree(path, args.nodes, args.max_bytes, args.task, version=version, notes=notes)
+    for note in notes:
+        print(note, file=sys.stderr)
+    return document
 
 
 def profile_name(text: str) -> str:
@@ -94,34 +130,28 @@ def _with_profiles(args: argparse.Namespace) -> str:
     return f" with the {' and '.join(names)} profile{'s' if len(names) > 1 else ''}"
 
 
-def _verdict_words(verdict, under: str = "") -> str:
-    if verdict.equal and verdict.complete:
-        covers = f"; it {verdict.assumed}" if verdict.assumed else ""
-        return f"proved equal to the original under BT.CPP 4 semantics{under}: {verdict.reason}{covers}"
-    if verdict.equal:
-        return f"NOT proved: {verdict.reason}"
-    return f"REFUTED: {verdict.reason}"
-
-
-def _under(args: argparse.Namespace) -> str:
-    """What verify's verdict line says it was proved under: '' without a profile (the wording
-    stays as it was), else ' under BT.CPP 4 semantics with the nav2 profile'."""
-    with_ = _with_profiles(args)
-    return f" under BT.CPP 4 semantics{with_}" if with_ else ""
-
-
-def _count(n: int, word: str) -> str:
-    return f"{n:,} {word}{'' if n == 1 else 's'}"
-
-
-def _status(verdict) -> int:
-    if verdict is None or verdict.equal and verdict.complete:
-        return PROVED
-    return INCONCLUSIVE if verdict.equal else REFUTED
-
-
 def _inputs(args: argparse.Namespace, document) -> list[str]:
     return [*_given(args), *document.includes]
+
+
+def _shown(files) -> str:
+    """The files or folders of one program as a message names them."""
+    return ", ".join(map(readable_name, files))
+
+
+def _not_into_folders(output: str | None, files) -> None:
+    """Refuse an -o FILE.xml inside a folder read as the program: the next reading of the folder
+    would find every tree twice (a usage error, before anything is read)."""
+    import os
+
+    if not output or output == "-" or not output.endswith(".xml"):
+        return
+    where = os.path.realpath(os.path.dirname(os.path.abspath(output)))
+    for f in files:
+        if os.path.isdir(f) and os.path.realpath(f) == where:
+            raise UsageError(f"-o {readable_name(output)} would be written into the folder {readable_name(f)}, "
+                             f"which is read as the program: reading it again would find every tree twice; "
+                             f"write it elsewhere")
 
 
 def _given(args: argparse.Namespace) -> list[str]:
@@ -129,18 +159,13 @@ def _given(args: argparse.Namespace) -> list[str]:
     return [*args.files, *args.nodes, *args.semantics]
 
 
-def kept_words(kept) -> str:
-    """The named nodes a rewrite would have removed and compress kept, in one line ("" for none)."""
-    if not kept:
-        return ""
-    one = len(kept) == 1
-    return (f"kept {_count(len(kept), 'named node')} a rewrite would remove (--drop-names removes "
-            f"{'it' if one else 'them'}): {', '.join(k.node for k in kept)}")
+def _tree(args: argparse.Namespace, paths, rules, version):
+    """The program in `paths` read as the command reads it (_read), with the rules read (_rules),
+    as the API's TreeDocument, whose results print what the command prints (api/trees.py)."""
+    from ..api.trees import document_of
 
-
-def _kept_json(kept) -> list[dict]:
-    return [{"rule": k.rule, "type": k.type, "name": k.name, "file": k.file, "line": k.line, "column": k.column}
-            for k in kept]
+    return document_of([paths] if isinstance(paths, str) else paths, _read(args, paths, version), args.nodes,
+                       args.semantics, _profiles(args), args.task, rules, max_bytes=args.max_bytes, version=version)
 
 
 def _rules(args: argparse.Namespace):
@@ -156,41 +181,31 @@ def _rules(args: argparse.Namespace):
 
 
 def run_compress(args: argparse.Namespace) -> int:
-    """Compress one BT.CPP tree, prove the result, print or write it."""
-    from ..api.behaviour_trees import compress_tree, read_models, read_tree, tree_xml, verdict_text
+    """Compress one BT.CPP program (a file, or several files and folders read as one), prove the
+    result, print or write it."""
+    from ..api.behaviour_trees import verdict_text
+    from ..api.trees import INCONCLUSIVE, compress_tree, kept_words
     from .common import check_output, emit
 
-    if len(args.files) != 1:
-        raise UsageError("compress takes one BT.CPP tree file (its <include>s are read with it)")
     fmt = "json" if args.json else args.format or ("xml" if args.output and args.output.lower().endswith(".xml")
                                                     else "text" if not args.output or args.output == "-" else None)
     if fmt not in ("xml", "text", "json"):
         raise UsageError("a BT.CPP tree compresses to BT.CPP XML (-o FILE.xml), text or JSON (--json); "
                          f"not {args.format or args.output!r}")
     check_output(args.output, _given(args))
+    _not_into_folders(args.output, args.files)
     rules = _rules(args)
-    document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-    result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
-    verdict, code = result.verdict, _status(result.verdict)
-    kept = kept_words(result.kept)
+    tree = _tree(args, args.files, rules, _versions(args, 1)[0])
+    result = compress_tree(tree, max_states=args.max_states, drop_names=args.drop_names, run_once=args.run_once)
+    verdict, code = result.verdict, result.exit_status
+    kept = kept_words(result.kept_names)
     if verdict is not None and not verdict.equal:
         # A rewrite the prover refutes is a bug of ours: say so, write nothing.
         print(verdict_text(verdict), end="")
-        raise SchemalogError(f"the compressed tree differs from {readable_name(args.files[0])}: a rewrite of "
+        raise SchemalogError(f"the compressed tree differs from {_shown(args.files)}: a rewrite of "
                              f"bt/compress.py is wrong here (nothing written); please report it with the file")
-    before, after, shown = result.nodes_before, result.nodes_after, readable_name(args.files[0])
-    if not result.rewrites and result.kept:
-        summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): every rewrite of bt/compress.py "
-                   f"that applies would remove a named node")
-    elif not result.rewrites:
-        summary = (f"{shown}: nothing to compress ({_count(before, 'node')}): no rewrite of bt/compress.py applies "
-                   f"(a composite inside one of its own type, a single-child Sequence or Fallback, a double "
-                   f"Inverter or Force, each without a pre-condition that its removal would change), or each "
-                   f"that does is refuted where it stands and undone")
-    else:
-        summary = (f"{shown}: {_count(after, 'node')} from {before} ({_count(len(result.rewrites), 'rewrite')}), "
-                   f"{_verdict_words(verdict, _with_profiles(args))}")
-    inputs = _inputs(args, document)
+    summary = result.summary
+    inputs = _inputs(args, tree.document)
     if fmt == "xml" and code == INCONCLUSIVE:
         # An unproved tree is not written where a proved one would be: a script that does not
         # read the exit status must not pick it up.
@@ -198,21 +213,11 @@ def run_compress(args: argparse.Namespace) -> int:
               + (f"\n{kept}" if kept else ""), file=sys.stderr)
         return code
     if fmt == "xml":
-        emit(tree_xml(result.compressed, read_models(args.nodes, args.max_bytes)), args.output, inputs,
-             summary.split(": ", 1)[1])
+        emit(result.xml(), args.output, inputs, summary.split(": ", 1)[1])
     elif fmt == "json":
-        emit(json.dumps({"file": args.files[0], "nodes_before": before, "nodes_after": after,
-                         "rewrites": [{"rule": r.rule, "type": r.type, "name": r.name, "file": r.file,
-                                       "line": r.line, "column": r.column} for r in result.rewrites],
-                         "kept_names": _kept_json(result.kept),
-                         "proved": code == PROVED, "complete": verdict.complete if verdict else True,
-                         "states": verdict.states if verdict else 0,
-                         "reason": verdict.reason if verdict else "nothing rewritten",
-                         "covers": verdict.assumed if verdict else ""}, indent=2) + "\n",
-             args.output, inputs, "JSON")
+        emit(json.dumps(result.as_json(), indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(summary + "\n" + "".join(f"  {r}\n" for r in result.rewrites) + (f"{kept}\n" if kept else ""),
-             args.output, inputs, "text")
+        emit(result.text(), args.output, inputs, "text")
     if kept and fmt == "xml":
         print(kept, file=sys.stderr)     # the text and JSON outputs list them with the rewrites
     if code == INCONCLUSIVE and fmt != "text":
@@ -221,50 +226,34 @@ def run_compress(args: argparse.Namespace) -> int:
 
 
 def run_verify(args: argparse.Namespace) -> int:
-    """Prove a compressed BT.CPP tree against its original (or compress one file and prove it)."""
-    from ..api.behaviour_trees import compress_tree, prove_trees, read_tree, verdict_text
+    """Prove a compressed BT.CPP program against its original (or compress one and prove it),
+    each side a file or a folder."""
+    from ..api.trees import verify_trees
     from .common import check_output, emit
 
     check_output(args.output, _given(args))
+    _not_into_folders(args.output, args.files)
     if args.drop_names and len(args.files) != 1:
         raise UsageError("--drop-names applies when verify compresses one BT.CPP tree; with an original and a "
                          "compressed file nothing is compressed")
     rules = _rules(args)
-    kept: tuple = ()
+    versions = _versions(args, len(args.files)) if len(args.files) in (1, 2) else ()
     if len(args.files) == 1:
-        document = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        result = compress_tree(document, args.max_states, rules, drop_names=args.drop_names, run_once=args.run_once)
-        original, verdict, includes, kept = document, result.verdict, document.includes, result.kept
-        if verdict is None:
-            # Nothing rewritten: nothing was checked, and a check that covers nothing is no
-            # proof (exit 3, as a limit's), in text and in JSON alike.
-            reason = "nothing to compress, so nothing was proved (the tree is its own compression)"
-            if args.json:
-                text = json.dumps({"files": args.files, "equal": True, "complete": True, "proved": False,
-                                   "states": 0, "reason": reason, "counterexample": None,
-                                   "kept_names": _kept_json(kept)}, indent=2) + "\n"
-            else:
-                text = f"{readable_name(args.files[0])}: {reason}\n" + (f"{kept_words(kept)}\n" if kept else "")
-            emit(text, args.output, [*_given(args), *includes], "JSON" if args.json else "text")
-            return INCONCLUSIVE
+        # Nothing rewritten is no proof (exit 3, as a limit's): nothing was checked (TreeProof)
+        original = _tree(args, args.files[0], rules, versions[0])
+        proof = verify_trees(original, max_states=args.max_states, drop_names=args.drop_names, run_once=args.run_once)
+        includes = original.includes
     elif len(args.files) == 2:
-        original = read_tree(args.files[0], args.nodes, args.max_bytes, args.task)
-        compressed = read_tree(args.files[1], args.nodes, args.max_bytes, args.task)
-        verdict = prove_trees(original, compressed, args.max_states, rules, run_once=args.run_once)
+        original = _tree(args, args.files[0], rules, versions[0])
+        compressed = _tree(args, args.files[1], rules, versions[1])
+        proof = verify_trees(original, compressed, max_states=args.max_states, run_once=args.run_once)
         includes = (*original.includes, *compressed.includes)
     else:
-        raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed tree")
+        raise UsageError("verify takes one BT.CPP tree (compressed here and proved), or an original and a compressed "
+                         "tree; each a file, or a folder whose *.xml files are one program")
     inputs = [*_given(args), *includes]
     if args.json:
-        cex = verdict.counterexample
-        fields = {"files": args.files, "profiles": _profiles(args), "equal": verdict.equal,
-                  "complete": verdict.complete, "proved": verdict.equal and verdict.complete,
-                  "states": verdict.states, "reason": verdict.reason, "covers": verdict.assumed,
-                  "counterexample": None if cex is None else verdict_text(verdict).splitlines()[1:]}
-        if len(args.files) == 1:
-            fields["kept_names"] = _kept_json(kept)
-        emit(json.dumps(fields, indent=2) + "\n", args.output, inputs, "JSON")
+        emit(json.dumps(proof.as_json(), indent=2) + "\n", args.output, inputs, "JSON")
     else:
-        emit(verdict_text(verdict, _under(args)) + (f"{kept_words(kept)}\n" if kept else ""), args.output, inputs,
-             "text")
-    return _status(verdict)
+        emit(proof.text(), args.output, inputs, "text")
+    return proof.exit_status

@@ -18,7 +18,8 @@ def register(sub, parents: Parents) -> None:
     p = sub.add_parser("verify", parents=[parents.limits, parents.resources],
                        help="prove a compressed task against its original, with counterexamples")
     p.add_argument("files", nargs="+", metavar="FILE",
-                   help="a task file (compressed here), or an original and a compressed file")
+                   help="a task file (compressed here), or an original and a compressed file; for BT.CPP trees, "
+                        "each may be a folder whose *.xml files are read as one program")
     p.add_argument("--task", help="the task (default: the first task/1); for BT.CPP trees, the BehaviorTree "
                         "ID to run (default: main_tree_to_execute)")
     p.add_argument("--propagate", choices=list(defaults.PROPAGATE_MODES), default="full",

@@ -45,7 +45,7 @@ def run_each(args: argparse.Namespace) -> int:
 
     for option, given in (("--task", args.task), ("--sample", args.sample), ("--scene", args.scene),
                           ("--seed", args.seed), ("--states", args.states != "default"), ("--drop-names", args.drop_names),
-                          ("--run-once", args.run_once)):
+                          ("--run-once", args.run_once), ("--btcpp", getattr(args, "btcpp", None))):
         if given:
             raise UsageError(f"{option} is not for --each (each file's tasks are proved from its own initial state)")
     files = files_of(args.files)

@@ -1,6 +1,7 @@
 """Behaviour trees in and out of BehaviorTree.CPP 4 XML: everything BT.CPP 4 loads, as bt.model.
 
-    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes
+    read_bt(text, file, read, models=(), main=None) -> Document   a <root> document and its includes;
+                                          text a sequence of (text, file): several read as one program
     read_models(text, file)               -> models       the <TreeNodesModel> of a nodes file
     write_bt(document)                    -> str          a BTCPP_format="4" document BT.CPP and Groot2 load
     infer_models(document)                -> models       the models write_bt adds for undeclared node types
@@ -39,8 +40,10 @@ every element its line and column.
 
 A single <BehaviorTree> without an ID is named `BehaviorTree_0` (then _1, ...), as BT.CPP names it
 (one with ID="" is named "", as in BT.CPP). The main tree is `main` when given (BT.CPP's
-createTree(name)), else the top file's main_tree_to_execute, else the only tree. Node types that
-BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
+createTree(name)), else the top file's main_tree_to_execute, else the only tree. Several documents
+are read in order into one program, as registerBehaviorTreeFromFile reads file after file into one
+factory (a folder's files: api/behaviour_trees.read_tree); a file reached twice is read once.
+Node types that BT.CPP does not register and no model declares are accepted as opaque custom nodes. What BT.CPP
 refuses is refused with file:line:column; the checks follow VerifyXML, createNodeFromXML and
 recursivelyCreateSubtree of BT.CPP's src/xml_parsing.cpp (4.x): a wrong root element, a generic
 form or <SubTree> without ID, a <BehaviorTree> without exactly one child (or without an ID beside
@@ -62,7 +65,7 @@ declare, a literal that does not convert or without a port its constructor needs
 Beyond BT.CPP, and said so: a BTCPP_format other than 4 (version 3 files named as such), an
 include cycle or includes deeper than MAX_INCLUDE_DEPTH, a SubTree that contains itself (BT.CPP
 recurses without end), a created tree (SubTrees expanded) deeper than MAX_TREE_DEPTH levels, and
-two trees with one ID (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
+two trees with one ID, in one file or two (BT.CPP keeps the last silently). The <SubTree> model entries of one tree
 ID (in several files, or a nodes file) are one model in the Document, merged as loadSubtreeModel
 merges them: a call's remapping takes their defaults (bt/semantics.call_identity). A file an
 <include> reaches is quoted in no message until it is a <root> document (btcpp.read_included:
@@ -85,8 +88,8 @@ from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
 from ..bt.model import Attrs, Document, Node, NodeModel, Port, subtree_ports, walk
-from ..bt.ports import BUILTIN, RESERVED, is_port_name, refusal
-from ..errors import SchemalogError, SourcePos
+from ..bt.ports import BUILTIN, BUILTIN_V3, RESERVED, is_port_name, refusal, refusal_v3
+from ..errors import SchemalogError, SourcePos, readable_name
 from ..inputs import not_regular
 from .btcpp import XNode, parse_xml, read_included
 from .quoting import Unquotable, xml_attribute
@@ -101,6 +104,13 @@ PORT_TAG_OF = {v: k for k, v in PORT_TAGS.items()}
 V3_ONLY = {"SequenceStar": "SequenceWithMemory", "FallbackStar": "Fallback", "SubTreePlus": "SubTree",
            "BlackboardCheckInt": "Precondition", "BlackboardCheckDouble": "Precondition",
            "BlackboardCheckString": "Precondition", "RetryUntilSuccesful": "RetryUntilSuccessful"}
+# Node types of BT.CPP 4 that 3.8 does not register (src/bt_factory.cpp of each)
+V4_ONLY = frozenset(BUILTIN) - frozenset(BUILTIN_V3)
+# Attributes BT.CPP 4 reads and 3.8 does not know: the pre/post-condition scripts, _autoremap
+V4_ATTRIBUTES = RESERVED - {"name", "ID"}
+# Attributes only 3.8 reads: a SubTree's __shared_blackboard, a SubTreePlus's __autoremap
+# (recursivelyCreateTree, src/xml_parsing.cpp), and Parallel's 3.8 thresholds
+V3_ATTRIBUTES = frozenset({"__shared_blackboard", "__autoremap"})
 
 
 # ---------------------------------------------------------------------------
@@ -310,12 +320,6 @@ def _check_root(root: _Element) -> None:
     if root.tag != "root":
         _fail(root, f"a BT.CPP document starts with <root BTCPP_format=\"4\">, not <{root.tag}> (BT.CPP: "
                     f"\"The XML must have a root node called <root>\")")
-    version = root.get("BTCPP_format")
-    if version == "3":
-        _fail(root, "BTCPP_format=\"3\": a BT.CPP 3 file; schemalog reads version 4 (convert it with Groot2 "
-                    "or BT.CPP's migration guide: SequenceStar is SequenceWithMemory, SubTreePlus is SubTree, ...)")
-    if version is not None and version != "4":
-        _fail(root, f"BTCPP_format=\"{version}\": schemalog reads BT.CPP version 4 files")
     seen = None
     for child in root.children:
         if child.tag == "TreeNodesModel":
@@ -357,7 +361,33 @@ def read_models(text: str, file: str = "<xml>") -> tuple[NodeModel, ...]:
     """Read the <TreeNodesModel> entries of a nodes file (such as Nav2's nav2_tree_nodes.xml)."""
     root = _parse(text, file)
     _check_root(root)
+    version = root.get("BTCPP_format")
+    if version is not None and version not in ("3", "4"):
+        _fail(root, f"BTCPP_format=\"{version}\": schemalog reads BT.CPP 3 (3.8) and 4 files")
     return tuple(_models(root))
+
+
+def _tells(root: _Element, declared: frozenset[str]) -> tuple[list[tuple[_Element, str]], list[tuple[_Element, str]]]:
+    """What in a file's trees only BT.CPP 3.8 reads, and what only BT.CPP 4 reads, each with the
+    element it is on (a node type a nodes file declares is the program's own: no tell)."""
+    v3: list[tuple[_Element, str]] = []
+    v4: list[tuple[_Element, str]] = []
+    stack = [c for c in reversed(root.children) if c.tag == "BehaviorTree"]
+    while stack:
+        e = stack.pop()
+        stack.extend(reversed(e.children))
+        if e.tag in declared:
+            continue
+        if e.tag in V3_ONLY or e.tag == "SubTreePlus":
+            v3.append((e, f"<{e.tag}>"))
+        elif e.tag in V4_ONLY:
+            v4.append((e, f"<{e.tag}>"))
+        for k, _ in e.attrs:
+            if k in V3_ATTRIBUTES or (e.tag == "Parallel" and k in ("success_threshold", "failure_threshold")):
+                v3.append((e, f"{k}= on <{e.tag}>"))
+            elif k in V4_ATTRIBUTES or (e.tag == "Parallel" and k in ("success_count", "failure_count")):
+                v4.append((e, f"{k}= on <{e.tag}>"))
+    return v3, v4
 
 
 @dataclass(frozen=True)
@@ -370,21 +400,29 @@ class _Tree:
 
 
 class _Reader:
-    def __init__(self, read, models: tuple[NodeModel, ...]) -> None:
+    def __init__(self, read, models: tuple[NodeModel, ...], version: int | None = None,
+                 notes: list | None = None) -> None:
+        self.forced = version                   # --btcpp: the version every file is read under
+        self.version = version or 4
+        self.unmarked = False
+        self.notes = notes if notes is not None else []
         self.read = read
         self.trees: list[_Tree] = []
         self.models: list[NodeModel] = []
         self.subtree_models: list[NodeModel] = []       # every SubTree entry, in BT.CPP's reading order
         self.extra = models
         self.includes: list[str] = []
+        self.read_paths: dict[str, _Element] = {}     # the root of every file read, by its real path
+        self.decided = False                          # the version told by the first file read
         self.suffix = 0
         self.v3_hint = False
 
     def kind(self, node_type: str, form: str) -> str | None:
         """Return a node type's kind: BT.CPP's own, a nodes file's (what the program registers, which
         BT.CPP goes by), the document's own model's, the generic form's, or None (opaque)."""
-        if node_type in BUILTIN:
-            return BUILTIN[node_type]
+        builtin = BUILTIN_V3 if self.version == 3 else BUILTIN
+        if node_type in builtin:
+            return builtin[node_type]
         for m in (*self.extra, *self.models):
             if m.type == node_type:
                 return m.kind
@@ -395,7 +433,13 @@ class _Reader:
         reached through an <include> (`via`) is quoted only once it is a BT.CPP <root> document."""
         root = _parse(text, file) if via is None else read_included(_parse, text, file, via.get("path"), via.pos)
         _check_root(root)
-        if len(chain) == 1 and root.get("BTCPP_format") is None:
+        self.read_paths[os.path.realpath(file)] = root
+        if len(chain) == 1 and not self.decided:
+            self.decide(root, file)
+            self.decided = True
+        else:
+            self.check_mark(root)
+        if len(chain) == 1 and root.get("BTCPP_format") is None and self.version == 4:
             self.v3_hint = True
         for child in root.children:
             if child.tag == "include":
@@ -416,6 +460,52 @@ class _Reader:
                 self.tree(child, elements)
         return root
 
+    def decide(self, root: _Element, file: str) -> None:
+        """The version the files are read under: --btcpp's, else the top file's BTCPP_format, else
+        its tells (what only one version reads), else 4, loaded alike by 3.8 (`unmarked`)."""
+        mark = root.get("BTCPP_format")
+        if self.forced is not None:
+            if mark != str(self.forced) and mark is not None:
+                self.notes.append(f"note: {root.pos}: BTCPP_format=\"{mark}\", read under BT.CPP "
+                                  f"{_named(self.forced)} as --btcpp says")
+            return
+        if mark in ("3", "4"):
+            self.version = int(mark)
+            return
+        if mark is not None:
+            _fail(root, f"BTCPP_format=\"{mark}\": schemalog reads BT.CPP 3 (3.8) and 4 files; give the version "
+                        f"with --btcpp 3 or --btcpp 4")
+        declared = frozenset(m.type for m in self.extra if m.kind != "SubTree")
+        v3, v4 = _tells(root, declared)
+        if v3 and v4:
+            (e3, w3), (e4, w4) = v3[0], v4[0]
+            first, second = sorted(((e3, w3, "3"), (e4, w4, "4")), key=lambda t: (t[0].pos.line, t[0].pos.column))
+            _fail(second[0], f"{second[1]} is BT.CPP {_named(int(second[2]))}'s only, and {first[1]} at "
+                             f"{first[0].pos} is BT.CPP {_named(int(first[2]))}'s only: the file has no "
+                             f"BTCPP_format, so its version cannot be told (mark it, or give --btcpp 3 or 4)")
+        if v3:
+            self.version = 3
+        elif v4:
+            self.version = 4
+        else:
+            self.unmarked = True
+
+    def check_mark(self, root: _Element) -> None:
+        """Refuse a file (included, or read after the first) marked for another version than the
+        files are read under; one marked for the version an unmarked first file is read under
+        (4) tells the program's version."""
+        mark = root.get("BTCPP_format")
+        if mark is None or mark == str(self.version):
+            if mark is not None and self.forced is None:
+                self.unmarked = False
+            return
+        if self.forced is not None:
+            self.notes.append(f"note: {root.pos}: BTCPP_format=\"{mark}\", read under BT.CPP "
+                              f"{_named(self.forced)} as --btcpp says")
+            return
+        _fail(root, f"BTCPP_format=\"{mark}\" in a file read with one read under BT.CPP {_named(self.version)}: "
+                    f"one program reads every file under one version (give --btcpp to choose it)")
+
     def include(self, element: _Element, file: str, chain: tuple[str, ...]) -> None:
         """Read the file an <include> names, relative to the including file."""
         path = element.get("path")
@@ -427,13 +517,18 @@ class _Reader:
         if self.read is None:
             _fail(element, f"<include path={path!r}>: includes are read only from files")
         target = os.path.normpath(os.path.join(os.path.dirname(file), path))
-        if target in chain:
+        real = os.path.realpath(target)
+        if target in chain or any(os.path.realpath(f) == real for f in chain):
             _fail(element, f"recursive include: {' -> '.join([*chain, target])}")
         if len(chain) > MAX_INCLUDE_DEPTH:
             _fail(element, f"includes nest deeper than {MAX_INCLUDE_DEPTH} files")
         what = not_regular(target)
         if what is not None:            # a FIFO would wait for a writer without end
             _fail(element, f"<include path={path!r}>: names {what}, not a file: BT.CPP includes files")
+        if real in self.read_paths:
+            # read already (another file includes it too, or it is one of the files given): BT.CPP
+            # loads it again and registers the same trees and models anew, which changes nothing
+            return
         try:
             text = self.read(target)
         except SchemalogError as err:
@@ -452,12 +547,15 @@ class _Reader:
         if tree_id is None:                     # ID="" names the tree "" (BT.CPP's loadDocImpl)
             tree_id = f"BehaviorTree_{self.suffix}"
             self.suffix += 1
-        if tree_id in BUILTIN:
+        if tree_id in (BUILTIN_V3 if self.version == 3 else BUILTIN):
             _fail(element, "The attribute [ID] of tag <BehaviorTree> must not use the name of a registered "
                            f"Node ({tree_id})")
         for other in self.trees:
             if other.id == tree_id:
-                _fail(element, f"BehaviorTree {tree_id} is defined twice (first at {other.element.pos})")
+                # BT.CPP's loadDocImpl keeps the last silently (tree_roots[name] = ...); Nav2 skips a
+                # later file that defines an ID again: which tree runs would hang on the reading order
+                _fail(element, f"BehaviorTree {tree_id} is defined twice (first at {other.element.pos}): "
+                               f"BT.CPP would keep the one read last")
         if len(element.children) != 1:
             _fail(element, f"The tag <BehaviorTree> with ID '{tree_id}' must have exactly 1 child, not "
                            f"{len(element.children)}")
@@ -468,7 +566,9 @@ class _Reader:
         tag, node_id = element.tag, element.get("ID")
         if tag in V3_ONLY and self.v3_hint:
             _fail(element, f"<{tag}> is a BT.CPP 3 node (version 4 has {V3_ONLY[tag]}) and the file has no "
-                           f"BTCPP_format=\"4\": a BT.CPP 3 file, which schemalog does not read")
+                           f"BTCPP_format=\"4\": a BT.CPP 3 file, read as one under --btcpp 3 (or without --btcpp)")
+        if self.version == 3:
+            self.v3_checks(element)
         if tag in (*GENERIC, "SubTree") and not node_id:
             _fail(element, f"The tag <{tag}> must have the attribute [ID]")
         if tag == "BehaviorTree":
@@ -477,10 +577,19 @@ class _Reader:
         # SubTree are refused where BT.CPP creates the node only (_subtree_checks); the rest is
         # checked before the children, as VerifyXML walks a tree (pre-order)
         count = len(element.children)
+        if tag == "SubTreePlus" and self.version == 3:
+            # SubtreePlusNode (3.8): a SubTree call whose remapping reads `{key}` as a key and
+            # anything else as a constant; recursivelyCreateTree ignores its children, refused here
+            if count:
+                _fail(element, f"<SubTreePlus> with ID '{node_id}' has children, which BT.CPP 3.8 ignores; "
+                               f"schemalog refuses them")
+            if not node_id:
+                _fail(element, "The node <SubTreePlus> must have the attribute [ID]")
+            return Node("SubTreePlus", element.attrs, (), "", element.pos.line, element.pos.column, element.pos.file)
         if tag == "SubTree":
             if count:
                 _fail(element, f"<SubTree> with ID '{node_id}' should not have any child")
-            if node_id in BUILTIN:
+            if node_id in (BUILTIN_V3 if self.version == 3 else BUILTIN):
                 _fail(element, "The attribute [ID] of tag <SubTree> must not use the name of a registered "
                                f"Node ({node_id})")
             return Node("SubTree", element.attrs, (), "", element.pos.line, element.pos.column, element.pos.file)
@@ -508,6 +617,32 @@ class _Reader:
                     element.pos.file)
 
 
+def _named(version: int) -> str:
+    """A BT.CPP version as the messages name it: 3.8 or 4."""
+    return "3.8" if version == 3 else "4"
+
+
+def _v3_checks(reader: _Reader, element: _Element) -> None:
+    """Refuse what BT.CPP 3.8 does not load in a tree read under 3.8: a node type of 4 only (3.8's
+    VerifyXML: "Node not recognized"), RetryUntilSuccesful (3.8 registers it no more), a
+    pre/post-condition attribute (a port of that name, which no node of 3.8 declares)."""
+    tag = element.tag
+    declared = any(m.type == tag for m in reader.extra)
+    if tag in V4_ONLY and not declared:
+        _fail(element, f"Node not recognized: {tag} (BT.CPP 3.8 does not register <{tag}>: it is BT.CPP 4's; "
+                       f"{'its 3.8 counterpart is <SequenceStar>' if tag == 'SequenceWithMemory' else 'a 3.8 program registers it only as its own node, given with --nodes'})")
+    if tag == "RetryUntilSuccesful" and not declared:
+        _fail(element, "Node not recognized: RetryUntilSuccesful (BT.CPP 3.8 comments out the registration of the "
+                       "misspelt name, src/bt_factory.cpp; write RetryUntilSuccessful)")
+    for k, _ in element.attrs:
+        if k in V4_ATTRIBUTES:
+            _fail(element, f"{k}= is a BT.CPP 4 attribute (pre/post-conditions, _autoremap): BT.CPP 3.8 reads it as a "
+                           f"port named {k}, which its own nodes refuse (Possible typo?) and no 3.8 program declares")
+
+
+_Reader.v3_checks = _v3_checks
+
+
 def _subtree_checks(reader: _Reader, main: str) -> None:
     """Check the trees BT.CPP creates, the main tree and the SubTrees it reaches, node by node in
     the order createNodeFromXML meets them: an ID on a tag that takes none, a generic form naming
@@ -531,6 +666,11 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
                     f"{' -> '.join(path[:3])} -> ... -> {' -> '.join(path[-3:])} ({len(path) - 1:,} SubTrees)"
                 raise SchemalogError(f"the tree BT.CPP creates nests deeper than {MAX_TREE_DEPTH} levels here, "
                                      f"through {chain}: beyond schemalog's limit", where)
+            if reader.version == 3:
+                target = _v3_call_checks(n, where, trees, path)
+                if target is not None and done.get(target, -1) < level + 1:
+                    visit(target, (*path, target), level + 1)
+                continue
             if not n.form and n.type != "SubTree" and n.attr("ID") is not None:
                 raise SchemalogError(f"Attribute [ID] is not allowed in <{n.type}> (BT.CPP): only <Action>, "
                                      f"<Condition>, <Control>, <Decorator> and <SubTree> have one", where)
@@ -568,6 +708,35 @@ def _subtree_checks(reader: _Reader, main: str) -> None:
     visit(main, (main,), 0)
 
 
+def _v3_call_checks(n: Node, where: SourcePos, trees: dict, path: tuple) -> str | None:
+    """_subtree_checks for a node of a tree read under BT.CPP 3.8 (createNodeFromXML and
+    recursivelyCreateTree of 3.8's src/xml_parsing.cpp): an ID on another tag, a builtin's
+    attributes, and a SubTree or SubTreePlus call: its tree, its __shared_blackboard or
+    __autoremap a boolean (convertFromString<bool>); a SubTree model's ports are not read by 3.8.
+    The tree a call names, to check next, or None."""
+    call = n.type in ("SubTree", "SubTreePlus") and not n.form
+    if not n.form and not call and n.attr("ID") is not None:
+        raise SchemalogError(f"Attribute [ID] is not allowed in <{n.type}>: BT.CPP 3.8 reads it as a port of that "
+                             f"name, which no node declares", where)
+    why = refusal_v3(n.type, n.attrs) if not call else None
+    if why is not None:
+        raise SchemalogError(why, where)
+    if not call:
+        return None
+    flag = "__shared_blackboard" if n.type == "SubTree" else "__autoremap"
+    value = n.attr(flag)
+    if value is not None and value not in ("true", "TRUE", "True", "1", "false", "FALSE", "False", "0"):
+        raise SchemalogError(f"{flag}=\"{value}\" is not a boolean (BT.CPP 3.8: convertFromString<bool> throws)",
+                             where)
+    target = n.attr("ID")
+    if target not in trees:
+        raise SchemalogError(f"<{n.type} ID=\"{target}\"> names no BehaviorTree (BT.CPP 3.8: Can't find a tree "
+                             f"with name: {target})", where)
+    if target in path:
+        raise SchemalogError(f"SubTree {target} contains itself: {' -> '.join([*path, target])}", where)
+    return target
+
+
 def _subtree_models(reader: _Reader) -> dict[str, NodeModel]:
     """BT.CPP's subtree_models: one model per tree ID, every entry of the ID merged (bt.model.subtree_ports)."""
     # read file by file, includes first, then the nodes files; an ID's entries are merged even
@@ -594,7 +763,7 @@ def _kind_checks(reader: _Reader) -> None:
     first: dict[str, Node] = {}
     for t in reader.trees:
         for n in walk(t.root):
-            if n.type == "SubTree" and not n.form:
+            if n.type in ("SubTree", "SubTreePlus") and not n.form:
                 continue
             other = first.setdefault(n.type, n)
             if bool(other.children) != bool(n.children):
@@ -614,7 +783,7 @@ def _tree_id_checks(reader: _Reader) -> None:
     trees = {t.id: t for t in reader.trees}
     for t in reader.trees:
         for n in walk(t.root):
-            if n.type in trees and n.type != "SubTree":
+            if n.type in trees and n.type not in ("SubTree", "SubTreePlus"):
                 where = SourcePos(n.file or t.element.pos.file, n.line, n.column)
                 raise SchemalogError(f"<{n.form or n.type}{f' ID={n.type!r}' if n.form else ''}> names the "
                                      f"BehaviorTree {n.type} as a node type; BT.CPP 4 refuses it (unregistered: "
@@ -630,33 +799,99 @@ def _tree_id_checks(reader: _Reader) -> None:
                                          f"{'an' if m.kind[0] in 'AE' else 'a'} {m.kind}")
 
 
-def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
-            main: str | None = None) -> Document:
-    """Read a BT.CPP 4 document; `read(path) -> str` reads the files it includes, `models` are
-    node models from elsewhere (a nodes file: what the program registers) that the document's own
-    models take precedence over, except for a node type's kind, which BT.CPP takes from the
-    registration (the document's TreeNodesModel registers nothing),
-    `main` names the tree to run as BT.CPP's createTree(name) does (default, "" too: as createTreeFromText)."""
-    reader = _Reader(read, tuple(models))
-    root = reader.document(text, file, (os.path.normpath(file),))
+def _distinct(roots: list[_Element]) -> list[_Element]:
+    """`roots` without repeats (a file named twice is read once), in order."""
+    return list({id(r): r for r in roots}.values())
+
+
+def _names(roots: list[_Element], most: int = 4) -> str:
+    """The files of `roots` as a message lists them: the first few, then how many more."""
+    names = [readable_name(r.pos.file) for r in _distinct(roots)]
+    return ", ".join(names[:most]) + (f" and {len(names) - most} more" if len(names) > most else "")
+
+
+def _agreed_main(reader: _Reader, roots: list[_Element]) -> tuple[str, _Element]:
+    """The main tree of files none of which is given first (a folder's): the main_tree_to_execute
+    they agree on, else the only tree; several, or none among several trees, is refused with the
+    candidates (BT.CPP would take the first file opened's, which a folder's order does not say)."""
+    named = [(r, r.get("main_tree_to_execute")) for r in _distinct(roots)
+             if r.get("main_tree_to_execute") is not None]
+    values = list(dict.fromkeys(v for _, v in named))
+    if len(values) == 1:
+        return values[0], named[0][0]
+    if len(values) > 1:
+        said = "; ".join(f"{r.pos}: main_tree_to_execute=\"{v}\"" for r, v in named)
+        raise SchemalogError(f"the files read name different main trees ({said}): name the one to run with "
+                             f"--task", named[1][0].pos)
+    if len(reader.trees) == 1:
+        return reader.trees[0].id, roots[0]
+    called = {n.attr("ID") for t in reader.trees for n in walk(t.root) if n.type == "SubTree" and not n.form}
+    candidates = [t.id for t in reader.trees if t.id not in called] or [t.id for t in reader.trees]
+    raise SchemalogError(f"no file read names main_tree_to_execute, and the {len(_distinct(roots))} files ({_names(roots)}) "
+                         f"define {len(reader.trees)} BehaviorTrees; the trees no <SubTree> calls: "
+                         f"{', '.join(candidates[:10])}{f' and {len(candidates) - 10} more' if len(candidates) > 10 else ''}: name "
+                         f"the one to run with --task")
+
+
+
+def read_bt(text, file: str = "<xml>", read=None, models: tuple[NodeModel, ...] = (),
+            main: str | None = None, *, main_from: int | None = 0, version: int | None = None,
+            notes: list | None = None) -> Document:
+    """Read a BT.CPP 4 document, or several as one program; `read(path) -> str` reads the files
+    they include, `models` are node models from elsewhere (a nodes file: what the program
+    registers) that the documents' own models take precedence over, except for a node type's
+    kind, which BT.CPP takes from the registration (a TreeNodesModel registers nothing),
+    `main` names the tree to run as BT.CPP's createTree(name) does (default, "" too: as createTreeFromText).
+
+    `text` is one document's text (named `file`) or a sequence of (text, file) pairs, read in
+    order into one program as BT.CPP's registerBehaviorTreeFromFile reads file after file into
+    one factory: every check of one document holds for each, and across them (a tree ID defined
+    twice, a node type used both as a leaf and with children, a SubTree naming a tree of another
+    file). A file read already (through an <include>, or named twice) is not read again: BT.CPP
+    would register the same trees anew. Without `main`, the main tree is the main_tree_to_execute
+    of the document `main_from` indexes (BT.CPP's instantiateTree: the first document opened),
+    else the only tree; with `main_from` None (a folder's files, none given first), the one
+    main_tree_to_execute the documents agree on, else the only tree."""
+    documents = ((text, file),) if isinstance(text, str) else tuple(text)
+    if not documents:
+        raise SchemalogError("no BT.CPP document to read")
+    reader = _Reader(read, tuple(models), version, notes)
+    roots: list[_Element] = []
+    for body, name in documents:
+        real = os.path.realpath(name)
+        if real in reader.read_paths and os.path.isfile(name):
+            roots.append(reader.read_paths[real])       # read already, through an <include> or named twice
+            continue
+        roots.append(reader.document(body, name, (os.path.normpath(name),)))
+    root, single = roots[0], len(_distinct(roots)) == 1
     if not reader.trees:
         hint = (": it holds a <TreeNodesModel> only, a nodes file (give it with --nodes)"
                 if any(c.tag == "TreeNodesModel" for c in root.children) else "")
+        if not single:
+            raise SchemalogError(f"the {len(_distinct(roots))} files read ({_names(roots)}) define no <BehaviorTree>")
         _fail(root, f"the document defines no <BehaviorTree>{hint}")
     _tree_id_checks(reader)
     _kind_checks(reader)
     ids = ", ".join(t.id for t in reader.trees)
     asked = main or None                # createTree("") is createTree(): the default main tree
-    main = asked if asked is not None else root.get("main_tree_to_execute")
-    if main is None:
-        if len(reader.trees) != 1:
-            _fail(root, "If you don't specify the attribute [main_tree_to_execute], Your file must contain a "
-                        f"single BehaviorTree (BT.CPP); it holds {len(reader.trees)}: {ids} (name the one "
-                        f"to run: --task on the command line)")
-        main = reader.trees[0].id
-    elif all(t.id != main for t in reader.trees):
+    if asked is None and main_from is None:
+        main, root = _agreed_main(reader, roots)
+    else:
+        if main_from is not None:
+            root = roots[main_from]
+        main = asked if asked is not None else root.get("main_tree_to_execute")
+        if main is None:
+            if len(reader.trees) != 1:
+                where = "Your file must" if single else \
+                    f"the first file ({readable_name(root.pos.file)}) names none, so the files read must"
+                _fail(root, f"If you don't specify the attribute [main_tree_to_execute], {where} contain a "
+                            f"single BehaviorTree (BT.CPP); {'it holds' if single else 'they hold'} "
+                            f"{len(reader.trees)}: {ids} (name the one to run: --task on the command line)")
+            main = reader.trees[0].id
+    if all(t.id != main for t in reader.trees):
         named = f"the tree {main!r} asked for" if asked is not None else f"main_tree_to_execute=\"{main}\""
-        _fail(root, f"{named} names no BehaviorTree; the document's trees: {ids}")
+        _fail(root, f"{named} names no BehaviorTree; the {'document' if single else 'program'}'s "
+                    f"trees: {ids}")
     _subtree_checks(reader, main)
     # the document's own models first, but each with the kind a nodes file registers its type as
     registered = {m.type: m.kind for m in reversed(reader.extra) if m.kind != "SubTree"}
@@ -668,7 +903,8 @@ def read_bt(text: str, file: str = "<xml>", read=None, models: tuple[NodeModel, 
     calls = _subtree_models(reader)
     merged = tuple(calls.pop(m.type) if m.kind == "SubTree" else m for m in merged
                    if m.kind != "SubTree" or m.type in calls) + tuple(calls.values())
-    return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes))
+    return Document(tuple((t.id, t.root) for t in reader.trees), main, merged, tuple(reader.includes),
+                    reader.version, reader.unmarked)
 
 
 # ---------------------------------------------------------------------------
@@ -689,7 +925,8 @@ def infer_models(document: Document) -> tuple[NodeModel, ...]:
     ports: dict[str, dict[str, str]] = {}
     for _, root in document.trees:
         for n in walk(root):
-            if n.type in BUILTIN or n.type in declared or (n.type == "SubTree" and not n.form):
+            builtin = BUILTIN_V3 if document.version == 3 else BUILTIN
+            if n.type in builtin or n.type in declared or (n.type in ("SubTree", "SubTreePlus") and not n.form):
                 continue
             kind = n.form or ("Action" if not n.children else "Decorator" if len(n.children) == 1 else "Control")
             kinds.setdefault(n.type, set()).add(kind)
@@ -771,10 +1008,10 @@ def _model(m: NodeModel) -> list[str]:
 
 
 def write_bt(document: Document) -> str:
-    """Write a BTCPP_format="4" document of every tree, in the document's order, with a TreeNodesModel."""
+    """Write a BTCPP_format="4" document (BTCPP_format="3" for one read under 3.8) of every tree, in the document's order, with a TreeNodesModel."""
     trees = document.trees
     lines = ['<?xml version="1.0" encoding="UTF-8"?>',
-             f'<root BTCPP_format="4" main_tree_to_execute={xml_attribute(document.main)}>']
+             f'<root BTCPP_format="{document.version}" main_tree_to_execute={xml_attribute(document.main)}>']
     for tree_id, root in trees:
         lines.append(f"  <BehaviorTree ID={xml_attribute(tree_id)}>")
         lines += _node(root, "    ")

@@ -8,7 +8,9 @@
 
 `assert_compression_sound` and `assert_equivalent` prove with `schemalog.verify` and, unless the
 result is a proof, raise an AssertionError (NotProved) whose message is the report `schemalog
-verify` prints: the counterexample, or why the task itself cannot complete, or the limit hit. The strategies are in
+verify` prints: the counterexample, or why the task itself cannot complete, or the limit hit.
+`assert_bt_equal` and `assert_bt_compresses` do the same for BT.CPP trees with
+`schemalog.verify_trees` (TreesNotProved: the counterexample root tick by root tick). The strategies are in
 `schemalog.testing.strategies` (they need hypothesis), the pytest plugin (`pytest
 --schemalog-tasks DIR`) in `schemalog.testing.plugin`. docs/testing.md has an example suite.
 
@@ -20,9 +22,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # annotations only: `import schemalog.testing` stays light
-    from schemalog import Report, Task
+    from schemalog import Report, Task, TreeDocument, TreeProof
 
-__all__ = ["NotProved", "assert_compression_sound", "assert_equivalent"]
+__all__ = ["NotProved", "TreesNotProved", "assert_bt_compresses", "assert_bt_equal", "assert_compression_sound",
+           "assert_equivalent"]
 
 
 class NotProved(AssertionError):
@@ -78,3 +81,45 @@ def _proved(original: "Task", compressed: "Task", **verify_options: Any) -> "Rep
     if not report.proved:
         raise NotProved(report)
     return report
+
+
+class TreesNotProved(NotProved):
+    """Two BT.CPP trees not proved equal: the message is what `schemalog verify A.xml B.xml` prints
+    (the counterexample root tick by root tick, or the limit that made it no proof), `.report`
+    the TreeProof."""
+
+
+def assert_bt_equal(original: "TreeDocument | str", compressed: "TreeDocument | str", **options: Any) -> "TreeProof":
+    """Prove two BT.CPP trees equal under BT.CPP 4 semantics, as `schemalog verify A.xml B.xml`.
+
+    Each is a file name (or several, one tree) or a TreeDocument from `schemalog.read_tree`;
+    `options` are `schemalog.verify_trees`'s (nodes, semantics, profile, main, run_once,
+    max_states, timeout). Returns the TreeProof of a proof; raises TreesNotProved (an
+    AssertionError) with what `schemalog verify` prints when the trees are refuted or a limit cut
+    the proof short.
+    """
+    __tracebackhide__ = True
+    import schemalog
+
+    return _trees_proved(schemalog.verify_trees(original, compressed, **options))
+
+
+def assert_bt_compresses(tree: "TreeDocument | str", **options: Any) -> "TreeProof":
+    """Compress a BT.CPP tree and prove the result equal to it, as `schemalog verify F.xml`.
+
+    Passes exactly when that command exits 0: a tree with nothing to compress fails too (nothing
+    was proved), as a refuted rewrite or a limit does, with the command's words. `options` as
+    assert_bt_equal's, and `drop_names`. Returns the TreeProof; its `.compression` has the
+    rewrites and the compressed tree (`.compression.xml()`).
+    """
+    __tracebackhide__ = True
+    import schemalog
+
+    return _trees_proved(schemalog.verify_trees(tree, **options))
+
+
+def _trees_proved(proof: "TreeProof") -> "TreeProof":
+    __tracebackhide__ = True
+    if not proof.proved:
+        raise TreesNotProved(proof)
+    return proof

@@ -1,4 +1,5 @@
-"""The pytest plugin: `pytest --schemalog-tasks DIR` proves every task of every task file under DIR.
+"""The pytest plugin: `pytest --schemalog-tasks DIR` proves every task of every task file under DIR;
+`pytest --schemalog-trees DIR` proves every BT.CPP tree under DIR equal to its recorded version.
 
 Registered as the entry point `schemalog` (pyproject.toml, `pytest11`), so an installed
 schemalog adds it to every pytest run; it does nothing unless `--schemalog-tasks` (or the ini
@@ -20,6 +21,15 @@ ini's when pytest is given no path arguments; a path argument inside a task fold
 `tasks/two.pl::t1` pytest prints) selects what it names there instead. A folder with no task
 file is a usage error, and folders that give no item at all are a collection error.
 
+BT.CPP trees (--schemalog-trees, the ini option schemalog_trees, collected as the task folders
+are): a tree `X.xml` with a recorded version beside it, `X.compressed.xml` (what `schemalog
+compress X.xml -o X.compressed.xml` wrote) or `X.approved.xml` (a version someone approved), gives
+one item per recorded version, `X.xml::X.compressed.xml`, that proves the two equal under BT.CPP 4
+semantics as `schemalog verify X.xml X.compressed.xml` does, read with the nodes files, semantics
+files and profiles of --schemalog-nodes, --schemalog-semantics and --schemalog-profile (or their
+ini options). A failure is what that command prints: the counterexample root tick by root tick,
+or the limit that made it no proof, or the file:line:column of a file that does not read.
+
 Importing this module imports only pytest and the standard library (docs/testing.md).
 """
 
@@ -36,6 +46,7 @@ from typing import Any, Iterator
 import pytest
 
 SUFFIXES = (".pl", ".prolog")
+RECORDED = ("compressed", "approved")     # X.xml's recorded versions: X.compressed.xml, X.approved.xml
 PROPAGATE = ("none", "pre", "full")
 MAX_STATES = 50_000          # schemalog verify's defaults (defaults.MAX_STATES, --max-bdd-nodes): the
 MAX_BDD_NODES = 5_000_000    # plugin passes none unless asked; these are only shown (tests check them)
@@ -43,6 +54,7 @@ MIN_TIMEOUT, MAX_TIMEOUT = 0.001, 365 * 24 * 3600
 _SETTINGS = pytest.StashKey["Settings"]()
 _NOTES = pytest.StashKey[list]()
 _SEEN = pytest.StashKey[set]()
+_TREES = pytest.StashKey["TreeSettings"]()
 
 
 @dataclass
@@ -53,6 +65,19 @@ class Settings:
     propagate: str
     states: str
     verify: dict[str, Any]       # max_states, max_bdd_nodes: those set
+    timeout: float | None
+
+    def active(self) -> list[Path]:
+        return [p for p in self.paths if self.modes[p] != "off"]
+
+
+@dataclass
+class TreeSettings:
+    paths: list[Path]            # the folders and files named (absolute)
+    source: str                  # "--schemalog-trees" or "schemalog_trees (ini)"
+    modes: dict[Path, str]       # as Settings.modes
+    reading: dict[str, Any]      # read_tree's nodes, semantics, profile (those set)
+    proving: dict[str, Any]      # verify_trees's run_once, max_states (those set)
     timeout: float | None
 
     def active(self) -> list[Path]:
@@ -78,6 +103,23 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group.addoption("--schemalog-timeout", default=None, metavar="SECONDS", dest="schemalog_timeout",
                     help="fail an item whose instantiation, compression and proof take longer than this "
                          "(default: none, as schemalog verify; ini schemalog_timeout)")
+    group.addoption("--schemalog-trees", action="append", default=[], metavar="PATH", dest="schemalog_trees",
+                    help="prove every BT.CPP tree X.xml under PATH, a folder or a file, equal to its recorded "
+                         "version beside it, X.compressed.xml or X.approved.xml: one test per pair (repeatable; "
+                         "replaces the ini option schemalog_trees)")
+    group.addoption("--schemalog-nodes", action="append", default=None, metavar="FILE", dest="schemalog_nodes",
+                    help="trees: a <TreeNodesModel> file (Nav2's nav2_tree_nodes.xml), as schemalog verify --nodes "
+                         "(repeatable; ini schemalog_nodes)")
+    group.addoption("--schemalog-semantics", action="append", default=None, metavar="FILE",
+                    dest="schemalog_semantics",
+                    help="trees: a YAML file of custom node types' semantics, as schemalog verify --semantics "
+                         "(repeatable; ini schemalog_semantics)")
+    group.addoption("--schemalog-profile", action="append", default=None, metavar="NAME", dest="schemalog_profile",
+                    help="trees: node semantics schemalog ships, as schemalog verify --profile: nav2 "
+                         "(repeatable; ini schemalog_profile)")
+    group.addoption("--schemalog-run-once", action="store_true", default=None, dest="schemalog_run_once",
+                    help="trees: prove for trees ticked until they finish, once, never halted, as schemalog verify "
+                         "--run-once (ini schemalog_run_once)")
     parser.addini("schemalog_tasks", type="paths", default=[],
                   help="folders or files whose tasks are proved, as --schemalog-tasks (relative to the ini "
                        "file; collected when pytest is given no path arguments)")
@@ -87,6 +129,14 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addini("schemalog_max_bdd_nodes", default="",
                   help=f"as --schemalog-max-bdd-nodes (default {MAX_BDD_NODES:,})")
     parser.addini("schemalog_timeout", default="", help="as --schemalog-timeout, seconds (default: none)")
+    parser.addini("schemalog_trees", type="paths", default=[],
+                  help="folders or files whose BT.CPP trees are proved equal to their recorded versions, as "
+                       "--schemalog-trees (relative to the ini file; collected when pytest is given no path arguments)")
+    parser.addini("schemalog_nodes", type="paths", default=[], help="as --schemalog-nodes (relative to the ini file)")
+    parser.addini("schemalog_semantics", type="paths", default=[],
+                  help="as --schemalog-semantics (relative to the ini file)")
+    parser.addini("schemalog_profile", type="args", default=[], help="as --schemalog-profile: nav2")
+    parser.addini("schemalog_run_once", type="bool", default=False, help="as --schemalog-run-once")
 
 
 def _value(config: pytest.Config, name: str) -> tuple[str, str]:
@@ -150,15 +200,7 @@ def _decide(config: pytest.Config) -> Settings:
     else:
         paths, source = [Path(p).absolute() for p in config.getini("schemalog_tasks")], "schemalog_tasks (ini)"
     paths = list(dict.fromkeys(paths))
-    arguments = _argument_paths(config)
-    modes = {}
-    for path in paths:
-        if any(_within(arg, path) for arg in arguments):
-            modes[path] = "args"          # `pytest tasks/two.pl::t1`: what is named there, no more
-        elif given or not arguments:
-            modes[path] = "inject"        # every task under it, beside the test arguments
-        else:
-            modes[path] = "off"           # the ini's folders, with test paths named: not collected
+    modes = _modes(config, paths, bool(given))
     propagate, where = _value(config, "propagate")
     propagate = propagate or "full"
     if propagate not in PROPAGATE:
@@ -168,6 +210,70 @@ def _decide(config: pytest.Config) -> Settings:
                                             ("max_bdd_nodes", _positive(config, "max_bdd_nodes")))
               if value is not None}
     return Settings(paths, source, modes, propagate, states, verify, _timeout(config))
+
+
+def _modes(config: pytest.Config, paths: list[Path], given: bool) -> dict[Path, str]:
+    """How each folder named is collected: "args", "inject" or "off"."""
+    arguments = _argument_paths(config)
+    modes = {}
+    for path in paths:
+        if any(_within(arg, path) for arg in arguments):
+            modes[path] = "args"          # `pytest tasks/two.pl::t1`: what is named there, no more
+        elif given or not arguments:
+            modes[path] = "inject"        # every task under it, beside the test arguments
+        else:
+            modes[path] = "off"           # the ini's folders, with test paths named: not collected
+    return modes
+
+
+def _named_files(config: pytest.Config, name: str) -> tuple[list[Path], str]:
+    """The files of a repeatable option, else of its ini option (relative to the ini file)."""
+    given = config.getoption(f"schemalog_{name}")
+    if given:
+        here = config.invocation_params.dir
+        return [Path(here, p).absolute() for p in given], f"--schemalog-{name}"
+    return [Path(p).absolute() for p in config.getini(f"schemalog_{name}")], f"schemalog_{name} (ini)"
+
+
+def _decide_trees(config: pytest.Config) -> TreeSettings:
+    here = config.invocation_params.dir
+    given = config.getoption("schemalog_trees")
+    if given:
+        paths, source = [Path(here, p).absolute() for p in given], "--schemalog-trees"
+    else:
+        paths, source = [Path(p).absolute() for p in config.getini("schemalog_trees")], "schemalog_trees (ini)"
+    paths = list(dict.fromkeys(paths))
+    reading: dict[str, Any] = {}
+    for name in ("nodes", "semantics"):
+        files, where = _named_files(config, name)
+        for file in files:
+            if paths and not file.is_file():
+                raise pytest.UsageError(f"{where}: {_shown(config, file)}: no such file")
+        if files:
+            reading[name] = [str(f) for f in files]
+    profiles = config.getoption("schemalog_profile") or config.getini("schemalog_profile")
+    if profiles:
+        from schemalog.api.behaviour_trees import PROFILES      # light: no engine, no yaml
+
+        where = "--schemalog-profile" if config.getoption("schemalog_profile") else "schemalog_profile (ini)"
+        for name in profiles:
+            if name not in PROFILES:
+                raise pytest.UsageError(f"{where}: unknown profile {name!r}; the profiles schemalog ships: "
+                                        f"{', '.join(PROFILES)}")
+        reading["profile"] = list(dict.fromkeys(profiles))
+    run_once = config.getoption("schemalog_run_once")
+    proving: dict[str, Any] = {"run_once": True} if (config.getini("schemalog_run_once") if run_once is None
+                                                       else run_once) else {}
+    max_states = _positive(config, "max_states")
+    if max_states is not None:
+        proving["max_states"] = max_states
+    return TreeSettings(paths, source, _modes(config, paths, bool(given)), reading, proving, _timeout(config))
+
+
+def tree_settings(config: pytest.Config) -> TreeSettings:
+    if _TREES not in config.stash:
+        config.stash[_TREES] = _decide_trees(config)
+    return config.stash[_TREES]
 
 
 def settings(config: pytest.Config) -> Settings:
@@ -189,6 +295,21 @@ def pytest_configure(config: pytest.Config) -> None:
                 skipped = "".join(f"; {_shown(config, file)}: {why}" for file, why in files)
                 raise pytest.UsageError(f"{found.source}: {_shown(config, path)}: no task files (*.pl, *.prolog) "
                                         f"in this folder: no task to prove{skipped}")
+    config.stash[_TREES] = trees = _decide_trees(config)
+    for path in trees.paths:
+        if not os.path.lexists(path):
+            raise pytest.UsageError(f"{trees.source}: {_shown(config, path)}: no such folder or file")
+        if trees.modes[path] == "inject" and path.is_dir() and not any(True for _ in tree_pairs([path])):
+            raise pytest.UsageError(f"{trees.source}: {_shown(config, path)}: no tree with a recorded version "
+                                    f"in this folder (X.xml beside X.compressed.xml or X.approved.xml): no tree "
+                                    f"to prove")
+
+
+def _given(config: pytest.Config, path: Path) -> str:
+    """A file's name as a user would give it on the command line (relative to the folder pytest
+    runs in) while that folder is the current one; else its absolute name."""
+    shown = _shown(config, path.absolute())
+    return shown if Path(shown).absolute() == path.absolute() else str(path.absolute())
 
 
 def _shown(config: pytest.Config, path: Path) -> str:
@@ -196,16 +317,27 @@ def _shown(config: pytest.Config, path: Path) -> str:
     return path.relative_to(here).as_posix() if path.is_relative_to(here) else str(path)
 
 
-def pytest_report_header(config: pytest.Config) -> str | None:
+def pytest_report_header(config: pytest.Config) -> list[str] | None:
+    lines = []
     found = settings(config)
-    if not found.active():
-        return None
-    shown = ", ".join(_shown(config, p) for p in found.active())
-    limits = [f"{key.replace('_', ' ')} {value:,}" for key, value in found.verify.items()]
-    if found.timeout is not None:
-        limits.append(f"timeout {found.timeout:g} s")
-    return (f"schemalog: proving the tasks under {shown} (propagate {found.propagate}, states "
-            f"{found.states}{''.join(', ' + limit for limit in limits)})")
+    if found.active():
+        shown = ", ".join(_shown(config, p) for p in found.active())
+        limits = [f"{key.replace('_', ' ')} {value:,}" for key, value in found.verify.items()]
+        if found.timeout is not None:
+            limits.append(f"timeout {found.timeout:g} s")
+        lines.append(f"schemalog: proving the tasks under {shown} (propagate {found.propagate}, states "
+                     f"{found.states}{''.join(', ' + limit for limit in limits)})")
+    trees = tree_settings(config)
+    if trees.active():
+        shown = ", ".join(_shown(config, p) for p in trees.active())
+        how = [f"{key} {', '.join(_shown(config, Path(v)) if key != 'profile' else v for v in values)}"
+               for key, values in trees.reading.items()]
+        how += ["run once" if key == "run_once" else f"max states {value:,}" for key, value in trees.proving.items()]
+        if trees.timeout is not None:
+            how.append(f"timeout {trees.timeout:g} s")
+        lines.append(f"schemalog: proving the trees under {shown} equal to their recorded versions "
+                     f"(X.compressed.xml, X.approved.xml){''.join('; ' + h for h in how)}")
+    return lines or None
 
 
 def task_files(paths: list[Path]) -> Iterator[tuple[Path, str | None]]:
@@ -260,6 +392,63 @@ def read_regular(file: Path) -> bytes:
         return opened.read()
 
 
+def recorded_of(tree: Path) -> list[Path]:
+    """The recorded versions beside a tree X.xml: X.compressed.xml, X.approved.xml (those there)."""
+    if tree.suffix != ".xml" or _original_of(tree) is not None:
+        return []
+    return [v for v in (tree.with_name(f"{tree.stem}.{tag}.xml") for tag in RECORDED) if os.path.lexists(v)]
+
+
+def _original_of(file: Path) -> Path | None:
+    """X.xml for a recorded version X.compressed.xml or X.approved.xml; None for another file."""
+    for tag in RECORDED:
+        if file.name.endswith(f".{tag}.xml") and len(file.name) > len(tag) + 5:
+            return file.with_name(file.name[:-len(f".{tag}.xml")] + ".xml")
+    return None
+
+
+def tree_pairs(paths: list[Path]) -> Iterator[tuple[Path, Path | None, str | None]]:
+    """(tree, recorded version, why it is skipped or None) under `paths`, each once, in a stable
+    order: every X.xml with a recorded version beside it; a recorded version whose tree is not
+    there, or a file that is no regular file (a FIFO, a device: never opened), with the reason."""
+    seen: set[tuple[Path, Path | None]] = set()
+    for path in paths:
+        if path.is_dir():
+            found = sorted(p for p in path.rglob("*.xml") if not p.is_dir()
+                           and not any(part.startswith(".") for part in p.relative_to(path).parts))
+        else:
+            found = [path]
+        for file in found:
+            original = _original_of(file)
+            if original is not None and not os.path.lexists(original):
+                pairs = [(file, None, f"a recorded version with no {original.name} beside it: skipped")]
+            elif original is not None:
+                if path.is_dir():
+                    continue            # its tree gives it
+                pairs = [(original, file, None)]
+            else:
+                pairs = [(file, v, None) for v in recorded_of(file)]
+            for tree, recorded, why in pairs:
+                if why is None:
+                    # a FIFO or a device is named with what it is, never opened for reading
+                    for file in (tree, recorded):
+                        why = unreadable(file)
+                        if why is not None:
+                            tree, recorded = file, None
+                            break
+                if (tree.absolute(), recorded) not in seen:
+                    seen.add((tree.absolute(), recorded))
+                    yield tree, recorded, why
+
+
+def _is_tree(file: Path, folder: Path) -> bool:
+    """A tree with a recorded version, under `folder` (or `folder` itself)."""
+    if not (file == folder or folder in file.parents
+            and not any(part.startswith(".") for part in file.relative_to(folder).parts)):
+        return False
+    return bool(recorded_of(file))
+
+
 def _is_task_file(file: Path, folder: Path) -> bool:
     if file == folder:
         return True
@@ -275,6 +464,8 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> pytest.Col
     path = Path(file_path).absolute()
     if any(_is_task_file(path, folder) for folder in settings(parent.config).active()):
         return TaskFile.from_parent(parent, path=file_path)
+    if any(_is_tree(path, folder) for folder in tree_settings(parent.config).active()):
+        return TreeFile.from_parent(parent, path=file_path)
     return None
 
 
@@ -293,6 +484,22 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
     if active and not any(isinstance(item, TaskItem) for item in items) and not session.testsfailed:
         # a check that covers nothing is no check: say so, and do not pass
         list(session.genitems(NoTask.from_parent(session, path=active[0], name=_shown(config, active[0]))))
+    trees = tree_settings(config)
+    injected = [p for p in trees.paths if trees.modes[p] == "inject"]
+    wanted: dict[Path, list[Path]] = {}
+    for tree, recorded, why in tree_pairs(injected):
+        if why is not None:
+            note = f"{_shown(config, tree.absolute())}: {why}"
+            if note not in notes:            # a TreeFile pytest collected may have said it
+                notes.append(note)
+        elif tree.absolute() not in seen:
+            wanted.setdefault(tree.absolute(), []).append(recorded)
+    for tree, versions in wanted.items():
+        named = None if set(versions) == set(recorded_of(tree)) else versions      # a recorded version named alone
+        items.extend(session.genitems(TreeFile.from_parent(session, path=tree, only=named)))
+    active = trees.active()
+    if active and not any(isinstance(item, TreeItem) for item in items) and not session.testsfailed:
+        list(session.genitems(NoTree.from_parent(session, path=active[0], name=_shown(config, active[0]))))
 
 
 def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:
@@ -419,3 +626,78 @@ class TaskItem(pytest.Item):
     def reportinfo(self) -> tuple[Path, int | None, str]:
         # the failure's title; pytest's -v line stays the node id, which does not end with it
         return self.path, None, f"{self.name} in {self.parent.nodeid}"
+
+
+class NoTree(pytest.File):
+    """The tree folders gave no item at all: a collection error saying so."""
+
+    def collect(self) -> Iterator[pytest.Item]:
+        shown = ", ".join(_shown(self.config, p) for p in tree_settings(self.config).active())
+        notes = self.config.stash[_NOTES]
+        why = "".join(f"\n  {note}" for note in notes) or " no X.xml beside an X.compressed.xml or X.approved.xml"
+        self.config.stash[_NOTES] = []      # said here
+        raise self.CollectError(f"schemalog: no tree to prove under {shown}:{why}")
+
+
+class TreeFile(pytest.File):
+    """A BT.CPP tree X.xml: one item per recorded version beside it (X.compressed.xml, X.approved.xml)."""
+
+    def __init__(self, *, only: list[Path] | None = None, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.only = only
+
+    def collect(self) -> Iterator[pytest.Item]:
+        self.config.stash[_SEEN].add(self.path.absolute())
+        notes = self.config.stash[_NOTES]
+        why = unreadable(self.path)
+        if why is not None:
+            notes.append(f"{self.nodeid}: {why}")
+            return
+        for recorded in self.only or recorded_of(self.path):
+            why = unreadable(recorded)
+            if why is not None:
+                notes.append(f"{_shown(self.config, recorded.absolute())}: {why}")
+                continue
+            yield TreeItem.from_parent(self, name=recorded.name, recorded=recorded)
+
+
+class TreeItem(pytest.Item):
+    """A tree and one recorded version of it, proved equal when it runs (read then: a file that
+    does not read fails this item alone, with its file:line:column)."""
+
+    def __init__(self, *, recorded: Path, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.recorded = recorded
+
+    def runtest(self) -> None:
+        from schemalog import LimitExceeded
+
+        from . import assert_bt_equal
+
+        found = tree_settings(self.config)
+        for file in (self.path, self.recorded):      # still a regular file: a FIFO put there since is not read
+            why = unreadable(file)
+            if why is not None:
+                pytest.fail(f"{_shown(self.config, file.absolute())}: {why.removesuffix(': skipped')}", pytrace=False)
+        shown = lambda file: _given(self.config, Path(file))      # noqa: E731
+        reading = {key: values if key == "profile" else [shown(v) for v in values]
+                   for key, values in found.reading.items()}
+        try:
+            self.proof = assert_bt_equal(shown(self.path), shown(self.recorded), timeout=found.timeout,
+                                         **reading, **found.proving)
+            return
+        except LimitExceeded as error:
+            if error.limit != "time":
+                raise
+        pytest.fail(f"{self.name}: time limit of {found.timeout:g} s exceeded (raise it with --schemalog-timeout "
+                    f"or the ini option schemalog_timeout)", pytrace=False)
+
+    def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> Any:
+        from schemalog import SchemalogError
+
+        if isinstance(excinfo.value, (AssertionError, SchemalogError)):
+            return str(excinfo.value).rstrip("\n")
+        return super().repr_failure(excinfo)
+
+    def reportinfo(self) -> tuple[Path, int | None, str]:
+        return self.path, None, f"{self.name} against {self.parent.nodeid}"

@@ -1,11 +1,13 @@
 // schemalog's BT.CPP harness: a BehaviorTree.CPP 4 tree run in the real BT.CPP with its node
 // types registered from TreeNodesModel files, ports and all, the leaves scripted by draws.
 //
-//   harness --tree FILE [--models FILE]... [--main ID] [--draws FILE] [--max-ticks N]
+//   harness --tree FILE... [--models FILE]... [--main ID] [--draws FILE] [--max-ticks N]
 //           [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] [--paths]
 //
-// FILE is loaded with registerBehaviorTreeFromFile (its <include>s relative to it); the main
-// tree is --main, else BT.CPP's choice (the file's main_tree_to_execute, else its only tree). Every node type a
+// FILE is loaded with registerBehaviorTreeFromFile (its <include>s relative to it); --tree given
+// again loads each file so, in order, into the one factory (as Nav2 and BehaviorTree.ROS2 load a
+// folder); the main tree is --main, else BT.CPP's choice (the first file's main_tree_to_execute,
+// else the only tree). Every node type a
 // --models file declares (<TreeNodesModel><Action ID=..><input_port name=../>..) and BT.CPP does
 // not register itself is registered with a TreeNodeManifest holding its declared ports (any
 // type, no default: a port the XML does not write stays unset, so the ports a node reports are
@@ -556,7 +558,7 @@ std::vector<std::pair<std::string, std::vector<long>>> read_draws(std::istream& 
 }
 
 int usage() {
-  std::cerr << "usage: harness --tree FILE [--models FILE]... [--main ID] [--draws FILE] "
+  std::cerr << "usage: harness --tree FILE... [--models FILE]... [--main ID] [--draws FILE] "
                "[--max-ticks N] [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] "
                "[--paths]\n";
   return 2;
@@ -565,8 +567,8 @@ int usage() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string tree_file, main_id, draws_file, substitutions_file;
-  std::vector<std::string> models_files;
+  std::string main_id, draws_file, substitutions_file;
+  std::vector<std::string> tree_files, models_files;
   std::vector<std::pair<std::string, int>> enums;
   int max_ticks = 12;
   bool stateful = false, load_only = false, paths = false;
@@ -577,7 +579,7 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     try {
-      if (a == "--tree") tree_file = value();
+      if (a == "--tree") tree_files.push_back(value());
       else if (a == "--models") models_files.push_back(value());
       else if (a == "--main") main_id = value();
       else if (a == "--draws") draws_file = value();
@@ -598,8 +600,8 @@ int main(int argc, char** argv) {
       return usage();
     }
   }
-  if (tree_file.empty()) return usage();
-  tree_file = std::filesystem::absolute(tree_file).string();   // BT.CPP resolves <include>s from its directory
+  if (tree_files.empty()) return usage();
+  for (auto& f : tree_files) f = std::filesystem::absolute(f).string();   // BT.CPP resolves <include>s from its directory
 
   BT::BehaviorTreeFactory factory;
   std::string nodes;                                   // --paths: the main tree's nodes
@@ -626,7 +628,7 @@ int main(int argc, char** argv) {
       text << in.rdbuf();
       factory.loadSubstitutionRuleFromJSON(text.str());
     }
-    factory.registerBehaviorTreeFromFile(tree_file);
+    for (const auto& f : tree_files) factory.registerBehaviorTreeFromFile(f);
     built_as.clear();
     auto probe = factory.createTree(main_id);      // "": BT.CPP picks the main tree
     if (main_id.empty()) main_id = probe.subtrees.front()->tree_ID;
