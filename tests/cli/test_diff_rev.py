@@ -100,7 +100,7 @@ def test_several_paths_new_files_and_other_xml_and_the_worst_status(repo):
     report = json.loads(changed.stdout)
     assert report["rev"] == "HEAD" and report["exit"] == 1
     assert [(f["path"], f["status"]) for f in report["files"]] == [("trees/main.xml", "changed"),
-                                                                    ("trees/new.xml", "skipped")]
+                                                                    ("trees/new.xml", "new")]
     # trouble beats a change (diff(1)'s 2): a file that cannot be read leaves the whole undecided
     (repo / "trees" / "broken.xml").write_text("<root BTCPP_format=\"4\"><BehaviorTree ID=\"X\">", encoding="utf-8")
     git(repo, "add", "trees/broken.xml")
@@ -165,3 +165,20 @@ def test_ctrl_c_while_git_runs_removes_the_temporary_folder(repo, tmp_path):
     out, err = p.communicate(timeout=60)
     assert p.returncode == 130 and "interrupted" in err and "Traceback" not in err, err
     assert list(temp.iterdir()) == []
+
+
+def test_a_folder_is_compared_with_the_folder_at_the_revision(repo):
+    # `schemalog diff --rev HEAD trees/common`: the folder's *.xml files as one program, REV's from REV
+    common = repo / "trees" / "common"
+    (common / "main.xml").write_text('<root BTCPP_format="4" main_tree_to_execute="Top"><BehaviorTree ID="Top">'
+                                     '<SubTree ID="Recover"/></BehaviorTree></root>\n', encoding="utf-8")
+    git(repo, "add", ".")
+    git(repo, "commit", "-qm", "a folder")
+    same = diff(repo, "--rev", "HEAD", "trees/common")
+    assert same.returncode == 0 and same.stdout.startswith("HEAD:trees/common -> trees/common: same behaviour"), \
+        same.stdout + same.stderr
+    (common / "recovery.xml").write_text(RECOVERY.replace('num_attempts="3"', 'num_attempts="4"'), encoding="utf-8")
+    changed = diff(repo, "--rev", "HEAD", "trees/common")
+    assert changed.returncode == 1, changed.stdout + changed.stderr
+    assert "RetryUntilSuccessful at HEAD:trees/common/recovery.xml:3:5 / trees/common/recovery.xml:3:5" in changed.stdout
+    assert "4 times instead of 3" in changed.stdout

@@ -5,8 +5,9 @@ What is exercised, and how:
 - test_the_published_hook_fails_a_behaviour_change: the hook as users get it. `pre-commit
   try-repo <this repository> schemalog-diff` reads this repository's .pre-commit-hooks.yaml,
   builds the hook's `language: python` environment as for any user (a fresh virtualenv, `pip
-  install` of this repository and its dependencies: about 45 s on the project's machine with
-  pip's cache warm, longer on a first download) and runs the entry on a behavioural edit.
+  install` of this repository and its dependencies: 22 to 43 s measured on the project's
+  machine with pip's cache warm, longer on a first download) and runs the entry on a
+  behavioural edit.
   try-repo builds in a temporary store every time, so this runs once, on the edit that must fail.
 - test_a_commit_passes_a_refactoring_fails_a_change_and_skip_acknowledges_it: the rest through
   real `git commit`s with the hook installed (`pre-commit install`), from a local config whose

@@ -22,7 +22,7 @@ def register(sub, parents: Parents) -> None:
     p.add_argument("files", nargs="+", metavar="A B", help="the old and the new version: BT.CPP XML files (with "
                                                            "--rev: PATH..., each against its version at REV)")
     p.add_argument("--rev", metavar="REV",
-                   help="compare each PATH (a BT.CPP file) with its own version at git revision REV (HEAD, "
+                   help="compare each PATH (a BT.CPP file or folder) with its own version at git revision REV (HEAD, "
                         "origin/main, a tag, a hash): a pre-commit hook's and a pull request's check; the exit "
                         "status is the worst of them, trouble (2) before no proof (3) before a change (1)")
     p.add_argument("--task", help="the BehaviorTree ID to run on both sides (default: each side's "

@@ -47,6 +47,7 @@ class Outcome:
     report: object = None          # api.tree_diff.TreeDiff
     note: str = ""
     documents: tuple = ()          # (A, B) for a picture
+    what: str = ""                 # "new" (not at REV), "skipped" (no BT.CPP tree), else ""
 
 
 def _git(args: list[str], cwd: str, stdin: bytes | None = None) -> subprocess.CompletedProcess:
@@ -214,11 +215,11 @@ def _compare(path: str, rel: str, old_root: str, rev: str, args, rules, under) -
 
     old = os.path.join(old_root, *PurePosixPath(rel).parts)
     if not os.path.lexists(old):
-        return Outcome(path, SAME, note=f"{readable_name(path)}: new file since {rev}: nothing to compare")
+        return Outcome(path, SAME, note=f"{readable_name(path)}: new file since {rev}: nothing to compare", what="new")
     if not os.path.isdir(path):
         skip = not_a_tree((old, path), args.max_bytes)
         if skip:
-            return Outcome(path, SAME, note=f"{readable_name(path)}: {skip}")
+            return Outcome(path, SAME, note=f"{readable_name(path)}: {skip}", what="skipped")
     try:
         a = relabel(read_tree(old, args.nodes, args.max_bytes, args.task), old_root, rev)
     except SchemalogError as err:
@@ -264,7 +265,7 @@ def compare_all(args, rules, under, say) -> list[Outcome]:
 def _json(outcomes: list[Outcome], rev: str) -> dict:
     status = {SAME: "same", CHANGED: "changed", TROUBLE: "error", UNDECIDED: "undecided"}
     return {"rev": rev, "exit": worst(o.status for o in outcomes), "files": [
-        {"path": o.path, "status": "skipped" if o.note and o.report is None and o.status == SAME else status[o.status],
+        {"path": o.path, "status": o.what or status[o.status],
          "note": o.note or None, "report": o.report.as_json() if o.report is not None else None}
         for o in outcomes]}
 
