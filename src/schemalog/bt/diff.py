@@ -36,8 +36,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 from schemalog.bt.model import Document, Node
-from schemalog.bt.prove import (Verdict, _alike, _congruent, _context, _part, describe, prove_by_parts,
-                                prove_equal)
+from schemalog.bt.prove import (Verdict, _alike, _congruent, _context, _kind_differences, _part, _parts, describe,
+                                prove_by_parts, prove_equal)
 from schemalog.bt.semantics import Rule, _where
 
 SAME, SAME_HERE, CHANGES, UNDECIDED = "same behaviour", "same behaviour here", "changes behaviour", "undecided"
@@ -122,26 +122,44 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
                    rules: Mapping[str, Rule] | None = None, halts: bool = True) -> Comparison:
     """Compare two documents: the whole pair proved as verify proves it, the places where they
     part described and each decided on runs, the direction that holds."""
-    whole = prove_by_parts(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules,
-                           halts=halts)
-    spent = whole.states
     explore = dict(max_events_per_tick=max_events_per_tick, rules=rules)
     units = _units(a, b)
     places: list[Place] = []
+    known: dict = {}                  # the places' proofs, which the whole pair's proof by parts reuses
+    spent = 0
     for tree_id, na, nb, parent, shown in units:
         changes = tuple(changes_of(na, nb))
-        v, _ = _congruent(_part(a, na), _part(b, nb), max_states=max(max_states - spent, 1), **explore,
+        v, k = _congruent(_part(a, na), _part(b, nb), max_states=max(max_states - spent, 1), **explore,
                           **_context(na is a.root, parent, rules, halts))
         spent += v.states
+        if nb is shown:
+            known[(id(na), id(nb))] = (v, k)
         effect = SAME if v.equal and v.complete else CHANGES if not v.equal else UNDECIDED
         places.append(Place(tree_id, na, shown, changes, effect, v, None if nb is shown else nb))
+    order = _same_parts(a, b, rules, known)
+    if order is not None:
+        # verify's proof by parts proves exactly these parts, in this order, up to the first that
+        # is not equal in every context: it takes those proofs (their states counted once)
+        used: dict = {}
+        for key in order:
+            used[key] = known[key]
+            if not (known[key][0].equal and known[key][0].complete):
+                break
+        credit = sum(v.states for v, _ in used.values())
+        whole = prove_by_parts(a, b, max_states=max(max_states - spent + credit, 1), halts=halts, known=used,
+                               **explore)
+        spent += whole.states - credit
+    else:
+        whole = prove_by_parts(a, b, max_states=max(max_states - spent, 1), halts=halts, **explore)
+        spent += whole.states
     # A place not equal in every context may still make no difference in this program, or make
     # the one the whole pair shows: decide it on the program with only this edit made
     open_ = [i for i, p in enumerate(places) if p.effect != SAME]
-    if len(open_) == 1 and whole.complete and all(p.edit is None for p in places):
+    if len(open_) == 1 and whole.complete and (len(places) == 1 or all(p.edit is None for p in places)):
         # every other place is a subtree of A replaced by one of B, equal in every context: A
         # with this edit alone is B (congruence). (An edit of a node's own attributes is
-        # proved over A's children, which B may have changed too: no such shortcut then.)
+        # proved over A's children, which B may have changed too: no such shortcut then, unless it
+        # is the only place: then A with it alone is B.)
         i = open_[0]
         places[i] = replace(places[i], effect=SAME_HERE if whole.equal else CHANGES, verdict=whole)
     else:
@@ -165,6 +183,16 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
     return Comparison(total, direction, direction_verdict, ranked,
                     tuple(t for t in ids_b if t not in ids_a), tuple(t for t in ids_a if t not in ids_b),
                     (a.main, b.main))
+
+
+def _same_parts(a: Document, b: Document, rules, known: dict) -> list | None:
+    """The subtree pairs bt/prove.prove_by_parts proves `a` and `b` through, in its order, when
+    they are exactly those of `known` (by identity); else None."""
+    if [i for i, _ in a.trees] != [i for i, _ in b.trees] or a.main != b.main or a.version != b.version \
+            or _kind_differences(a, b, rules):
+        return None
+    parts = [(id(na), id(nb)) for (_, ra), (_, rb) in zip(a.trees, b.trees) for na, nb, _ in _parts(ra, rb, None, a, b)]
+    return parts if len(parts) == len(known) and set(parts) == set(known) else None
 
 
 def _direction(a: Document, b: Document, whole: Verdict, spent: int, max_states: int, halts: bool,

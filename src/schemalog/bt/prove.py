@@ -559,16 +559,18 @@ def _kind_differences(a: Document, b: Document, rules: Mapping[str, Rule] | None
 
 
 def prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                   rules: Mapping[str, Rule] | None = None, halts: bool = True) -> Verdict:
+                   rules: Mapping[str, Rule] | None = None, halts: bool = True, known: dict | None = None) -> Verdict:
     """Prove two documents equal through the subtrees where they differ, each equal in every
     context its parent can make (a congruence: a parent sees a subtree only through its statuses, and the events
     are the same), and where that fails or a document's trees differ, by exploring both whole:
     a refutation is always one of the whole trees. The verdict says which registrations of the
     actions it covers (`assumed`). `halts` (the default): as an executor may run the trees, halted
     by Tree::haltTree between any two root ticks and ticked anew (prove_equal); without it, each
-    ticked until it finishes, once, never halted (Tree::tickWhileRunning)."""
+    ticked until it finishes, once, never halted (Tree::tickWhileRunning). `known`: the verdicts
+    (with the subtrees taken whole) of parts proved already, by (id(a's), id(b's)) subtree, as
+    bt/diff.py proves them in the same contexts; each one used is removed from it."""
     verdict = _prove_by_parts(a, b, max_states=max_states, max_events_per_tick=max_events_per_tick, rules=rules,
-                              halts=halts)
+                              halts=halts, known=known if known is not None else {})
     return replace(verdict, assumed=assumed(a, b, rules, verdict, halts))
 
 
@@ -647,7 +649,7 @@ def _places(parts: list[tuple[Node, Node, str | None]]) -> str:
 
 
 def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per_tick: int,
-                    rules: Mapping[str, Rule] | None = None, halts: bool = True) -> Verdict:
+                    rules: Mapping[str, Rule] | None = None, halts: bool = True, known: dict | None = None) -> Verdict:
     ids_a, ids_b = [i for i, _ in a.trees], [i for i, _ in b.trees]
     spent = 0                                 # max_states is one budget: the parts' and the whole's
     differ = _kind_differences(a, b, rules)
@@ -660,9 +662,9 @@ def _prove_by_parts(a: Document, b: Document, *, max_states: int, max_events_per
         registered: frozenset = frozenset()
         taken = 0
         for na, nb, parent in parts:
-            v, k = _congruent(_part(a, na), _part(b, nb), max_states=max_states - spent,
-                              max_events_per_tick=max_events_per_tick, rules=rules,
-                              **_context(na is a.root, parent, rules, halts))
+            v, k = (known or {}).pop((id(na), id(nb)), None) or _congruent(
+                _part(a, na), _part(b, nb), max_states=max_states - spent, max_events_per_tick=max_events_per_tick,
+                rules=rules, **_context(na is a.root, parent, rules, halts))
             spent += v.states
             taken += k
             thrown = thrown or v.thrown
