@@ -29,7 +29,7 @@ def schema_route(args: argparse.Namespace) -> None:
     """Refuse --nodes, --semantics, --profile and --drop-names for task knowledge, which they would
     not change."""
     given = [o for o, v in (("--nodes", args.nodes), ("--semantics", args.semantics),
-                            ("--profile", args.profile), ("--drop-names", args.drop_names),
+                            ("--profile", args.profile), ("--drop-names", getattr(args, "drop_names", False)),
                             ("--run-once", args.run_once), ("--btcpp", getattr(args, "btcpp", None))) if v]
     if given:
         raise UsageError(f"{' and '.join(given)} {'apply' if len(given) > 1 else 'applies'} to BT.CPP trees; "
