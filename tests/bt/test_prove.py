@@ -250,3 +250,21 @@ def test_a_loop_for_ever_is_proved_whole_not_counted():
         assert v.equal and v.complete and v.states < 100, explain(v)
         told = prove(nested, n(loop, n("Sequence", A, C, B), **{port: "-1"}))
         assert not told.equal
+
+
+def test_a_counterexample_stops_at_the_event_where_the_trees_part_even_one_without_a_choice():
+    """A Delay's `time` event offers no choice: the runs part there, and the counterexample must
+    not run on to the next event that offers one (it marked a later ReactiveParallel's choice)."""
+    from schemalog.bt.prove import prove_by_parts
+
+    def tree(ms: str) -> Node:
+        return n("Sequence", act("A"), n("Delay", act("B"), delay_msec=ms), act("C"))
+    v = prove_by_parts(doc(tree("200")), doc(tree("300")), **LIMITS)
+    assert not v.equal and v.counterexample is not None
+    for ticks in (v.counterexample.ticks_a, v.counterexample.ticks_b):
+        last = ticks[-1]
+        assert last.status is None and last.events[-1].kind == "time"
+    shown = explain(v).splitlines()
+    assert [line for line in shown if line.endswith("<- the trees part here")] == [
+        '  a: time at Delay delay_msec="200"   <- the trees part here',
+        '  b: time at Delay delay_msec="300"   <- the trees part here']

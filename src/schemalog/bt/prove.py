@@ -183,15 +183,12 @@ def prove_equal(a: Document, b: Document, *, max_states: int, max_events_per_tic
             diff = ""
         if diff:
             kinds = ca.kinds
-            if contextual or halts:
-                labels = _labels(parent, node)
-                choices = tuple(x for x in labels if x not in _MOVES and x is not _NONE)
-                cex = Counterexample(choices, _trace_moves(pa, labels, kinds), _trace_moves(pb, labels, kinds),
-                                     diff, kinds)
-            else:
-                choices, ticks = _choices(parent, node)
-                cex = Counterexample(choices, _trace(pa, choices, ticks, kinds), _trace(pb, choices, ticks, kinds),
-                                     diff, kinds)
+            # replayed label by label, events without a choice included, so that each run stops
+            # at the event where the two part, even one that offers no choice (a `time` event)
+            labels = _labels(parent, node)
+            choices = tuple(x for x in labels if x not in _MOVES and x is not _NONE)
+            cex = Counterexample(choices, _trace_moves(pa, labels, kinds), _trace_moves(pb, labels, kinds),
+                                 diff, kinds)
             return Verdict(False, True, len(seen), diff, cex, registered=frozenset(registered))
         successors: list[tuple[tuple, object]] = []
         if isinstance(sa, Await):
@@ -300,20 +297,20 @@ def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickT
     again, halt, tick anew) up to the last label's step; a halt shows as a tick with status IDLE."""
     ticks: list[TickTrace] = []
     config, phase, events = Config(kinds=kinds), _TICK, []
-    todo = [x for x in labels if x is not _NONE]
+    todo = list(labels)
     while True:
         s = _STEPS[phase](prog, config)
         if isinstance(s, Await):
+            if not todo:                      # the step the search stopped at: where the trees part
+                ticks.append(TickTrace(tuple(events) + (s.event,), None))
+                return tuple(ticks)
+            label = todo.pop(0)
             if s.options == (None,):
                 events.append(s.event)
                 config = advance(config, None)
                 continue
-            if not todo:
-                ticks.append(TickTrace(tuple(events) + (s.event,), None))
-                return tuple(ticks)
-            outcome = todo.pop(0)
-            events.append(replace(s.event, outcome=outcome))
-            config = advance(config, outcome)
+            events.append(replace(s.event, outcome=label))
+            config = advance(config, label)
             continue
         ticks.append(TickTrace(s.events, s.status, s.error, "" if phase is _TICK else phase, s.woken))
         events = []
@@ -322,18 +319,6 @@ def _trace_moves(prog: Program, labels: tuple, kinds: tuple = ()) -> tuple[TickT
         move = todo.pop(0)
         phase = move if move in (_HALT, _TREE, _VISIT) else _TICK
         config = s.kept if move is _KEEP and s.kept is not None else s.config
-
-
-def _choices(parent: dict, pair: tuple) -> tuple[tuple, int]:
-    """The environment's outcomes on the breadth-first path to `pair`, and its root ticks."""
-    out, ticks = [], 1
-    while parent[pair] is not None:
-        pair, label = parent[pair]
-        if label is _ROOT:
-            ticks += 1
-        elif label is not _NONE and not isinstance(label, _Kind):
-            out.append(label)
-    return tuple(reversed(out)), ticks
 
 
 def _trace(prog: Program, choices: tuple, max_ticks: int | None = None,

@@ -87,7 +87,10 @@ def run(args: argparse.Namespace) -> int:
     if len(args.files) != 2:
         raise UsageError("diff takes two versions: A (the old) and B (the new)")
     fmt = _format(args)
-    xml = [is_xml(f) and not is_own_export(f, args.max_bytes) for f in args.files]
+    import os
+
+    # a folder is a BT.CPP program (task knowledge is never a folder), as compress and verify read it
+    xml = [os.path.isdir(f) or is_xml(f) and not is_own_export(f, args.max_bytes) for f in args.files]
     if not all(xml):
         if any(xml):
             tree, task = (args.files[0], args.files[1]) if xml[0] else (args.files[1], args.files[0])
