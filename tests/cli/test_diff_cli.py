@@ -150,3 +150,26 @@ def test_a_bt_cpp_3_tree_against_its_bt_cpp_4_conversion_answers_whether_the_upg
     (place,) = report["places"]
     assert (place["a"]["type"], place["b"]["type"]) == ("SequenceStar", "SequenceWithMemory")
     assert "two BT.CPP versions" in report["note"]
+
+
+def test_two_folders_are_two_programs_and_an_edit_in_a_sibling_file_is_found_there(tmp_path):
+    """The sentry robot's 11 files, read as one program on each side: a Delay changed in one of
+    them is the place, by that file's line, and the first divergence is that Delay's time event."""
+    import shutil
+
+    folder = ROOT / "tests" / "bt" / "corpus" / "combat" / "behavior_trees"
+    shutil.copytree(folder, tmp_path / "a")
+    shutil.copytree(folder, tmp_path / "b")
+    edited = tmp_path / "b" / "bump_traverse.xml"
+    text = edited.read_text(encoding="utf-8")
+    assert text.count('delay_msec="200"') == 1
+    edited.write_text(text.replace('delay_msec="200"', 'delay_msec="300"'), encoding="utf-8")
+    line = line_of(edited, 'delay_msec="300"')
+    r = run("a", "b", "--task", "rmuc_2026", "--json", cwd=tmp_path)
+    assert r.returncode == 1, r.stderr
+    report = json.loads(r.stdout)
+    (place,) = report["places"]
+    assert (place["b"]["file"], place["b"]["line"]) == ("b/bump_traverse.xml", line)
+    assert place["changes"] == ["B waits 300 ms instead of 200 ms before ticking AlwaysSuccess"]
+    assert report["first_divergence"]["b"].startswith("time at ") and "b/bump_traverse.xml" in \
+        report["first_divergence"]["b"]
