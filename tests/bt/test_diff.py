@@ -175,3 +175,50 @@ def test_diff_gives_verifys_verdict_and_every_place_its_own_proof(pair):
         assert all(p.effect in (SAME, SAME_HERE) for p in d.places)
     elif d.complete:
         assert any(p.effect == CHANGES for p in d.places) or len(d.places) > 1   # edits may only differ together
+
+
+# -- the corpus: every Nav2 tree against edits of it, written out and read back as files ----------
+
+def test_every_place_on_nav2_edits_names_both_files_lines_and_the_verdict_is_verifys(tmp_path):
+    """Each Nav2 tree of the corpus and 3 edits of it (the edit generator the proofs are checked
+    against BT.CPP with), each written as a file and read back: every place diff reports names a
+    line in both files, and diff's verdict on the pair is verify's."""
+    import random
+    import sys
+    from pathlib import Path
+
+    from schemalog.api.behaviour_trees import prove_trees, read_tree
+    from schemalog.api.tree_diff import diff_trees
+    from schemalog.formats.btxml import write_bt
+
+    here = Path(__file__).resolve().parent
+    sys.path.insert(0, str(here))
+    from test_proofs_against_btcpp import edit
+
+    nav2 = here / "corpus" / "nav2"
+    nodes = [nav2 / "nav2_tree_nodes.xml"]
+    trees = sorted(p for p in nav2.glob("*.xml") if p.name != "nav2_tree_nodes.xml"
+                   and "goal_patience" not in p.name)
+    checked = 0
+    for tree in trees:
+        a = read_tree(tree, nodes)
+        made, seed = 0, 0
+        while made < 3 and seed < 60:
+            kind, root = edit(random.Random(seed), a.root)
+            seed += 1
+            if root == a.root:
+                continue
+            b_file = tmp_path / f"{tree.stem}-{seed}.xml"
+            b_doc = a.with_trees(tuple((i, root if i == a.main else r) for i, r in a.trees))
+            b_file.write_text(write_bt(b_doc), encoding="utf-8")
+            b = read_tree(b_file, nodes)
+            d = diff_trees(a, b, 20_000)
+            v = prove_trees(a, b, 20_000)
+            assert (d.diff.verdict.equal, d.diff.verdict.complete) == (v.equal, v.complete), (tree.name, kind)
+            for p in d.places:
+                assert p.a.line > 0 and p.b.line > 0 and p.a.file == str(tree) and p.b.file == str(b_file), \
+                    (tree.name, kind, p)
+                assert p.changes, (tree.name, kind, p)
+            made += 1
+            checked += 1
+    assert checked == 3 * len(trees)
