@@ -222,3 +222,11 @@ def test_every_place_on_nav2_edits_names_both_files_lines_and_the_verdict_is_ver
             made += 1
             checked += 1
     assert checked == 3 * len(trees)
+
+
+@settings(max_examples=30, deadline=None)
+@given(edited(), st.integers(1, 200))
+def test_max_states_is_one_budget_for_the_whole_diff(pair, limit):
+    a, b = pair
+    d = diff(a, b, max_states=limit)
+    assert d.verdict.states <= limit

@@ -129,7 +129,7 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
     spent = 0
     for tree_id, na, nb, parent, shown in units:
         changes = tuple(changes_of(na, nb))
-        v, k = _congruent(_part(a, na), _part(b, nb), max_states=max(max_states - spent, 1), **explore,
+        v, k = _congruent(_part(a, na), _part(b, nb), max_states=max(max_states - spent, 0), **explore,
                           **_context(na is a.root, parent, rules, halts))
         spent += v.states
         if nb is shown:
@@ -146,11 +146,11 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
             if not (known[key][0].equal and known[key][0].complete):
                 break
         credit = sum(v.states for v, _ in used.values())
-        whole = prove_by_parts(a, b, max_states=max(max_states - spent + credit, 1), halts=halts, known=used,
+        whole = prove_by_parts(a, b, max_states=max(max_states - spent + credit, 0), halts=halts, known=used,
                                **explore)
         spent += whole.states - credit
     else:
-        whole = prove_by_parts(a, b, max_states=max(max_states - spent, 1), halts=halts, **explore)
+        whole = prove_by_parts(a, b, max_states=max(max_states - spent, 0), halts=halts, **explore)
         spent += whole.states
     # A place not equal in every context may still make no difference in this program, or make
     # the one the whole pair shows: decide it on the program with only this edit made
