@@ -230,3 +230,28 @@ def test_max_states_is_one_budget_for_the_whole_diff(pair, limit):
     a, b = pair
     d = diff(a, b, max_states=limit)
     assert d.verdict.states <= limit
+
+
+def test_a_child_moved_and_edited_is_one_place_saying_both():
+    """Spin and Wait swapped, Spin's spin_dist changed too: one place, the reordering and the
+    value both said (pairwise, it read "B has Wait where A has Spin", the 3.14 only in the run)."""
+    a = n("RoundRobin", act("Spin", spin_dist="1.57"), act("Wait", wait_duration="5"), act("BackUp"))
+    b = n("RoundRobin", act("Wait", wait_duration="5"), act("Spin", spin_dist="3.14"), act("BackUp"))
+    (place,) = diff(n("Sequence", GO, a), n("Sequence", GO, b)).places
+    assert place.a is a and place.changes == ("B ticks Wait before Spin", 'B sets spin_dist="3.14" on Spin (A: "1.57")')
+
+
+def test_an_edit_in_a_tree_the_main_tree_never_calls_is_not_run_not_a_refactoring():
+    other = n("RetryUntilSuccessful", act("C"), num_attempts="3")
+    a = Document((("Main", n("Sequence", GO)), ("Other", other)), "Main")
+    b = Document((("Main", n("Sequence", GO)), ("Other", n("RetryUntilSuccessful", act("C"), num_attempts="2"))),
+                 "Main")
+    d = diff_documents(a, b, **LIMITS)
+    (place,) = d.places
+    assert d.equal and place.effect == "not run" and place.tree == "Other" and place.verdict is None
+    assert not d.refactorings
+    # called from the main tree, the same edit changes behaviour
+    call = Node("SubTree", (("ID", "Other"),))
+    a2, b2 = (Document((("Main", n("Sequence", GO, call)), ("Other", t)), "Main") for t in (other, b.trees[1][1]))
+    (place,) = diff_documents(a2, b2, **LIMITS).places
+    assert place.effect == CHANGES and place.changes == ("B tries C 2 times instead of 3",)

@@ -99,6 +99,10 @@ class TreeDiff:
             lines.append(f"{_count(len(undecided), 'place')} not decided (a limit stopped the proof; raise "
                          f"--max-states):")
             lines += [f"  - {_place_head(p)}: {'; '.join(p.changes)}" for p in undecided]
+        if d.not_run:
+            lines.append(f"{_count(len(d.not_run), 'change')} in BehaviorTrees the main tree does not reach (no run "
+                         f"ticks {'it' if len(d.not_run) == 1 else 'them'}; with another --task, they may matter):")
+            lines += [f"  - {_place_head(p)} in {p.tree}: {'; '.join(p.changes) or 'resolved alike'}" for p in d.not_run]
         if same:
             lines.append(f"{_count(len(same), 'structural change')} with no behavioural difference (a pure "
                          f"refactoring):")
@@ -190,7 +194,7 @@ class TreeDiff:
 
         d = self.diff
         fill = {"changes behaviour": "#f6b2b2", "undecided": "#f8e08e", "same behaviour here": "#cfe3f7",
-                "same behaviour": "#d8efd8"}
+                "same behaviour": "#d8efd8", "not run": "#e4e4e4"}
         from ..bt.diff import _canon
 
         # in a place, a node is marked unless the other side's place holds it, subtree and all
@@ -245,7 +249,7 @@ class TreeDiff:
                         lines.append(f"    {ids[id(n)]} -> {ids[id(c)]}{bold};")
             lines.append("  }")
         legend = ("red: changes behaviour; yellow: undecided; blue: same behaviour in this program; green: "
-                  "same behaviour in every context" + ("; bold: the path to the first divergence" if first else ""))
+                  "same behaviour in every context; grey: in a tree no run reaches" + ("; bold: the path to the first divergence" if first else ""))
         lines.append(f"  label={_q(self.headline() + chr(10) + legend)}; labelloc=t; fontname=\"Helvetica\";")
         lines.append("}")
         return "\n".join(lines) + "\n"

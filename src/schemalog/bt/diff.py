@@ -3,7 +3,7 @@ reviewer (docs/behaviour_trees.md, "Reviewing a change: schemalog diff").
 
     Comparison = Comparison(verdict, direction, places, trees_added, trees_removed, main)
     Place    = Place(a, b, changes, effect, verdict)    one subtree pair where the programs differ
-    Effect   = "changes behaviour" | "same behaviour" | "same behaviour here" | "undecided"
+    Effect   = "changes behaviour" | "same behaviour" | "same behaviour here" | "undecided" | "not run"
     Direction= "equal" | "b within a" | "a within b" | "neither" | "unknown"
 
 The places are the pairs of subtrees where the two programs part structurally, top-down: below
@@ -41,6 +41,7 @@ from schemalog.bt.prove import (Verdict, _alike, _congruent, _context, _kind_dif
 from schemalog.bt.semantics import Rule, _where
 
 SAME, SAME_HERE, CHANGES, UNDECIDED = "same behaviour", "same behaviour here", "changes behaviour", "undecided"
+NOT_RUN = "not run"                   # in a BehaviorTree the main tree does not reach: no run ticks it
 
 
 @dataclass(frozen=True)
@@ -96,6 +97,10 @@ class Comparison:
     def undecided(self) -> tuple[Place, ...]:
         return tuple(p for p in self.places if p.effect == UNDECIDED)
 
+    @property
+    def not_run(self) -> tuple[Place, ...]:
+        return tuple(p for p in self.places if p.effect == NOT_RUN)
+
     def first_divergence(self) -> tuple[str, str] | None:
         """The events (or root ends) where the whole pair's runs part, each side's node by
         file:line:col, as (a's, b's); None without a counterexample."""
@@ -127,8 +132,14 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
     places: list[Place] = []
     known: dict = {}                  # the places' proofs, which the whole pair's proof by parts reuses
     spent = 0
+    reached = _reached(a) & _reached(b)
     for tree_id, na, nb, parent, shown in units:
         changes = tuple(changes_of(na, nb))
+        if tree_id not in reached:
+            # a tree no run of either main tree calls: the edit changes nothing a robot does
+            # with these files, and is no refactoring either; said as such, proved nothing
+            places.append(Place(tree_id, na, shown, changes, NOT_RUN, None, None if nb is shown else nb))
+            continue
         v, k = _congruent(_part(a, na), _part(b, nb), max_states=max(max_states - spent, 0), **explore,
                           **_context(na is a.root, parent, rules, halts))
         spent += v.states
@@ -136,7 +147,7 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
             known[(id(na), id(nb))] = (v, k)
         effect = SAME if v.equal and v.complete else CHANGES if not v.equal else UNDECIDED
         places.append(Place(tree_id, na, shown, changes, effect, v, None if nb is shown else nb))
-    order = _same_parts(a, b, rules, known)
+    order = _same_parts(a, b, rules, known) if all(p.effect != NOT_RUN for p in places) else None
     if order is not None:
         # verify's proof by parts proves exactly these parts, in this order, up to the first that
         # is not equal in every context: it takes those proofs (their states counted once)
@@ -154,7 +165,7 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
         spent += whole.states
     # A place not equal in every context may still make no difference in this program, or make
     # the one the whole pair shows: decide it on the program with only this edit made
-    open_ = [i for i, p in enumerate(places) if p.effect != SAME]
+    open_ = [i for i, p in enumerate(places) if p.effect not in (SAME, NOT_RUN)]
     if len(open_) == 1 and whole.complete and (len(places) == 1 or all(p.edit is None for p in places)):
         # every other place is a subtree of A replaced by one of B, equal in every context: A
         # with this edit alone is B (congruence). (An edit of a node's own attributes is
@@ -177,7 +188,7 @@ def diff_documents(a: Document, b: Document, *, max_states: int, max_events_per_
             places[i] = replace(p, effect=effect, verdict=v)
     direction, direction_verdict, spent = _direction(a, b, whole, spent, max_states, halts, explore)
     ids_a, ids_b = [t for t, _ in a.trees], [t for t, _ in b.trees]
-    order = {CHANGES: 0, UNDECIDED: 1, SAME_HERE: 2, SAME: 3}
+    order = {CHANGES: 0, UNDECIDED: 1, SAME_HERE: 2, SAME: 3, NOT_RUN: 4}
     ranked = tuple(sorted(places, key=lambda p: order[p.effect]))
     total = replace(whole, states=spent)
     return Comparison(total, direction, direction_verdict, ranked,
@@ -216,6 +227,24 @@ def _direction(a: Document, b: Document, whole: Verdict, spent: int, max_states:
             return name, v, spent
         found.append((name, v))
     return ("neither" if all(not v.equal for _, v in found) else "unknown"), None, spent
+
+
+def _reached(document: Document) -> set[str]:
+    """The IDs of the trees a run of the main tree may tick: the main tree, and every tree a
+    SubTree call reaches from it."""
+    from schemalog.bt.model import walk
+    from schemalog.bt.semantics import subtree_id
+
+    trees = dict(document.trees)
+    seen, todo = {document.main}, [document.main]
+    while todo:
+        root = trees.get(todo.pop())
+        for n in walk(root) if root is not None else ():
+            called = subtree_id(n)
+            if called is not None and called not in seen:
+                seen.add(called)
+                todo.append(called)
+    return seen
 
 
 def _units(a: Document, b: Document) -> list[tuple[str, Node, Node, str | None]]:
@@ -261,9 +290,16 @@ def _with(document: Document, old: Node, new: Node) -> Document:
     return replace(document, trees=tuple((i, swap(r)) for i, r in document.trees))
 
 
+def _loose(n: Node) -> tuple:
+    """A child as a reviewer recognises it across an edit: type, form, name, the tree a SubTree
+    calls; not its other attributes or children (edited in place, it is still that child)."""
+    return (n.type, n.form, n.attr("name"), n.attr("ID"))
+
+
 def _moves(a: Node, b: Node) -> bool:
-    """Whether B moves a child of `a`: one the same in both, out of their longest common order."""
-    ka, kb = [_canon(c) for c in a.children], [_canon(c) for c in b.children]
+    """Whether B moves a child of `a`: one recognisable in both (_loose), out of their longest
+    common order."""
+    ka, kb = [_loose(c) for c in a.children], [_loose(c) for c in b.children]
     if ka == kb:
         return False
     kept = _lcs(ka, kb)
@@ -383,7 +419,7 @@ def changes_of(na: Node, nb: Node, depth: int = 0) -> list[str]:
                     f"children"]
         if na.type == nb.type:                          # <Action ID="X"/> and <Condition ID="X"/>
             return [f"B has <{nb.form or nb.type}> {label(nb)} where A has <{na.form or na.type}> {label(na)}"]
-        return [f"B has {label(nb)} where A has {label(na)}"]
+        return [f"B has {label(nb)}{_attrs_text(nb)} where A has {label(na)}{_attrs_text(na)}"]
     out = _attribute_changes(na, nb)
     ka, kb = [_canon(c) for c in na.children], [_canon(c) for c in nb.children]
     if ka == kb:
@@ -394,14 +430,17 @@ def changes_of(na: Node, nb: Node, depth: int = 0) -> list[str]:
         for x, y in zip(na.children, nb.children):
             out.extend(changes_of(x, y, depth + 1))
         return out
-    kept = _lcs(ka, kb)
+    la, lb = [_loose(c) for c in na.children], [_loose(c) for c in nb.children]
+    kept = _lcs(la, lb)
     kept_a, kept_b = {i for i, _ in kept}, {j for _, j in kept}
-    gone = [i for i in range(len(ka)) if i not in kept_a]
-    new = [j for j in range(len(kb)) if j not in kept_b]
+    for i, j in kept:                        # recognisable children in the common order: edited in place
+        out.extend(changes_of(na.children[i], nb.children[j], depth + 1))
+    gone = [i for i in range(len(la)) if i not in kept_a]
+    new = [j for j in range(len(lb)) if j not in kept_b]
     verb = "ticks" if na.type in _TICKING else "puts"
-    # a child in both, out of the common order: moved
+    # a child in both, out of the common order: moved (and perhaps edited too)
     for j in list(new):
-        match = next((i for i in gone if ka[i] == kb[j]), None)
+        match = next((i for i in gone if la[i] == lb[j]), None)
         if match is not None:
             gone.remove(match)
             new.remove(j)
@@ -412,6 +451,7 @@ def changes_of(na: Node, nb: Node, depth: int = 0) -> list[str]:
                 out.append(f"B {verb} {label(nb.children[j - 1])} before {moved}")
             else:
                 out.append(f"B {verb} {moved} first in {label(nb)}")
+            out.extend(changes_of(na.children[match], nb.children[j], depth + 1))
     # a child of the same type on both sides, or wrapped in one, in what is left: edited
     for j in list(new):
         match = next((i for i in gone if _related(na.children[i], nb.children[j])), None)
