@@ -107,7 +107,9 @@ def test_several_paths_new_files_and_other_xml_and_the_worst_status(repo):
     git(repo, "commit", "-qm", "broken")
     both = diff(repo, "--rev", "HEAD", "trees/main.xml", "trees/broken.xml")
     assert both.returncode == 2, both.stdout + both.stderr
-    assert "behaviour changed" in both.stdout and "trees/broken.xml" not in both.stdout
+    # the report says it too (a PR comment must not read as complete): a summary, then each PATH
+    assert both.stdout.startswith("schemalog diff against HEAD: 2 paths: 1 changed, 1 could not be compared\n")
+    assert "behaviour changed" in both.stdout and "HEAD:trees/broken.xml:1:45: error: malformed XML" in both.stdout
     assert "HEAD:trees/broken.xml:1:" in both.stderr and "Traceback" not in both.stderr
 
 
@@ -138,7 +140,8 @@ def test_a_nav2_tree_against_the_previous_commit_as_markdown(tmp_path):
                "--format", "markdown", "-o", "diff.md")
     assert out.returncode == 1, out.stderr
     text = (r / "diff.md").read_text(encoding="utf-8")
-    assert text.startswith("### schemalog diff: behaviour changed")
+    assert text.startswith("## schemalog diff against HEAD~1: 2 paths: 1 changed, 1 skipped\n\n"
+                           "### schemalog diff: behaviour changed")
     assert "`HEAD~1:navigate.xml` → `navigate.xml`" in text
     assert "nav2\\_tree\\_nodes.xml: no &lt;BehaviorTree&gt; nor &lt;include&gt; in it" in text
 
@@ -182,3 +185,19 @@ def test_a_folder_is_compared_with_the_folder_at_the_revision(repo):
     assert changed.returncode == 1, changed.stdout + changed.stderr
     assert "RetryUntilSuccessful at HEAD:trees/common/recovery.xml:3:5 / trees/common/recovery.xml:3:5" in changed.stdout
     assert "4 times instead of 3" in changed.stdout
+
+
+def test_a_typo_is_an_error_a_deleted_file_a_change_and_an_error_reaches_the_comment(repo):
+    """A path that exists neither now nor at REV must not pass a CI job as a new file; a file
+    deleted since REV is a change; with -o, the error is written into the report the job posts."""
+    typo = diff(repo, "--rev", "HEAD", "trees/mian.xml")
+    assert typo.returncode == 2 and "trees/mian.xml: no such file, now nor at HEAD" in typo.stderr
+    (repo / "trees" / "common" / "recovery.xml").unlink()
+    gone = diff(repo, "--rev", "HEAD", "trees/common/recovery.xml", "--json")
+    assert gone.returncode == 1, gone.stderr
+    assert json.loads(gone.stdout)["files"][0]["status"] == "deleted"
+    (repo / "trees" / "main.xml").write_text("<root BTCPP_format=\"4\"><BehaviorTree ID=\"X\">", encoding="utf-8")
+    broken = diff(repo, "--rev", "HEAD", "trees/main.xml", "--format", "markdown", "-o", "diff.md")
+    assert broken.returncode == 2
+    comment = (repo / "diff.md").read_text(encoding="utf-8")
+    assert "trees/main.xml:1:" in comment and "malformed XML" in comment and comment.endswith("\n")

@@ -214,6 +214,11 @@ def _compare(path: str, rel: str, old_root: str, rev: str, args, rules, under) -
     from ..api.tree_diff import diff_trees
 
     old = os.path.join(old_root, *PurePosixPath(rel).parts)
+    if not os.path.lexists(path):
+        if not os.path.lexists(old):           # a typo must not pass a CI job as "new"
+            raise SchemalogError(f"{readable_name(path)}: no such file, now nor at {rev}")
+        return Outcome(path, CHANGED, note=f"{readable_name(path)}: deleted since {rev}: the program lost its trees",
+                       what="deleted")
     if not os.path.lexists(old):
         return Outcome(path, SAME, note=f"{readable_name(path)}: new file since {rev}: nothing to compare", what="new")
     if not os.path.isdir(path):
@@ -240,15 +245,16 @@ def compare_all(args, rules, under, say) -> list[Outcome]:
             groups.setdefault(repository(path), []).append(k)
         except SchemalogError as err:
             say(str(err))
-            outcomes[k] = Outcome(path, TROUBLE)
+            outcomes[k] = Outcome(path, TROUBLE, note=str(err))
     for top, indices in groups.items():
         commit = commit_of(args.rev, top)          # an unknown REV stops the whole run: exit 2
         rels = {}
         for k in indices:
             rel = _inside(args.files[k], top)
             if rel is None:
-                say(f"{readable_name(args.files[k])}: outside the repository {readable_name(top)}")
-                outcomes[k] = Outcome(args.files[k], TROUBLE)
+                said = f"error: {readable_name(args.files[k])}: outside the repository {readable_name(top)}"
+                say(said)
+                outcomes[k] = Outcome(args.files[k], TROUBLE, note=said)
             else:
                 rels[k] = rel
         with tempfile.TemporaryDirectory(prefix="schemalog-rev-") as old_root:
@@ -258,7 +264,7 @@ def compare_all(args, rules, under, say) -> list[Outcome]:
                     outcomes[k] = _compare(args.files[k], rel, old_root, args.rev, args, rules, under)
                 except SchemalogError as err:
                     say(str(err))
-                    outcomes[k] = Outcome(args.files[k], TROUBLE)
+                    outcomes[k] = Outcome(args.files[k], TROUBLE, note=str(err))
     return [outcomes[k] for k in range(len(args.files))]
 
 
@@ -288,8 +294,10 @@ def run_rev(args: argparse.Namespace, fmt: str) -> int:
     if fmt == "json":
         emit(json.dumps(_json(outcomes, args.rev), indent=2) + "\n", args.output, inputs, "JSON")
     elif fmt == "markdown":
-        emit("\n".join(o.report.markdown() if o.report is not None else f"{_md_note(o.note)}\n" for o in shown),
-             args.output, inputs, "Markdown")
+        parts = [o.report.markdown() if o.report is not None else f"{_md_note(o.note)}\n" for o in shown]
+        if len(outcomes) > 1 or not parts:
+            parts.insert(0, f"## {_md_note(_summary(outcomes, args.rev))}\n")
+        emit("\n".join(p if p.endswith("\n") else p + "\n" for p in parts), args.output, inputs, "Markdown")
     elif fmt in ("dot", "png", "svg", "pdf"):
         (o,) = outcomes
         if o.report is None:
@@ -302,9 +310,20 @@ def run_rev(args: argparse.Namespace, fmt: str) -> int:
 
             write_image(args.output, o.report.dot(*o.documents), fmt)
     else:
-        emit("\n".join(o.report.text() if o.report is not None else f"{o.note}\n" for o in shown),
-             args.output, inputs, "text")
+        parts = [o.report.text() if o.report is not None else f"{o.note}\n" for o in shown]
+        if len(outcomes) > 1 or not parts:
+            parts.insert(0, _summary(outcomes, args.rev) + "\n")
+        emit("\n".join(parts), args.output, inputs, "text")
     return worst(o.status for o in outcomes)
+
+
+def _summary(outcomes: list, rev: str) -> str:
+    """One line over several PATHs: how many changed, are the same, failed, against REV."""
+    names = {CHANGED: "changed", SAME: "same", TROUBLE: "could not be compared", UNDECIDED: "not decided"}
+    kinds = [o.what or names[o.status] for o in outcomes]
+    counts = [f"{kinds.count(k)} {k}" for k in dict.fromkeys(
+        ["changed", "deleted", "same", "new", "skipped", "not decided", "could not be compared"]) if k in kinds]
+    return f"schemalog diff against {rev}: {len(outcomes)} path{'s' if len(outcomes) != 1 else ''}: {', '.join(counts)}"
 
 
 def _md_note(note: str) -> str:
