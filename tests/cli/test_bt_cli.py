@@ -391,7 +391,7 @@ def test_a_verdict_says_which_registrations_it_covers_and_a_counterexample_which
     r = run("verify", plain, wrapped, "--semantics", sync, "--json")
     out = json.loads(r.stdout)
     assert r.returncode == 0 and out["proved"], r.stdout + r.stderr
-    assert "Follow, which the XML leaves open" in out["covers"] and "Plan as --semantics registers it" in out["covers"]
+    assert "Follow, which the XML leaves open" in out["covers"] and "it takes the registration of Plan from --semantics or --profile" in out["covers"]
     r = run("verify", plain, plain)
     assert r.returncode == 0 and "It covers an executor that halts the tree (Tree::haltTree) between any two " \
         "ticks and ticks it anew for the next goal; it covers every registration of the 2 action types the XML " \

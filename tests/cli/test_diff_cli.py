@@ -99,6 +99,7 @@ def test_a_picture_shows_both_trees_and_nothing_is_written_for_a_refused_suffix(
     svg = tmp_path / "diff.svg"
     r = run("a.xml", b, "--nodes", NODES, "-o", svg, cwd=tmp_path)
     assert r.returncode == 1, r.stderr
+    assert r.stderr == f"wrote {svg}: an SVG picture; a.xml -> {b}: behaviour changed\n"
     text = svg.read_text()
     assert text.lstrip().startswith("<?xml") and "<svg" in text
     assert "A: " in text and "B: " in text and "NavigateRecovery" in text and "#f6b2b2" in text

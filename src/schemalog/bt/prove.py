@@ -597,8 +597,12 @@ def assumed(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict:
 
 def _registrations(a: Document, b: Document, rules: Mapping[str, Rule] | None, verdict: Verdict) -> str:
     """What the verdict covers of the registrations the XML leaves open, in a reader's words."""
-    fixed = sorted(t for t, r in (rules or {}).items() if r in (SYNC_ACTION, STATEFUL_ACTION, RETICKED_ACTION))
-    given = f"; {_names(fixed)} as --semantics registers {'them' if len(fixed) > 1 else 'it'}" if fixed else ""
+    # the action types the trees use whose registration --semantics or a --profile gives
+    used = {n.type for d in (a, b) for _, root in d.trees for n in walk(root)}
+    fixed = sorted(t for t, r in (rules or {}).items()
+                   if r in (SYNC_ACTION, STATEFUL_ACTION, RETICKED_ACTION) and t in used)
+    given = (f"; it takes the registration{'s' if len(fixed) > 1 else ''} of {_names(fixed)} from --semantics or "
+             f"--profile" if fixed else "")
     if not verdict.equal:              # a run under one registration tells the files apart
         cex = verdict.counterexample
         kinds = cex.kinds if cex is not None else ()
@@ -610,7 +614,7 @@ def _registrations(a: Document, b: Document, rules: Mapping[str, Rule] | None, v
         return "a run with " + " and ".join(parts) if parts else ""
     open_ = open_registrations((a, b), rules)
     if not open_:
-        return given[2:]
+        return given[len("; it "):]
     n = len(open_)
     what = (f"every registration of the {n} action types the XML leaves open ({_names(open_)}), each a "
             f"StatefulActionNode or one run again when ticked finished (SyncActionNode, ActionNodeBase)" if n > 1

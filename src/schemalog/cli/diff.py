@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from .options import Parents
 
@@ -13,14 +14,23 @@ FORMATS = ("text", "json", "markdown", "dot", "png", "svg", "pdf")
 def register(sub, parents: Parents) -> None:
     """Add `schemalog diff` and its arguments to the command line."""
     p = sub.add_parser("diff", parents=[parents.limits, parents.resources],
-                       help="what changed in behaviour between two versions of a BT.CPP tree, place by place",
-                       description="Prove two versions of a BT.CPP program equal under BT.CPP's semantics, or "
-                                   "show where their runs part: the first divergence, every place that changes "
-                                   "behaviour with its shortest run, the direction that holds, and the structural "
-                                   "changes that make no difference. Exit 0: same behaviour; 1: different; "
-                                   "2: bad input or usage; 3: no proof either way (a limit).")
-    p.add_argument("files", nargs="+", metavar="A B", help="the old and the new version: BT.CPP XML files (with "
-                                                           "--rev: PATH..., each against its version at REV)")
+                       help="what changed in behaviour between two versions of a BT.CPP tree or a task, place by place",
+                       formatter_class=argparse.RawDescriptionHelpFormatter,
+                       description=(
+                           "Prove two versions of a BT.CPP program equal under BT.CPP's semantics, or show where\n"
+                           "their runs part: the first divergence, every place that changes behaviour with its\n"
+                           "shortest run, the direction that holds, and the structural changes that make no\n"
+                           "difference. Two versions of a task (task knowledge, .pl) are compared on the\n"
+                           "verifier's runs, both ways.\n\n"
+                           "examples:\n"
+                           "  schemalog diff old.xml new.xml --nodes nav2_tree_nodes.xml\n"
+                           "  schemalog diff --rev HEAD behavior_trees/navigate.xml --format markdown -o diff.md\n"
+                           "  schemalog diff old_trees/ new_trees/ --task MainTree -o diff.svg\n\n"
+                           "exit status: 0 same behaviour, 1 behaviour changed, 2 bad input or usage,\n"
+                           "3 no proof either way (a limit)"))
+    p.add_argument("files", nargs="+", metavar="PATH",
+                   help="A and B, the old and the new version: BT.CPP XML files, folders of them (each one "
+                        "program), or task knowledge files; with --rev, each PATH against its version at REV")
     p.add_argument("--rev", metavar="REV",
                    help="compare each PATH (a BT.CPP file or folder) with its own version at git revision REV (HEAD, "
                         "origin/main, a tag, a hash): a pre-commit hook's and a pull request's check; the exit "
@@ -116,6 +126,10 @@ def run(args: argparse.Namespace) -> int:
 
         check_output(args.output, inputs)
         write_image(args.output, report.dot(a, b), fmt)
+        # as every command that writes a file says so, with the verdict a reader would look for
+        article = "an" if fmt == "svg" else "a"
+        print(f"wrote {readable_name(args.output)}: {article} {fmt.upper()} picture; {report.headline()}",
+              file=sys.stderr)
     else:
         emit(report.text(), args.output, inputs, "text")
     return report.exit_status

@@ -309,6 +309,9 @@ def run_rev(args: argparse.Namespace, fmt: str) -> int:
             from ..formats.graphviz import write_image
 
             write_image(args.output, o.report.dot(*o.documents), fmt)
+            article = "an" if fmt == "svg" else "a"
+            print(f"wrote {readable_name(args.output)}: {article} {fmt.upper()} picture; {o.report.headline()}",
+                  file=sys.stderr)
     else:
         parts = [o.report.text() if o.report is not None else f"{o.note}\n" for o in shown]
         if len(outcomes) > 1 or not parts:
