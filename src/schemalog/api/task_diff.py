@@ -85,11 +85,14 @@ class TaskDiff:
             lines += [f"  {where}: {what}" for where, what in self.changes]
         else:
             lines.append("no edit by behaviour: the two trees have the same behaviours, conditions and order")
-        for title, r in (("B against A (are B's runs within A's?)", self.forward),
-                         ("A against B (are A's runs within B's?)", self.backward)):
+        for title, r, first, second in (("B against A (are B's runs within A's?)", self.forward, "A", "B"),
+                                         ("A against B (are A's runs within B's?)", self.backward, "B", "A")):
             if r is None or r.proved:
                 continue
-            lines += ["", f"{title}:", *("  " + x if x else "" for x in r.text().rstrip("\n").splitlines())]
+            # verify's report names its two trees "the original" and "the compressed tree"
+            words = "" if self.compression else (f" (in verify's words, {first} is \"the original\" and {second} "
+                                                 f"\"the compressed tree\")")
+            lines += ["", f"{title}{words}:", *("  " + x if x else "" for x in r.text().rstrip("\n").splitlines())]
         return "\n".join(lines) + "\n"
 
     def markdown(self) -> str:
