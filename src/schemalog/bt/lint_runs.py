@@ -376,7 +376,7 @@ def _by_parts(prog: Program, places: dict, max_states: int) -> dict | None:
     stack = [prog.root]
     while stack:
         n = stack.pop()
-        if n.kids:
+        if n.kids or n is prog.root:
             order.append(n)
             stack.extend(n.kids)
     for n in reversed(order):                          # children before parents
@@ -503,13 +503,14 @@ def _labels(explored: _Explored, node: tuple) -> list:
 
 def _run_text(prog: Program, explored: _Explored, node: tuple, most: int = 6) -> str:
     """The run to `node` for people: its root ticks and executor moves, the last `most` events."""
-    labels = _labels(explored, node)
+    end = object()
+    labels = [x for x in _labels(explored, node) if x is not None]     # events without a choice go by themselves
     config, phase = initial(), _TICK
     words: list[str] = []
     ticks = 0
-    for label in labels + [None]:
+    for label in labels + [end]:
         while True:
-            s = step(prog, config) if phase == _TICK else halt_tree_step(prog, config)
+            s = _STEPS[phase](prog, config)
             if isinstance(s, Await) and s.event.kind == "registration":
                 break
             if isinstance(s, Await) and s.options == (None,):
@@ -517,7 +518,7 @@ def _run_text(prog: Program, explored: _Explored, node: tuple, most: int = 6) ->
                 config = advance(config, None)
                 continue
             break
-        if label is None:
+        if label is end:
             break
         if label in KINDS:
             config = config.with_kind(s.event.node[1][1], label)
@@ -527,8 +528,8 @@ def _run_text(prog: Program, explored: _Explored, node: tuple, most: int = 6) ->
         else:
             ticks += phase == _TICK
             status = s.status.value if s.status is not None else "error"
-            words.append(f"root tick {ticks} -> {status}" if phase == _TICK else "Tree::haltTree")
-            phase = _TREE if label == _HALTED else _TICK
+            words.append(f"root tick {ticks} -> {status}" if phase == _TICK else phase)
+            phase = {_HALTED: _TREE, _HALT: _HALT, _VISIT: _VISIT}.get(label, _TICK)
             config = s.config
     shown = words[-most:]
     return ("..., " if len(words) > most else "") + (", ".join(shown) if shown else "from the first root tick")
@@ -621,11 +622,11 @@ def _endless_sometimes(document: Document, prog: Program, explored: _Explored, p
         if who is None or who.path in reported:
             continue
         reported.add(who.path)
-        leaves = _leaves_on(vs, comp)
+        leaves = _leaves_on(explored, comp)
         findings.append(RunFinding(
             _pos(who.node) or _pos(document.root), WARNING, "endless",
-            f"{_name(who)} loops for ever within one executor call on the runs where {leaves} complete at once "
-            f"every time: {call} (the model does not know whether they can; run: "
+            f"{_name(who)} may loop for ever within one executor call: on the runs where {leaves}, {call} "
+            f"(the model does not know whether the robot can answer so; run: "
             f"{_run_text(prog, explored, vs[first].node)})",
             _loop_hint(who)))
     return findings
@@ -718,15 +719,21 @@ def _where_of(node: Node) -> str:
     return f"{node.file + ':' if node.file else ''}{node.line}:{node.column}"
 
 
-def _leaves_on(vs: list, comp: list) -> str:
+def _leaves_on(explored: _Explored, comp: list) -> str:
+    """The answers that keep a loop going: each choice on it with its outcome, "C -> FAILURE"."""
+    inside = set(comp)
     names = []
     for i in comp:
-        s = vs[i].step
-        if isinstance(s, Await) and s.options != (None,):
-            label = s.event.label or s.event.node[1][0]
-            if label not in names:
-                names.append(label)
-    return ", ".join(names[:3]) + (" and others" if len(names) > 3 else "") if names else "its children"
+        v = explored.vertices[i]
+        if not isinstance(v.step, Await) or v.step.options == (None,):
+            continue
+        for o, nxt in v.succ:
+            if explored.of_node.get(nxt) in inside:
+                said = describe(replace(v.step.event, outcome=o, where="", ports=()))
+                if said not in names:
+                    names.append(said)
+    shown = "; ".join(names[:3]) + ("; ..." if len(names) > 3 else "")
+    return f"the environment answers so every time ({shown})" if names else "its children answer so every time"
 
 
 def _name(n: PNode) -> str:
