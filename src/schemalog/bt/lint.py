@@ -388,7 +388,8 @@ def blackboard_findings(document: Document, rules: Mapping[str, Rule] | None = N
                      f"; {_names(undecided)}: read by no event the runs show (a control's port), order not checked")
     out += _dead_writes(f, provided)
     how = "ticked until it finishes, once" if once else "as an executor runs it (halted and ticked anew)"
-    assumed = "a ticked writer may have written (values are not interpreted)"
+    assumed = ("a ticked writer may have written (values are not interpreted); the names a script reads are "
+               "not checked (a name there may be an enum the program registers)")
     if f.unknown_types:
         assumed += (f"; ports of {', '.join(f.unknown_types)} have no declared direction (give --nodes): "
                     f"taken as writes, never reads")
