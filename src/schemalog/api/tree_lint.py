@@ -66,9 +66,15 @@ def lint_document(document, rules=None, provided=None, *, max_states: int = defa
     from ..bt.lint import CHECKS, Provided
     from ..run.lint import Finding
 
+    import inspect
+
+    options = {"max_states": max_states, "provided": provided or Provided(), "once": once}
     found = []
     for check in checks or CHECKS:
-        found.extend(check(document, rules, max_states=max_states, provided=provided or Provided(), once=once))
+        # each check takes the options it names: bt/lint_runs.run_findings(document, rules, *, max_states)
+        # joins CHECKS as it is
+        takes = inspect.signature(check).parameters
+        found.extend(check(document, rules, **{k: v for k, v in options.items() if k in takes}))
     order = {"error": 0, "warning": 0, "info": 1, "note": 2}
     found.sort(key=lambda f: (order.get(f.severity, 1), f.pos is None, str(f.pos.file) if f.pos else "",
                               f.pos.line if f.pos else 0, f.pos.column if f.pos else 0))

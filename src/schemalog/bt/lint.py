@@ -540,4 +540,5 @@ def _dead_writes(f: Facts, given: Provided) -> list[LintFinding]:
 
 Check = Callable[..., list]
 CHECKS: tuple[Check, ...] = (blackboard_findings,)
-"""The lint pipeline: each (document, rules, *, max_states, **options) -> findings."""
+"""The lint pipeline: each (document, rules, *, max_states[, provided][, once]) -> findings, given the
+options it names (api/tree_lint.lint_document)."""
