@@ -62,8 +62,9 @@ def read_models(paths, max_bytes: int = defaults.MAX_BYTES) -> tuple:
     from ..formats.btxml import read_models as parse_models
 
     models: list = []
+    seen: dict = {}                     # an ID's kind and element, across the files
     for path in paths:
-        found = parse_models(_decoded(str(path), max_bytes), str(path))
+        found = parse_models(_decoded(str(path), max_bytes), str(path), seen)
         if not found:
             raise SchemalogError("declares no node: a nodes file holds a <TreeNodesModel> with an <Action ID=..>, "
                                  "<Condition ID=..>, ... per custom node type", SourcePos(str(path), 1, 1))

@@ -328,9 +328,29 @@ def _check_root(root: _Element) -> None:
             seen = child
 
 
-def _models(root: _Element) -> list[NodeModel]:
-    """Read the entries of the <TreeNodesModel> of `root`."""
+# A port's type as a TreeNodesModel writes it: a C++ type name, `std::vector<geometry_msgs::msg::
+# PoseStamped>`, `unsigned int`, `std::chrono::duration<long, std::ratio<1l, 1000l> >`, `BT::Any`
+_TYPE_NAME = re.compile(r"\s*(?:[A-Za-z_][A-Za-z0-9_]*|::|<|>|,|\*|&|[0-9]+[A-Za-z]*|\s+)+\s*")
+
+
+def _type_name(text: str) -> bool:
+    """Whether `text` reads as a C++ type name (names, ::, template arguments; brackets balanced)."""
+    if not _TYPE_NAME.fullmatch(text) or not re.match(r"\s*(?:::)?[A-Za-z_]", text):
+        return False
+    depth = 0
+    for c in text:
+        depth += (c == "<") - (c == ">")
+        if depth < 0:
+            return False
+    return depth == 0
+
+
+def _models(root: _Element, seen: dict | None = None) -> list[NodeModel]:
+    """Read the entries of the <TreeNodesModel> of `root`; an ID declared twice with different
+    kinds (here, or in `seen`: ID -> (kind, element) of the files read before) is refused, as no
+    program registers one ID as two kinds, and a port type that is no C++ type name too."""
     out = []
+    seen = {} if seen is None else seen
     for block in root.children:
         if block.tag != "TreeNodesModel":
             continue
@@ -351,20 +371,29 @@ def _models(root: _Element) -> list[NodeModel]:
                     if entry.tag == "SubTree":
                         _fail(p, "Missing attribute [name] in port (SubTree model)")
                     continue
+                if p.get("type") is not None and not _type_name(p.get("type")):
+                    _fail(p, f"type=\"{p.get('type')}\" is not a C++ type name (e.g. int, std::string, "
+                             f"geometry_msgs::msg::PoseStamped, std::vector<double>)")
                 ports.append(Port(PORT_TAGS[p.tag], name, p.get("default"), p.get("type") or "",
                                   p.text or (p.get("description") or "").strip()))
+            first = seen.get(node_id)
+            if first is not None and first[0] != entry.tag:
+                _fail(entry, f"{node_id} is declared twice with different kinds: as <{entry.tag}> here, as "
+                             f"<{first[0]}> at {first[1].pos} (a program registers one ID as one kind)")
+            seen.setdefault(node_id, (entry.tag, entry))
             out.append(NodeModel(node_id, entry.tag, tuple(ports)))
     return out
 
 
-def read_models(text: str, file: str = "<xml>") -> tuple[NodeModel, ...]:
-    """Read the <TreeNodesModel> entries of a nodes file (such as Nav2's nav2_tree_nodes.xml)."""
+def read_models(text: str, file: str = "<xml>", seen: dict | None = None) -> tuple[NodeModel, ...]:
+    """Read the <TreeNodesModel> entries of a nodes file (such as Nav2's nav2_tree_nodes.xml);
+    `seen` carries the IDs of the nodes files read before (_models)."""
     root = _parse(text, file)
     _check_root(root)
     version = root.get("BTCPP_format")
     if version is not None and version not in ("3", "4"):
         _fail(root, f"BTCPP_format=\"{version}\": schemalog reads BT.CPP 3 (3.8) and 4 files")
-    return tuple(_models(root))
+    return tuple(_models(root, seen))
 
 
 def _tells(root: _Element, declared: frozenset[str]) -> tuple[list[tuple[_Element, str]], list[tuple[_Element, str]]]:
