@@ -127,7 +127,7 @@ def test_nodes_files_that_no_program_can_be_are_refused(tmp_path, name, text, wh
 @pytest.mark.parametrize("text, where, says", [
     ("provides: [unclosed\n", ":2:1", "YAML syntax error"),
     ("provides:\n  goal: here\n  not a name: x\n", ":3:3", "is not a blackboard entry's name"),
-    ("provided:\n  goal: here\n", ":1:1", "has `provides:` and `reads:` only"),
+    ("provided:\n  goal: here\n", ":1:1", "has `provides:`, `reads:` and `silence:` only"),
 ])
 def test_a_provided_file_that_is_not_an_entry_list_is_refused(tmp_path, text, where, says):
     given = tmp_path / "entries.yaml"

@@ -350,3 +350,21 @@ def test_the_combat_robot_gives_no_error_and_its_true_warnings():
         ("endless-tree", "rmuc_2026.xml", 58, "warning"),
         ("unreachable", "rmuc_2026_recovery.xml", 95, "warning"),
         ("unreachable", "rmuc_2026_recovery.xml", 135, "warning")]
+
+
+def test_a_program_silences_a_tree_that_loops_by_design_but_never_an_error(tmp_path):
+    """issue 43: a tree that never completes is a warning many robots want (a main loop); an
+    entries file's `silence:` drops it and says so; an endless root tick (an error) stays."""
+
+    fixture = Path(__file__).resolve().parent / "lint_fixtures" / "runs_repeat_forever.xml"
+    quiet = tmp_path / "entries.yaml"
+    quiet.write_text("silence:\n  endless-tree: the robot's main loop, by design\n", encoding="utf-8")
+    r = subprocess.run([sys.executable, "-m", "schemalog", "lint", str(fixture), "--task", "Main", "--provided",
+                        str(quiet)], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 1
+    assert "[endless-tree]" not in r.stdout and "[endless]" in r.stdout
+    assert f"note: 1 endless-tree finding silenced by {quiet}:2" in r.stderr
+    quiet.write_text("silence:\n  endless: no\n", encoding="utf-8")
+    r = subprocess.run([sys.executable, "-m", "schemalog", "lint", str(fixture), "--task", "Main", "--provided",
+                        str(quiet)], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 1 and f"{quiet}:2:3: error: 'endless': `silence:` takes" in r.stderr

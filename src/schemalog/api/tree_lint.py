@@ -15,7 +15,10 @@ from .. import defaults
 from ..errors import SchemalogError, SourcePos
 
 _ENTRY = re.compile(r"@?[A-Za-z_][A-Za-z0-9_]*")     # a blackboard key BT.CPP's scripts can name too
-SECTIONS = ("provides", "reads")
+SECTIONS = ("provides", "reads", "silence")
+# the rules a program may silence: what they find is true, but the program may want it so (a tree
+# that loops by design, a branch kept for later, an entry written for a logger); an error never is
+SILENCEABLE = ("endless-tree", "unreachable", "dead-write")
 
 
 def entries_path(profile: str) -> Path:
@@ -28,7 +31,8 @@ def entries_path(profile: str) -> Path:
 def read_provided(paths=(), max_bytes: int = defaults.MAX_BYTES, profiles=()):
     """The entries a program provides: each file a YAML mapping with `provides:` (entries the
     program sets before the tree runs) and `reads:` (entries it reads after), each a mapping from
-    an entry's name to a note (where the program does it); a shipped profile's first."""
+    an entry's name to a note (where the program does it), and `silence:`, the rules (SILENCEABLE)
+    whose findings the program wants so, each with a note; a shipped profile's first."""
     from ..bt.lint import Provided
     from ..inputs import compose_yaml, read_utf8
 
@@ -45,17 +49,23 @@ def read_provided(paths=(), max_bytes: int = defaults.MAX_BYTES, profiles=()):
         found: dict = {s: {} for s in SECTIONS}
         for key, value in root.value:
             if key.tag != "tag:yaml.org,2002:str" or key.value not in SECTIONS:
-                raise fail(f"{key.value!r}: an entries file has `provides:` and `reads:` only", key)
+                raise fail(f"{key.value!r}: an entries file has `provides:`, `reads:` and `silence:` only", key)
             if value.tag == "tag:yaml.org,2002:null":
                 continue
             if value.tag != "tag:yaml.org,2002:map":
                 raise fail(f"{key.value}: is a mapping, `name: where` per line", value)
             for entry, note in value.value:
+                if key.value == "silence":
+                    if entry.tag != "tag:yaml.org,2002:str" or entry.value not in SILENCEABLE:
+                        raise fail(f"{entry.value!r}: `silence:` takes the rules a program may want so: "
+                                   f"{', '.join(SILENCEABLE)} (an error is never silenced)", entry)
+                    found["silence"][entry.value] = f"{name}:{entry.start_mark.line + 1}"
+                    continue
                 if entry.tag != "tag:yaml.org,2002:str" or not _ENTRY.fullmatch(entry.value):
                     raise fail(f"{entry.value!r} is not a blackboard entry's name (letters, digits and _, "
                                f"not starting with a digit)", entry)
                 found[key.value][entry.value.lstrip("@")] = str(note.value or "")
-        result = result | Provided(found["provides"], found["reads"])
+        result = result | Provided(found["provides"], found["reads"], found["silence"])
     return result
 
 
@@ -63,10 +73,11 @@ def lint_document(document, rules=None, provided=None, *, max_states: int = defa
                   once: bool = False, checks=None) -> list:
     """Every finding of bt/lint.py's CHECKS on the program, as run/lint.py's Findings: errors and
     warnings first in file order, then infos, then the notes saying what was covered."""
+    import inspect
+    from dataclasses import replace
+
     from ..bt.lint import CHECKS, Provided
     from ..run.lint import Finding
-
-    import inspect
 
     options = {"max_states": max_states, "provided": provided or Provided(), "once": once}
     found = []
@@ -75,6 +86,14 @@ def lint_document(document, rules=None, provided=None, *, max_states: int = defa
         # joins CHECKS as it is
         takes = inspect.signature(check).parameters
         found.extend(check(document, rules, **{k: v for k, v in options.items() if k in takes}))
+    given = provided or Provided()
+    quiet = [f for f in found if f.code in given.silence and f.severity != "error"]
+    found = [f for f in found if not (f.code in given.silence and f.severity != "error")]
+    for code, where in given.silence.items():
+        count = sum(f.code == code for f in quiet)
+        if count:
+            found.append(replace(quiet[0], pos=None, severity="note", code=code, hint="",
+                                 message=f"{count} {code} finding{'s' if count != 1 else ''} silenced by {where}"))
     order = {"error": 0, "warning": 0, "info": 1, "note": 2}
     found.sort(key=lambda f: (order.get(f.severity, 1), f.pos is None, str(f.pos.file) if f.pos else "",
                               f.pos.line if f.pos else 0, f.pos.column if f.pos else 0))

@@ -61,9 +61,11 @@ class Provided:
 
     provides: Mapping[str, str] = field(default_factory=dict)
     reads: Mapping[str, str] = field(default_factory=dict)
+    silence: Mapping[str, str] = field(default_factory=dict)    # rule -> where it is silenced
 
     def __or__(self, other: "Provided") -> "Provided":
-        return Provided({**self.provides, **other.provides}, {**self.reads, **other.reads})
+        return Provided({**self.provides, **other.provides}, {**self.reads, **other.reads},
+                        {**self.silence, **other.silence})
 
 
 @dataclass(frozen=True)
