@@ -143,3 +143,11 @@ def test_a_provided_file_makes_an_entry_the_program_sets_no_finding(tmp_path):
     found = findings(FIXTURES / "bb_nav2_port_typo.xml", "--nodes", NAV2_NODES, "--profile", "nav2",
                      "--provided", given)
     assert not [f for f in found if f["severity"] == "error"]
+
+
+def test_one_edit_is_an_insertion_a_deletion_a_change_or_two_neighbours_swapped():
+    from schemalog.bt.lint import _one_edit
+
+    assert _one_edit("paht", "path") and _one_edit("remaning_path", "remaining_path")
+    assert _one_edit("goal", "goals") and _one_edit("goal", "gaol") and _one_edit("goal", "coal")
+    assert not _one_edit("goal", "goal") and not _one_edit("goal", "pose") and not _one_edit("ab", "bca")

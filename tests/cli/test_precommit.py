@@ -76,8 +76,10 @@ def new_repository(tmp_path: Path, files: dict[str, str]) -> tuple[Path, dict]:
     return repo, env
 
 
-def published_hook() -> dict:
-    (hook,) = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text(encoding="utf-8"))
+def published_hook(hook_id: str = "schemalog-diff") -> dict:
+    hooks = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text(encoding="utf-8"))
+    assert [h["id"] for h in hooks] == ["schemalog-diff", "schemalog-lint"]
+    (hook,) = (h for h in hooks if h["id"] == hook_id)
     return hook
 
 
@@ -134,6 +136,33 @@ def test_a_commit_passes_a_refactoring_fails_a_change_and_skip_acknowledges_it(t
     assert skipped.returncode == 0, said
     assert "schemalog diff (BT.CPP behaviour against HEAD)" in said and "Skipped" in said
     assert sh(repo, env, "git", "rev-parse", "HEAD").stdout != head
+
+
+def test_the_lint_hook_fails_a_read_nothing_writes_and_passes_the_tree_as_nav2_ships_it(tmp_path):
+    """The published schemalog-lint hook (with `language: system`, as above): Nav2's tree with
+    the nav2 profile commits; with one port reading a mistyped entry, the commit fails with the
+    finding at its line and the entry it meant; a package.xml among the changed files is skipped."""
+    hook = {**published_hook("schemalog-lint"), "language": "system",
+            "args": ["--nodes", "nav2_tree_nodes.xml", "--profile", "nav2"]}
+    config = yaml.safe_dump({"repos": [{"repo": "local", "hooks": [hook]}]}, sort_keys=False)
+    original = NAVIGATE.read_text(encoding="utf-8")
+    repo, env = new_repository(tmp_path, {".pre-commit-config.yaml": config,
+                                          "nav2_tree_nodes.xml": (NAV2 / "nav2_tree_nodes.xml").read_text("utf-8")})
+    assert pre_commit(repo, env, "install").returncode == 0
+    (repo / "navigate.xml").write_text(original, encoding="utf-8")
+    (repo / "package.xml").write_text("<package format=\"3\"><name>robot</name></package>\n", encoding="utf-8")
+    sh(repo, env, "git", "add", ".")
+    ok = sh(repo, env, "git", "commit", "-qm", "trees", check=False)
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    assert "package.xml: not a BT.CPP tree" in ok.stdout + ok.stderr or "Passed" in ok.stdout + ok.stderr
+    typo = original.replace('<FollowPath path="{path}"', '<FollowPath path="{paht}"', 1)
+    assert typo != original
+    (repo / "navigate.xml").write_text(typo, encoding="utf-8")
+    failed = sh(repo, env, "git", "commit", "-qam", "typo", check=False)
+    said = failed.stdout + failed.stderr
+    line = next(i for i, t in enumerate(typo.splitlines(), 1) if "{paht}" in t)
+    assert failed.returncode == 1, said
+    assert f"navigate.xml:{line}:" in said and "{paht}" in said and "did you mean {path}" in said
 
 
 # -- docs/behaviour_trees.md's configurations, read out of the page -------------------------------
@@ -227,7 +256,8 @@ def test_the_documented_workflow_fails_a_change_unless_labelled(tmp_path):
     assert status == "1" and verdict.returncode == 1, verdict.stdout + verdict.stderr
     assert "::error::behaviour changed" in verdict.stdout
     text = report.read_text(encoding="utf-8")
-    assert text.startswith("### schemalog diff: behaviour changed")
+    assert text.startswith("## schemalog diff against origin/main: 2 paths: 1 changed, 1 skipped\n\n"
+                           "### schemalog diff: behaviour changed")
     assert "`origin/main:behavior\\_trees/navigate.xml` → `behavior\\_trees/navigate.xml`" in text
     assert "package.xml: not a BT.CPP tree" in text
 
@@ -239,4 +269,5 @@ def test_the_documented_workflow_fails_a_change_unless_labelled(tmp_path):
     assert refactored != original
     status, verdict, report = pull_request(refactored, label=False)
     assert status == "0" and verdict.returncode == 0 and "same behaviour" in verdict.stdout, verdict.stdout
-    assert report.read_text(encoding="utf-8").startswith("### schemalog diff: same behaviour")
+    assert report.read_text(encoding="utf-8").startswith("## schemalog diff against origin/main: 2 paths: 1 same, "
+                                                         "1 skipped\n\n### schemalog diff: same behaviour")

@@ -499,7 +499,8 @@ def _never_written(readers: list[Access], written: set, set_before: frozenset) -
     for a in readers:
         if a.entry in written or a.entry in set_before:
             continue
-        near = difflib.get_close_matches(a.entry[1], names, n=1, cutoff=0.8)
+        near = [n for n in sorted(names) if _one_edit(a.entry[1], n)] or \
+            difflib.get_close_matches(a.entry[1], names, n=1, cutoff=0.8)
         hint = (f"did you mean {{{near[0]}}}?" if near else
                 f"write {shown(a.entry)} before it is read, or declare it provided (--provided FILE)")
         out.append(LintFinding(_pos(a.pnode.node), ERROR, "never-written",
@@ -539,6 +540,19 @@ def _dead_writes(f: Facts, given: Provided) -> list[LintFinding]:
                                "remove the write, or list the entry under `reads:` of --provided when the "
                                "program reads it"))
     return out
+
+
+def _one_edit(a: str, b: str) -> bool:
+    """Whether `b` is `a` with one letter inserted, removed, changed, or two neighbours swapped
+    ({remaning_path} for {remaining_path}, {paht} for {path})."""
+    if a == b or abs(len(a) - len(b)) > 1:
+        return False
+    if len(a) == len(b):
+        diff = [i for i in range(len(a)) if a[i] != b[i]]
+        return len(diff) == 1 or (len(diff) == 2 and diff[1] == diff[0] + 1 and a[diff[0]] == b[diff[1]]
+                                  and a[diff[1]] == b[diff[0]])
+    short, long_ = (a, b) if len(a) < len(b) else (b, a)
+    return any(long_[:i] + long_[i + 1:] == short for i in range(len(long_)))
 
 
 Check = Callable[..., list]

@@ -31,6 +31,10 @@ def register(sub, parents: Parents) -> None:
                    help="BT.CPP trees: a YAML file of the blackboard entries the program sets before the tree runs "
                         "(`provides:`) and reads after it (`reads:`), each `name: where` (docs/lint.md); "
                         "repeatable; --profile nav2 gives Nav2's")
+    p.add_argument("--each", action="store_true",
+                   help="BT.CPP trees: lint each FILE as a program of its own (a pre-commit hook's changed files: "
+                        "Nav2's trees each define MainTree); XML that is no BT.CPP tree (package.xml) or a nodes "
+                        "file is said to be skipped")
     add_nodes_option(p, max_states=True, drop_names=False)
     p.set_defaults(run=run, drop_names=False)
 
@@ -49,6 +53,9 @@ def run(args: argparse.Namespace) -> int:
     if tree_route(args):                 # BT.CPP trees: the blackboard rules (bt/lint.py)
         return run_trees(args, fmt)
     schema_route(args)
+    if args.each:
+        raise UsageError("--each applies to BT.CPP trees (XML files and folders); "
+                         f"{', '.join(map(readable_name, args.files))} is read as task knowledge")
     if args.provided:
         raise UsageError("--provided applies to BT.CPP trees; "
                          f"{', '.join(map(readable_name, args.files))} is read as task knowledge")
@@ -102,6 +109,8 @@ def run_trees(args: argparse.Namespace, fmt: str) -> int:
 
     rules = _rules(args)
     provided = read_provided(args.provided, args.max_bytes, profiles=_profiles(args))
+    if args.each:
+        return _run_each(args, fmt, rules, provided)
     document = _read(args, args.files, _versions(args, 1)[0])
     findings = lint_document(document, rules, provided, max_states=args.max_states, once=args.run_once)
     errors = sum(1 for f in findings if f.severity == "error")
@@ -127,3 +136,51 @@ def run_trees(args: argparse.Namespace, fmt: str) -> int:
 
 def _count(n: int, word: str) -> str:
     return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _run_each(args: argparse.Namespace, fmt: str, rules, provided) -> int:
+    """Lint each FILE as its own program; a file that cannot be read is its one finding (as a
+    knowledge file's is), one that is no BT.CPP tree is skipped and said; 1 with any error."""
+    import os
+
+    from ..api.check import finding_of
+    from ..api.tree_lint import lint_document
+    from ..errors import SchemalogError
+    from .diff_rev import not_a_tree
+    from .trees import _read, _versions
+
+    findings, lines = [], []
+    version = _versions(args, 1)[0]
+    for path in args.files:
+        skip = None if os.path.isdir(path) else not_a_tree((path,), args.max_bytes)
+        if skip:
+            lines.append(f"lint: {readable_name(path)}: {skip}")
+            continue
+        try:
+            document = _read(args, path, version)
+        except SchemalogError as err:
+            found = [finding_of(err)]
+            main = "not read"
+        else:
+            found = lint_document(document, rules, provided, max_states=args.max_states, once=args.run_once)
+            main = f"tree {document.main}"
+        findings.extend(found)
+        counts = [f"{_count(sum(f.severity == k for f in found), k)}" for k in ("error", "warning", "info")]
+        real = [f for f in found if f.severity != "note"]
+        lines.append(f"lint: {readable_name(path)} ({main}): {', '.join(counts) if real else 'no finding'}")
+        lines.extend(f"note: {f.message}" for f in found if f.severity == "note")     # what it covered
+    errors = sum(f.severity == "error" for f in findings)
+    warnings = sum(f.severity == "warning" for f in findings)
+    if fmt != "text":
+        _print(args, fmt, findings, {"errors": errors, "warnings": warnings,
+                                     "infos": sum(f.severity == "info" for f in findings)})
+    else:
+        text = "".join(f.text() + "\n" for f in findings if f.severity != "note")
+        if args.output:
+            from .common import emit
+            emit(text, args.output, [*args.files, *args.nodes, *args.semantics, *args.provided], "text")
+        else:
+            sys.stdout.write(text)
+    for line in lines:
+        print(line, file=sys.stderr)
+    return 1 if errors or (args.strict and warnings) else 0
