@@ -151,3 +151,48 @@ def test_one_edit_is_an_insertion_a_deletion_a_change_or_two_neighbours_swapped(
     assert _one_edit("paht", "path") and _one_edit("remaning_path", "remaining_path")
     assert _one_edit("goal", "goals") and _one_edit("goal", "gaol") and _one_edit("goal", "coal")
     assert not _one_edit("goal", "goal") and not _one_edit("goal", "pose") and not _one_edit("ab", "bca")
+
+
+# -- real BT.CPP shows what read-before-write and never-written find ------------------------------
+
+@pytest.fixture(scope="module")
+def harness() -> str:
+    """tests/bt/harness's binary (built, or found in the cache, by build.sh), as test_btcpp_harness.py's."""
+    import os
+
+    done = subprocess.run(["bash", str(HERE / "harness" / "build.sh")], capture_output=True, text=True, timeout=1800)
+    if done.returncode == 0 and done.stdout.strip():
+        return done.stdout.strip().splitlines()[-1]
+    if os.environ.get("CI"):
+        pytest.fail(f"the BT.CPP harness could not be built:\n{done.stderr[-2000:]}")
+    pytest.skip("the BT.CPP harness could not be built (no compiler, cmake or network?)")
+
+
+def missing_in_btcpp(harness: str, tree: Path, seeds: int = 30) -> set[tuple[str, str]]:
+    """The (node type, port) whose getInput BT.CPP 4.8.2 fails on (the entry not on the
+    blackboard), over `seeds` runs of random draws, each leaf reading its inputs and writing its
+    outputs when ticked (the harness's --blackboard)."""
+    import random
+
+    lines = "\n".join(f"s{k} " + " ".join(str(random.Random(k).randrange(6)) for _ in range(200))
+                      for k in range(seeds))
+    done = subprocess.run([harness, "--tree", str(tree), "--models", str(FIXTURES / "bb_nav2_tree_nodes.xml"),
+                           "--blackboard", "--draws", "/dev/stdin", "--max-ticks", "8"], input=lines,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    events = [json.loads(line) for line in done.stdout.splitlines() if line.startswith("{")]
+    assert sum(e["ev"] == "run" for e in events) == seeds
+    return {(e["type"], e["port"]) for e in events if e["ev"] == "missing"}
+
+
+def test_btcpp_fails_the_reads_lint_finds_and_no_other_but_what_nav2_provides(harness):
+    """Where lint says a read comes before any write (bb_nav2_output_after_reader) or reads an
+    entry nothing writes (bb_nav2_port_typo), BT.CPP's getInput fails on that port on a run; on
+    the tree as Nav2 ships it, only the entries Nav2's navigator sets before the tree runs (`goal`,
+    the nav2 profile's `provides:`) are missing, which the harness does not set."""
+    provided = {("ComputePathToPose", "goal")}
+    shipped = missing_in_btcpp(harness, CORPUS / "nav2" / "navigate_w_replanning_time.xml")
+    assert shipped == provided
+    assert missing_in_btcpp(harness, FIXTURES / "bb_nav2_output_after_reader.xml") - provided == \
+        {("FollowPath", "controller_id")}
+    assert missing_in_btcpp(harness, FIXTURES / "bb_nav2_port_typo.xml") - provided == {("FollowPath", "controller_id")}

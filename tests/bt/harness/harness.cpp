@@ -3,6 +3,7 @@
 //
 //   harness --tree FILE... [--models FILE]... [--main ID] [--draws FILE] [--max-ticks N]
 //           [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] [--paths]
+//           [--blackboard]
 //
 // FILE is loaded with registerBehaviorTreeFromFile (its <include>s relative to it); --tree given
 // again loads each file so, in order, into the one factory (as Nav2 and BehaviorTree.ROS2 load a
@@ -36,6 +37,11 @@
 //   {"ev":"choose","type":"GoalUpdater",..,"out":"SUCCESS"}       (.. then returns SUCCESS)
 //   {"ev":"root","status":"RUNNING"}    .. "SUCCESS", "FAILURE"; "HALTED" after haltTree
 //   {"ev":"error","what":".."}          BT.CPP threw while ticking: the run ends
+//   {"ev":"missing","type":..,"name":..,"port":"goal","what":".."}   (--blackboard: getInput failed)
+// --blackboard: a scripted leaf, when ticked, first reads each input port its element binds to a
+// blackboard entry (`{x}`) with getInput<std::string>, reporting one that fails (the entry not
+// there: what Nav2's nodes meet as "Any::cast failed because it is empty" or a missing key), then
+// writes each such output port (setOutput): a ticked writer writes, as schemalog lint assumes.
 // A tree BT.CPP refuses to load: {"ev":"load_error","what":".."} and exit status 3.
 // --load-only: load and create the main tree, print {"ev":"loaded","main":".."}, exit.
 // --enum NAME=INT: a scripting enum (registerScriptingEnum), as a program registers them
@@ -168,7 +174,28 @@ std::string quoted(NodeStatus s) { return std::string("\"") + status_name(s) + "
 const NodeStatus ACTION_OUTCOMES[] = {NodeStatus::SUCCESS, NodeStatus::FAILURE, NodeStatus::RUNNING};
 const NodeStatus CONDITION_OUTCOMES[] = {NodeStatus::SUCCESS, NodeStatus::FAILURE};
 
-NodeStatus draw_action(const BT::TreeNode& node) {
+bool blackboard_io = false;       // --blackboard
+
+void touch_blackboard(BT::TreeNode& node) {
+  if (!blackboard_io) return;
+  const BT::NodeConfig& config = static_cast<const BT::TreeNode&>(node).config();
+  for (const auto& [port, value] : config.input_ports) {
+    if (!BT::TreeNode::isBlackboardPointer(value)) continue;
+    std::string got;
+    auto read = node.getInput<std::string>(port, got);
+    if (!read && env.recording) {
+      env.out += std::string("{\"ev\":\"missing\",\"type\":") + json_string(node.registrationName()) +
+                 ",\"name\":" + json_string(node.name()) + ",\"port\":" + json_string(port) +
+                 ",\"what\":" + json_string(read.error()) + "}\n";
+    }
+  }
+  for (const auto& [port, value] : config.output_ports) {
+    if (BT::TreeNode::isBlackboardPointer(value)) (void)node.setOutput(port, std::string("written"));
+  }
+}
+
+NodeStatus draw_action(BT::TreeNode& node) {
+  touch_blackboard(node);
   NodeStatus s = ACTION_OUTCOMES[env.next() % 3];
   emit("tick", node, quoted(s));
   return s;
@@ -202,6 +229,7 @@ class ScriptedCondition : public BT::ConditionNode {
   ScriptedCondition(const std::string& name, const BT::NodeConfig& config)
       : BT::ConditionNode(name, config) {}
   NodeStatus tick() override {
+    touch_blackboard(*this);
     NodeStatus s = CONDITION_OUTCOMES[env.next() % 2];
     emit("tick", *this, quoted(s));
     return s;
@@ -559,7 +587,7 @@ std::vector<std::pair<std::string, std::vector<long>>> read_draws(std::istream& 
 
 int usage() {
   std::cerr << "usage: harness --tree FILE... [--models FILE]... [--main ID] [--draws FILE] "
-               "[--max-ticks N] [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] "
+               "[--max-ticks N] [--stateful] [--load-only] [--enum NAME=INT]... [--substitutions FILE] [--blackboard] "
                "[--paths]\n";
   return 2;
 }
@@ -588,6 +616,7 @@ int main(int argc, char** argv) {
       else if (a == "--load-only") load_only = true;
       else if (a == "--substitutions") substitutions_file = value();
       else if (a == "--paths") paths = true;
+      else if (a == "--blackboard") blackboard_io = true;
       else if (a == "--enum") {
         const std::string e = value();
         const auto eq = e.find('=');
