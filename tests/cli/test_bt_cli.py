@@ -45,7 +45,7 @@ def test_the_readmes_nav2_lines_do_what_they_say(tmp_path):
     import re
 
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    lines = [line for line in readme.splitlines() if "nav2_tree_nodes.xml" in line]
+    lines = [line for line in readme.splitlines() if "$N/nav2_tree_nodes.xml" in line]
     diff_line = next(line for line in lines if "schemalog diff" in line)
     lines.remove(diff_line)
     assert len(lines) == 3 and "44 nodes from 45" in lines[0] and "13 other Nav2 trees have nothing" in lines[0]
