@@ -28,7 +28,7 @@ _EXPORTS = {
     # BT.CPP trees (docs/api.md, "Behaviour trees")
     "read_tree": "schemalog.api.trees", "compress_tree": "schemalog.api.trees", "verify_trees": "schemalog.api.trees",
     "TreeDocument": "schemalog.api.trees", "TreeCompression": "schemalog.api.trees", "TreeProof": "schemalog.api.trees",
-    # here: "diff_trees" and "TreeDiff" (bt/diff.py; `schemalog diff`)
+    # here: the public diff (`schemalog diff`: api/tree_diff.py's diff_trees, DiffReport; docs/api.md)
 }
 
 __all__ = sorted([*_EXPORTS, "__version__"])
