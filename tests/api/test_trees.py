@@ -176,3 +176,16 @@ def test_the_names_are_exported_lazily():
     code = "import sys, schemalog; print('schemalog.api.trees' in sys.modules, 'schemalog.bt.prove' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=ROOT)
     assert out.stdout.split() == ["False", "False"], out.stderr
+
+
+def test_two_versions_are_two_readings_as_btcpp_3_4_gives_them():
+    v3 = ROOT / "tests" / "bt" / "corpus" / "btcpp3" / "nav2_goal_patience_v3.xml"
+    v4 = ROOT / "tests" / "bt" / "corpus" / "btcpp3" / "nav2_goal_patience_v4.xml"
+    old, new = schemalog.read_tree(v3, nodes=NODES, version=3), schemalog.read_tree(v4, nodes=NODES, version=4)
+    assert (old.version, old.document.version, new.document.version) == (3, 3, 4)
+    proof = schemalog.verify_trees(old, new)
+    args = (v3, v4, "--btcpp", "3:4", "--nodes", NODES)
+    assert proof.text() == cli("verify", *args).stdout and proof.btcpp == "BT.CPP 3.8 (a) against BT.CPP 4 (b)"
+    assert json.dumps(proof.as_json(), indent=2) + "\n" == cli("verify", *args, "--json").stdout
+    with pytest.raises(schemalog.UsageError, match="version 5: 3"):
+        schemalog.read_tree(v3, version=5)
