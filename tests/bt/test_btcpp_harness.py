@@ -78,20 +78,6 @@ N_DRAWS = 1000
 
 # -- the harness -----------------------------------------------------------------------------
 
-@pytest.fixture(scope="session")
-def harness() -> str:
-    """The harness binary, built (or found in the cache) by build.sh."""
-    try:
-        done = subprocess.run(["bash", str(BUILD)], capture_output=True, text=True, timeout=1800)
-    except (OSError, subprocess.TimeoutExpired) as err:       # pragma: no cover - no bash
-        done = None
-        why = str(err)
-    if done is not None and done.returncode == 0 and done.stdout.strip():
-        return done.stdout.strip().splitlines()[-1]
-    why = done.stderr[-2000:] if done is not None else why
-    if os.environ.get("CI"):
-        pytest.fail(f"the BT.CPP harness could not be built (tests/bt/harness/build.sh):\n{why}")
-    pytest.skip(f"the BT.CPP harness could not be built (no compiler, cmake or network?): {why[-300:]}")
 
 
 @pytest.mark.parametrize("env, expected", [

@@ -295,7 +295,7 @@ def test_a_program_split_across_files_reads_as_the_program_in_one(tmp_path_facto
 # ---------------------------------------------------------------------------
 # BT.CPP 4.8.2 loads the folder as one program, and runs it as compress -o's one document
 
-from test_btcpp_harness import SEEDS, completed_models, harness, load, models_xml, run  # noqa: E402,F401 (harness: a fixture)
+from test_btcpp_harness import SEEDS, completed_models, load, models_xml, run  # noqa: E402
 
 
 def test_btcpp_loads_the_sentry_folder_as_one_program_and_only_whole(harness, tmp_path):  # noqa: F811

@@ -155,17 +155,6 @@ def test_one_edit_is_an_insertion_a_deletion_a_change_or_two_neighbours_swapped(
 
 # -- real BT.CPP shows what read-before-write and never-written find ------------------------------
 
-@pytest.fixture(scope="module")
-def harness() -> str:
-    """tests/bt/harness's binary (built, or found in the cache, by build.sh), as test_btcpp_harness.py's."""
-    import os
-
-    done = subprocess.run(["bash", str(HERE / "harness" / "build.sh")], capture_output=True, text=True, timeout=1800)
-    if done.returncode == 0 and done.stdout.strip():
-        return done.stdout.strip().splitlines()[-1]
-    if os.environ.get("CI"):
-        pytest.fail(f"the BT.CPP harness could not be built:\n{done.stderr[-2000:]}")
-    pytest.skip("the BT.CPP harness could not be built (no compiler, cmake or network?)")
 
 
 def missing_in_btcpp(harness: str, tree: Path, seeds: int = 30) -> set[tuple[str, str]]:

@@ -8,7 +8,6 @@ the corpus gives no error, and its warnings are the ones docs/lint.md lists."""
 from __future__ import annotations
 
 import json
-import os
 import random
 import subprocess
 import sys
@@ -283,15 +282,6 @@ def test_btcpp_hangs_in_tick_once_where_endless_says_so(tmp_path):
     assert not hung and "SUCCESS" in lines[-2]
 
 
-@pytest.fixture(scope="module")
-def harness() -> str:
-    """tests/bt/harness's binary (built, or found in the cache, by build.sh), as test_btcpp_harness.py's."""
-    done = subprocess.run(["bash", str(HERE / "harness" / "build.sh")], capture_output=True, text=True, timeout=1800)
-    if done.returncode == 0 and done.stdout.strip():
-        return done.stdout.strip().splitlines()[-1]
-    if os.environ.get("CI"):
-        pytest.fail(f"the BT.CPP harness could not be built:\n{done.stderr[-2000:]}")
-    pytest.skip("the BT.CPP harness could not be built (no compiler, cmake or network?)")
 
 
 def ticked_in_btcpp(harness: str, xml: Path, tmp_path: Path, seeds: int) -> set[str]:
