@@ -38,7 +38,7 @@ from schemalog.bt.model import Document, Node
 from schemalog.bt.prove import describe
 from schemalog.bt.semantics import (COMPLETED, FAILURE, KINDS, OPAQUE, PRE_CONDITIONS, RESETTING_PARENTS, RETICKED_ACTION,
                                     RUNNING, SKIPPED, SUCCESS, Await,
-                                    Config, PNode, Program, RootTicked, Rule, Status, _freeze_local, _UNKNOWN,
+                                    Config, PNode, Program, RootTicked, Rule, Status, frozen_locals,
                                     advance, halt_step, halt_tree_step, initial, program, step, visit_step)
 from schemalog.errors import SourcePos
 
@@ -271,15 +271,10 @@ def _tick_state(run, n: PNode, step_code, wrapper_code) -> tuple | None:
         if f.f_code is wrapper_code:
             frames.append(("node", f.f_locals["n"].path))
         elif f.f_globals.get("__name__") == "schemalog.bt.semantics":
-            local = []
-            for name, value in f.f_locals.items():
-                if name in ("self", "run"):
-                    continue
-                frozen = _freeze_local(value)
-                if frozen is _UNKNOWN:
-                    return None
-                local.append((name, frozen))
-            frames.append((f.f_code, f.f_lasti, tuple(sorted(local))))
+            local = frozen_locals(f)
+            if local is None:
+                return None
+            frames.append((f.f_code, f.f_lasti, local))
         else:
             return None
         f = f.f_back

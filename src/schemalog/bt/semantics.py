@@ -1366,6 +1366,20 @@ _FRAME_MODULES = frozenset({__name__, "schemalog.bt.congruence"})   # rules whos
                                                                     # table's, and bt/congruence.py's node
 
 
+def frozen_locals(frame) -> tuple | None:
+    """A rule's frame's locals (its `self` and `run` left out), frozen and sorted, or None when
+    one cannot be frozen (_freeze_local): with its code and instruction, what resumes it."""
+    local = []
+    for name, value in frame.f_locals.items():
+        if name in ("self", "run"):
+            continue
+        frozen = _freeze_local(value)
+        if frozen is _UNKNOWN:
+            return None
+        local.append((name, frozen))
+    return tuple(sorted(local))
+
+
 def _continuation(run: _Run, stop: _Stop) -> object:
     """The interrupted root tick as data: the memory as changed so far and, for every call on
     the stack, its code, the instruction it stopped at and its local variables (every loop
@@ -1378,15 +1392,10 @@ def _continuation(run: _Run, stop: _Stop) -> object:
         frame = tb.tb_frame
         if frame.f_globals.get("__name__") not in _FRAME_MODULES:
             return None
-        local = []
-        for name, value in frame.f_locals.items():
-            if name in ("self", "run"):
-                continue
-            frozen = _freeze_local(value)
-            if frozen is _UNKNOWN:
-                return None
-            local.append((name, frozen))
-        frames.append((frame.f_code, tb.tb_lasti, tuple(sorted(local))))
+        local = frozen_locals(frame)
+        if local is None:
+            return None
+        frames.append((frame.f_code, tb.tb_lasti, local))
         tb = tb.tb_next
     return (run.freeze(), tuple(sorted(run.kinds.items())), tuple(frames))
 
