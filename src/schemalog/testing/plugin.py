@@ -586,7 +586,23 @@ class TaskFile(pytest.File):
         return super().repr_failure(excinfo)
 
 
-class TaskItem(pytest.Item):
+class _ProofItem(pytest.Item):
+    """A test item that proves something: its failure is the proof's words (a counterexample, a
+    limit, file:line:col), not a traceback; past its time limit it says which option raises it."""
+
+    def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> Any:
+        from schemalog import SchemalogError
+
+        if isinstance(excinfo.value, (AssertionError, SchemalogError)):
+            return str(excinfo.value).rstrip("\n")
+        return super().repr_failure(excinfo)
+
+    def out_of_time(self, limit: float) -> None:
+        pytest.fail(f"{self.name}: time limit of {limit:g} s exceeded (raise it with --schemalog-timeout "
+                    f"or the ini option schemalog_timeout)", pytrace=False)
+
+
+class TaskItem(_ProofItem):
     """One task of a task file: instantiated, compressed and proved when it runs."""
 
     def runtest(self) -> None:
@@ -613,15 +629,7 @@ class TaskItem(pytest.Item):
         except LimitExceeded as error:
             if error.limit != "time":
                 raise
-        pytest.fail(f"{self.name}: time limit of {limit:g} s exceeded (raise it with --schemalog-timeout "
-                    f"or the ini option schemalog_timeout)", pytrace=False)
-
-    def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> Any:
-        from schemalog import SchemalogError
-
-        if isinstance(excinfo.value, (AssertionError, SchemalogError)):
-            return str(excinfo.value).rstrip("\n")
-        return super().repr_failure(excinfo)
+        self.out_of_time(limit)
 
     def reportinfo(self) -> tuple[Path, int | None, str]:
         # the failure's title; pytest's -v line stays the node id, which does not end with it
@@ -661,7 +669,7 @@ class TreeFile(pytest.File):
             yield TreeItem.from_parent(self, name=recorded.name, recorded=recorded)
 
 
-class TreeItem(pytest.Item):
+class TreeItem(_ProofItem):
     """A tree and one recorded version of it, proved equal when it runs (read then: a file that
     does not read fails this item alone, with its file:line:column)."""
 
@@ -689,15 +697,7 @@ class TreeItem(pytest.Item):
         except LimitExceeded as error:
             if error.limit != "time":
                 raise
-        pytest.fail(f"{self.name}: time limit of {found.timeout:g} s exceeded (raise it with --schemalog-timeout "
-                    f"or the ini option schemalog_timeout)", pytrace=False)
-
-    def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> Any:
-        from schemalog import SchemalogError
-
-        if isinstance(excinfo.value, (AssertionError, SchemalogError)):
-            return str(excinfo.value).rstrip("\n")
-        return super().repr_failure(excinfo)
+        self.out_of_time(found.timeout)
 
     def reportinfo(self) -> tuple[Path, int | None, str]:
         return self.path, None, f"{self.name} against {self.parent.nodeid}"
