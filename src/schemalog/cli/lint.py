@@ -116,15 +116,8 @@ def run_trees(args: argparse.Namespace, fmt: str) -> int:
     errors = sum(1 for f in findings if f.severity == "error")
     warnings = sum(1 for f in findings if f.severity == "warning")
     infos = sum(1 for f in findings if f.severity == "info")
-    if fmt != "text":
-        _print(args, fmt, findings, {"tree": document.main, "errors": errors, "warnings": warnings, "infos": infos})
-    else:
-        text = "".join(f.text() + "\n" for f in findings if f.severity != "note")
-        if args.output:
-            from .common import emit
-            emit(text, args.output, [*args.files, *args.nodes, *args.semantics, *args.provided], "text")
-        else:
-            sys.stdout.write(text)
+    _write(args, fmt, findings, {"tree": document.main, "errors": errors, "warnings": warnings, "infos": infos})
+    if fmt == "text":
         for f in findings:
             if f.severity == "note":
                 print(f"note: {f.message}", file=sys.stderr)
@@ -132,6 +125,20 @@ def run_trees(args: argparse.Namespace, fmt: str) -> int:
                    if errors or warnings or infos else "no finding")
         print(f"lint: {_shown(args.files)} (tree {document.main}): {verdict}", file=sys.stderr)
     return 1 if errors or (args.strict and warnings) else 0
+
+
+def _write(args: argparse.Namespace, fmt: str, findings, more: dict) -> None:
+    """A BT.CPP lint's findings: JSON or SARIF (_print), else each finding but the notes as text,
+    printed or written to -o."""
+    if fmt != "text":
+        _print(args, fmt, findings, more)
+        return
+    text = "".join(f.text() + "\n" for f in findings if f.severity != "note")
+    if args.output:
+        from .common import emit
+        emit(text, args.output, [*args.files, *args.nodes, *args.semantics, *args.provided], "text")
+    else:
+        sys.stdout.write(text)
 
 
 def _count(n: int, word: str) -> str:
@@ -171,16 +178,8 @@ def _run_each(args: argparse.Namespace, fmt: str, rules, provided) -> int:
         lines.extend(f"note: {f.message}" for f in found if f.severity == "note")     # what it covered
     errors = sum(f.severity == "error" for f in findings)
     warnings = sum(f.severity == "warning" for f in findings)
-    if fmt != "text":
-        _print(args, fmt, findings, {"errors": errors, "warnings": warnings,
-                                     "infos": sum(f.severity == "info" for f in findings)})
-    else:
-        text = "".join(f.text() + "\n" for f in findings if f.severity != "note")
-        if args.output:
-            from .common import emit
-            emit(text, args.output, [*args.files, *args.nodes, *args.semantics, *args.provided], "text")
-        else:
-            sys.stdout.write(text)
+    _write(args, fmt, findings, {"errors": errors, "warnings": warnings,
+                                 "infos": sum(f.severity == "info" for f in findings)})
     for line in lines:
         print(line, file=sys.stderr)
     return 1 if errors or (args.strict and warnings) else 0
